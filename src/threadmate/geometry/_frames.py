@@ -1,0 +1,117 @@
+"""Frames and poses (conventions.md, "Frames"): the one module that owns them.
+
+Fixed frame F is the nut's: origin at the centre of its top face, +Z out of the nut toward
+the bolt. Bolt frame B: origin at the centre of the bolt's tip face, +Z toward its head.
+A bolt pose maps ``x_F = R @ x_B + origin`` with ``R = Rx(roll) @ Ry(pitch) @ Rz(phase)``,
+active right-handed rotations, angles in degrees at every interface.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.spatial.transform import Rotation
+
+__all__ = ["Pose", "rot_x", "rot_y", "rot_z", "bolt_rotation", "axis_angle_rotation"]
+
+
+def rot_x(deg: float) -> NDArray[np.float64]:
+    """Active right-handed rotation about X by ``deg`` degrees."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def rot_y(deg: float) -> NDArray[np.float64]:
+    """Active right-handed rotation about Y by ``deg`` degrees."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rot_z(deg: float) -> NDArray[np.float64]:
+    """Active right-handed rotation about Z by ``deg`` degrees."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def bolt_rotation(roll: float, pitch: float, phase: float) -> NDArray[np.float64]:
+    """``Rx(roll) @ Ry(pitch) @ Rz(phase)``: the bolt's orientation in F (degrees)."""
+    return rot_x(roll) @ rot_y(pitch) @ rot_z(phase)
+
+
+def axis_angle_rotation(axis: ArrayLike, deg: float) -> NDArray[np.float64]:
+    """Active rotation by ``deg`` degrees about the unit direction ``axis`` (right hand)."""
+    axis = np.asarray(axis, dtype=float)
+    n = np.linalg.norm(axis)
+    if n == 0:
+        raise ValueError("rotation axis has zero length")
+    return Rotation.from_rotvec(axis / n * math.radians(deg)).as_matrix()
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A rigid placement of the bolt in the fixed frame: ``x_F = rotation @ x_B + origin``."""
+
+    rotation: NDArray[np.float64]
+    origin: NDArray[np.float64]
+
+    @classmethod
+    def from_angles(
+        cls, roll: float, pitch: float, phase: float, h: float = 0.0, x: float = 0.0,
+        y: float = 0.0,
+    ) -> Pose:
+        """The conventions' bolt pose: orientation from degrees, origin ``(x, y, h)``."""
+        return cls(bolt_rotation(roll, pitch, phase), np.array([x, y, h], dtype=float))
+
+    @classmethod
+    def identity(cls) -> Pose:
+        """The pose that leaves B on F."""
+        return cls(np.eye(3), np.zeros(3))
+
+    @property
+    def matrix(self) -> NDArray[np.float64]:
+        """The 4 x 4 homogeneous transform B -> F."""
+        m = np.eye(4)
+        m[:3, :3] = self.rotation
+        m[:3, 3] = self.origin
+        return m
+
+    @property
+    def axis(self) -> NDArray[np.float64]:
+        """The bolt axis (+Z of B) in F."""
+        return self.rotation[:, 2].copy()
+
+    def to_fixed(self, points_b: ArrayLike) -> NDArray[np.float64]:
+        """Map points (``(..., 3)``) from the bolt frame to the fixed frame."""
+        return np.asarray(points_b, dtype=float) @ self.rotation.T + self.origin
+
+    def to_bolt(self, points_f: ArrayLike) -> NDArray[np.float64]:
+        """Map points (``(..., 3)``) from the fixed frame to the bolt frame."""
+        return (np.asarray(points_f, dtype=float) - self.origin) @ self.rotation
+
+    def vector_to_fixed(self, vectors_b: ArrayLike) -> NDArray[np.float64]:
+        """Rotate direction vectors from B to F."""
+        return np.asarray(vectors_b, dtype=float) @ self.rotation.T
+
+    def vector_to_bolt(self, vectors_f: ArrayLike) -> NDArray[np.float64]:
+        """Rotate direction vectors from F to B."""
+        return np.asarray(vectors_f, dtype=float) @ self.rotation
+
+    def translated(self, delta: ArrayLike) -> Pose:
+        """This pose moved by ``delta`` (in F)."""
+        return Pose(self.rotation, self.origin + np.asarray(delta, dtype=float))
+
+    def rotated_about(self, point: ArrayLike, axis: ArrayLike, deg: float) -> Pose:
+        """This pose turned by ``deg`` degrees about the line through ``point`` along ``axis``
+        (both in F, right-hand rule)."""
+        q = axis_angle_rotation(axis, deg)
+        point = np.asarray(point, dtype=float)
+        return Pose(q @ self.rotation, q @ (self.origin - point) + point)
+
+    def angles(self) -> tuple[float, float, float]:
+        """``(roll, pitch, phase)`` in degrees with ``R = Rx Ry Rz`` (extrinsic x-y-z read
+        as intrinsic X-Y-Z)."""
+        roll, pitch, phase = Rotation.from_matrix(self.rotation).as_euler("XYZ", degrees=True)
+        return float(roll), float(pitch), float(phase)

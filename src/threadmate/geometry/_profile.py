@@ -1,0 +1,325 @@
+"""Exact axial-section profile of a thread body, its fillets and its nine regions.
+
+conventions.md defines the sharp profile ``R(t) = pd/2 + sqrt(3) (p/4 - |t|)`` clamped to
+``[minor/2, major/2]`` on ``t`` in ``[-p/2, p/2)``. Each of the two clamp corners may be
+rounded by a circular arc tangent to the flank and to the flat. In ``u = |t|`` the curve is
+five pieces::
+
+    [0, a1]   flat  R = r_hi            (bolt crest / nut root)
+    [a1, a2]  arc   centre (u_hi - rho_hi/sqrt3, r_hi - rho_hi)   (bolt CF / nut RF)
+    [a2, a3]  flank R = pd/2 + sqrt3 (p/4 - u)                  (F)
+    [a3, a4]  arc   centre (u_lo + rho_lo/sqrt3, r_lo + rho_lo)   (bolt RF / nut CF)
+    [a4, p/2] flat  R = r_lo            (bolt root / nut crest)
+
+where ``u_hi``/``u_lo`` are the sharp corners. A fillet always lowers R at the high corner
+and raises it at the low one, whichever body it belongs to; only the region names differ.
+``t < 0`` is the positive side (radius grows with +z), ``t > 0`` the negative side.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._errors import SpecError
+
+if TYPE_CHECKING:
+    from ._spec import ThreadSpec
+
+__all__ = ["Profile", "bolt_profile", "nut_profile", "check_fillets", "BOLT_REGIONS", "NUT_REGIONS"]
+
+SQRT3 = math.sqrt(3.0)
+
+#: The nine regions of the bolt, in conventions.md order.
+BOLT_REGIONS = ("crest", "+CF", "+F", "+RF", "root", "-RF", "-F", "-CF", "base")
+#: The nine regions of the nut, in conventions.md order.
+NUT_REGIONS = ("crest", "+CF", "+F", "+RF", "root", "-RF", "-F", "-CF", "surface")
+
+Body = Literal["bolt", "nut"]
+
+
+def wrap_t(t: ArrayLike, pitch: float) -> NDArray[np.float64]:
+    """Wrap an axial coordinate into one pitch, ``[-p/2, p/2)``."""
+    t = np.asarray(t, dtype=float)
+    return t - pitch * np.floor(t / pitch + 0.5)
+
+
+@dataclass(frozen=True)
+class Profile:
+    """The axial-section profile ``R(t)`` of one body over one pitch.
+
+    Parameters
+    ----------
+    body : {"bolt", "nut"}
+        Which body; decides region names only (``t = 0`` is the bolt's crest centre
+        and the nut's root centre).
+    pitch, pitch_diameter, major, minor : float
+        Lengths in the spec's units.
+    crest_fillet, root_fillet : float
+        Fillet radii of the body's crest and root corners (0 keeps them sharp).
+    """
+
+    body: Body
+    pitch: float
+    pitch_diameter: float
+    major: float
+    minor: float
+    crest_fillet: float = 0.0
+    root_fillet: float = 0.0
+
+    # -- corner geometry ---------------------------------------------------------------
+    @property
+    def fillet_hi(self) -> float:
+        """Fillet radius at the major-diameter corner (bolt crest, nut root)."""
+        return self.crest_fillet if self.body == "bolt" else self.root_fillet
+
+    @property
+    def fillet_lo(self) -> float:
+        """Fillet radius at the minor-diameter corner (bolt root, nut crest)."""
+        return self.root_fillet if self.body == "bolt" else self.crest_fillet
+
+    @property
+    def r_hi(self) -> float:
+        """Radius of the major flat (capped by the sharp-V apex)."""
+        apex = self.pitch_diameter / 2 + SQRT3 * self.pitch / 4
+        return min(self.major / 2, apex)
+
+    @property
+    def r_lo(self) -> float:
+        """Radius of the minor flat (raised to the sharp-V bottom)."""
+        bottom = self.pitch_diameter / 2 - SQRT3 * self.pitch / 4
+        return max(self.minor / 2, bottom)
+
+    def _flank_u(self, r: float) -> float:
+        return self.pitch / 4 + (self.pitch_diameter / 2 - r) / SQRT3
+
+    @property
+    def breakpoints(self) -> tuple[float, float, float, float]:
+        """``(a1, a2, a3, a4)``: region boundaries in ``u = |t|`` (see module docstring)."""
+        u_hi = self._flank_u(self.r_hi)
+        u_lo = self._flank_u(self.r_lo)
+        rh, rl = self.fillet_hi, self.fillet_lo
+        return (
+            u_hi - rh / SQRT3,
+            u_hi + rh / (2 * SQRT3),
+            u_lo - rl / (2 * SQRT3),
+            u_lo + rl / SQRT3,
+        )
+
+    @property
+    def centre_hi(self) -> tuple[float, float]:
+        """``(u, r)`` centre of the major-corner fillet arc."""
+        u_hi = self._flank_u(self.r_hi)
+        return (u_hi - self.fillet_hi / SQRT3, self.r_hi - self.fillet_hi)
+
+    @property
+    def centre_lo(self) -> tuple[float, float]:
+        """``(u, r)`` centre of the minor-corner fillet arc."""
+        u_lo = self._flank_u(self.r_lo)
+        return (u_lo + self.fillet_lo / SQRT3, self.r_lo + self.fillet_lo)
+
+    def validate(self) -> None:
+        """Raise :class:`SpecError` if a fillet does not fit its corner."""
+        a1, a2, a3, a4 = self.breakpoints
+        half = self.pitch / 2
+        names = {
+            "hi": f"{self.body}.{'crest' if self.body == 'bolt' else 'root'}_fillet",
+            "lo": f"{self.body}.{'root' if self.body == 'bolt' else 'crest'}_fillet",
+        }
+        if self.fillet_hi > 0 and a1 < -1e-12:
+            raise SpecError(
+                f"spec key '{names['hi']}' ({self.fillet_hi:g}) is too large: the flat at the "
+                f"major diameter is only {2 * (a1 + self.fillet_hi / SQRT3):g} wide"
+            )
+        if self.fillet_lo > 0 and a4 > half + 1e-12:
+            raise SpecError(
+                f"spec key '{names['lo']}' ({self.fillet_lo:g}) is too large: the flat at the "
+                f"minor diameter is only {2 * (half - a4 + self.fillet_lo / SQRT3):g} wide"
+            )
+        if a2 > a3 + 1e-12:
+            raise SpecError(
+                f"spec keys '{names['hi']}' and '{names['lo']}' are too large together: their "
+                f"arcs overlap on the flank"
+            )
+
+    # -- evaluation --------------------------------------------------------------------
+    def radius(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Exact profile radius ``R(t)`` (any ``t``; wrapped into one pitch)."""
+        u = np.abs(wrap_t(t, self.pitch))
+        a1, a2, a3, a4 = self.breakpoints
+        ch, cl = self.centre_hi, self.centre_lo
+        rh, rl = self.fillet_hi, self.fillet_lo
+        flank = self.pitch_diameter / 2 + SQRT3 * (self.pitch / 4 - u)
+        arc_hi = ch[1] + np.sqrt(np.clip(rh * rh - (u - ch[0]) ** 2, 0.0, None))
+        arc_lo = cl[1] - np.sqrt(np.clip(rl * rl - (u - cl[0]) ** 2, 0.0, None))
+        return np.select(
+            [u <= a1, u <= a2, u <= a3, u <= a4],
+            [np.full_like(u, self.r_hi), arc_hi, flank, arc_lo],
+            np.full_like(u, self.r_lo),
+        )
+
+    def slope(self, t: ArrayLike) -> NDArray[np.float64]:
+        """``dR/dt`` of the exact profile."""
+        t = wrap_t(t, self.pitch)
+        u = np.abs(t)
+        sign = np.where(t < 0, -1.0, 1.0)
+        a1, a2, a3, a4 = self.breakpoints
+        ch, cl = self.centre_hi, self.centre_lo
+        rh, rl = self.fillet_hi, self.fillet_lo
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d_hi = -(u - ch[0]) / np.sqrt(np.clip(rh * rh - (u - ch[0]) ** 2, 1e-300, None))
+            d_lo = (u - cl[0]) / np.sqrt(np.clip(rl * rl - (u - cl[0]) ** 2, 1e-300, None))
+        du = np.select(
+            [u <= a1, u <= a2, u <= a3, u <= a4],
+            [np.zeros_like(u), d_hi, np.full_like(u, -SQRT3), d_lo],
+            np.zeros_like(u),
+        )
+        return sign * du
+
+    def region(self, t: ArrayLike) -> NDArray[np.str_]:
+        """Region name (``crest``, ``+CF``, ... ``-CF``) of the profile at ``t``."""
+        t = wrap_t(t, self.pitch)
+        u = np.abs(t)
+        a1, a2, a3, a4 = self.breakpoints
+        if self.body == "bolt":
+            flat_hi, arc_hi, arc_lo, flat_lo = "crest", "CF", "RF", "root"
+        else:
+            flat_hi, arc_hi, arc_lo, flat_lo = "root", "RF", "CF", "crest"
+        side = np.where(t < 0, "+", "-")
+        kind = np.select(
+            [u <= a1, u <= a2, u <= a3, u <= a4],
+            [flat_hi, arc_hi, "F", arc_lo],
+            flat_lo,
+        ).astype(object)
+        signed = np.char.add(side.astype(str), kind.astype(str))
+        return np.where(np.isin(kind, ("crest", "root")), kind.astype(str), signed)
+
+    def region_bounds(self) -> list[tuple[str, float, float]]:
+        """``(region, t_start, t_end)`` for each non-empty region, ordered in ``t``."""
+        a1, a2, a3, a4 = self.breakpoints
+        h = self.pitch / 2
+        edges = [-h, -a4, -a3, -a2, -a1, a1, a2, a3, a4, h]
+        if self.body == "bolt":
+            names = ["root", "+RF", "+F", "+CF", "crest", "-CF", "-F", "-RF", "root"]
+        else:
+            names = ["crest", "+CF", "+F", "+RF", "root", "-RF", "-F", "-CF", "crest"]
+        return [(n, a, b) for n, a, b in zip(names, edges[:-1], edges[1:], strict=True) if b > a]
+
+    def sample(self, chord: float) -> NDArray[np.float64]:
+        """Profile stations ``t`` in ``[-p/2, p/2]`` whose polyline is within ``chord`` of R.
+
+        Flats and flanks are straight in the axial section and need only their ends; each
+        fillet arc is split into equal angles whose sagitta does not exceed ``chord``.
+        """
+        a1, a2, a3, a4 = self.breakpoints
+        h = self.pitch / 2
+        u = np.concatenate([[0.0, a1, a2, a3, a4, h], self._arc_stations(chord)])
+        u = np.unique(u[(u >= 0) & (u <= h)])
+        return np.unique(np.concatenate([-u[::-1], u]))
+
+    def _arc_stations(self, chord: float) -> NDArray[np.float64]:
+        out: list[NDArray[np.float64]] = []
+        a1, a2, a3, a4 = self.breakpoints
+        for rho, centre, lo, hi in (
+            (self.fillet_hi, self.centre_hi, a1, a2),
+            (self.fillet_lo, self.centre_lo, a3, a4),
+        ):
+            if rho <= 0 or hi <= lo:
+                continue
+            phi0 = math.asin(np.clip((lo - centre[0]) / rho, -1, 1))
+            phi1 = math.asin(np.clip((hi - centre[0]) / rho, -1, 1))
+            dphi = 2 * math.acos(max(-1.0, 1 - chord / rho)) if chord < 2 * rho else math.pi
+            n = max(1, math.ceil(abs(phi1 - phi0) / dphi))
+            out.append(centre[0] + rho * np.sin(np.linspace(phi0, phi1, n + 1)))
+        return np.concatenate(out) if out else np.empty(0)
+
+    def distance(self, t: ArrayLike, r: ArrayLike) -> NDArray[np.float64]:
+        """Euclidean distance in the axial section from ``(t, r)`` to the profile curve.
+
+        The profile curve lies on the helical surface, so this bounds the true 3-D
+        distance to the surface from above.
+        """
+        t = wrap_t(t, self.pitch)
+        r = np.asarray(r, dtype=float)
+        best = np.full(np.broadcast(t, r).shape, np.inf)
+        for shift in (-self.pitch, 0.0, self.pitch):
+            u_signed = t + shift
+            for seg in self._segments():
+                best = np.minimum(best, seg(u_signed, r))
+        return best
+
+    def _segments(self):  # noqa: ANN202 - internal closures
+        a1, a2, a3, a4 = self.breakpoints
+        h = self.pitch / 2
+
+        def line(p0, p1):
+            p0 = np.asarray(p0, float)
+            d = np.asarray(p1, float) - p0
+            dd = float(d @ d)
+
+            def f(u, r):
+                if dd == 0:
+                    return np.hypot(u - p0[0], r - p0[1])
+                s = np.clip(((u - p0[0]) * d[0] + (r - p0[1]) * d[1]) / dd, 0.0, 1.0)
+                return np.hypot(u - p0[0] - s * d[0], r - p0[1] - s * d[1])
+
+            return f
+
+        def arc(centre, rho, lo, hi, side):
+            def f(u, r):
+                uu = side * u  # mirror the negative side onto u >= 0
+                du, dr = uu - centre[0], r - centre[1]
+                inside = (uu >= lo) & (uu <= hi)
+                radial = np.abs(np.hypot(du, dr) - rho)
+                return np.where(inside, radial, np.inf)
+
+            return f
+
+        segs = []
+        for side in (1.0, -1.0):
+            pts = [
+                (0.0, self.r_hi),
+                (a1, self.r_hi),
+                (a2, self.radius(a2).item()),
+                (a3, self.radius(a3).item()),
+                (a4, self.r_lo),
+                (h, self.r_lo),
+            ]
+            pts = [(side * u, r) for u, r in pts]
+            segs.append(line(pts[0], pts[1]))
+            segs.append(line(pts[2], pts[3]))
+            segs.append(line(pts[4], pts[5]))
+            # Arc ends as points (covers the outside of the arc's angular span).
+            segs.append(line(pts[1], pts[1]))
+            segs.append(line(pts[2], pts[2]))
+            segs.append(line(pts[3], pts[3]))
+            segs.append(line(pts[4], pts[4]))
+            if self.fillet_hi > 0:
+                segs.append(arc(self.centre_hi, self.fillet_hi, a1, a2, side))
+            if self.fillet_lo > 0:
+                segs.append(arc(self.centre_lo, self.fillet_lo, a3, a4, side))
+        return segs
+
+
+def bolt_profile(spec: ThreadSpec) -> Profile:
+    """The bolt's profile from a spec."""
+    b = spec.bolt
+    return Profile("bolt", spec.pitch, b.pitch_diameter, b.major, b.minor,
+                   b.crest_fillet, b.root_fillet)
+
+
+def nut_profile(spec: ThreadSpec) -> Profile:
+    """The nut's profile from a spec."""
+    n = spec.nut
+    return Profile("nut", spec.pitch, n.pitch_diameter, n.major, n.minor,
+                   n.crest_fillet, n.root_fillet)
+
+
+def check_fillets(spec: ThreadSpec) -> None:
+    """Raise :class:`SpecError` if any fillet of ``spec`` does not fit its corner."""
+    bolt_profile(spec).validate()
+    nut_profile(spec).validate()
