@@ -23,7 +23,12 @@ def cli() -> None:
 
 def _register() -> None:
     # Each command lives in its own module; registration order is the help order.
-    from . import _thread  # noqa: F401  (registers: thread)
+    from . import _thread  # noqa: F401, I001  (registers: thread)
+    from . import _planar  # noqa: F401  (registers: planar)
+    from . import _contact  # noqa: F401  (registers: contact)
+    from . import _library  # noqa: F401  (registers: sweep, library)
+    from . import _mesh  # noqa: F401  (registers: mesh)
+    from . import _network  # noqa: F401  (registers: network, path, recommend)
     # -- more commands register below --
 
 

@@ -1,0 +1,108 @@
+"""``threadmate contact``: first, second and third contact of a tilted bolt on its nut."""
+
+from __future__ import annotations
+
+import math
+
+import click
+
+from .._errors import InputError
+from ..contact import MAX_TILT, ContactAnalyzer, ContactResult
+from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._main import cli
+
+__all__ = ["contact"]
+
+
+def _fmt(v: float, width: int = 11) -> str:
+    return f"{v:{width}.6f}" if math.isfinite(v) else f"{'-':>{width}}"
+
+
+def _text(result: ContactResult) -> str:
+    """The thesis's Figure 4.1 fields, stage by stage, and the classification."""
+    u = result.units
+    lines = [
+        f"ROLL = {result.roll:g}   PITCH = {result.pitch:g}   PHASE = {result.phase:g}"
+        f"   (degrees; lengths in {u}, fixed frame)",
+        f"Classification: {result.classification}   "
+        f"({result.n_contacts} contact(s) at the last stage reached)",
+    ]
+    labels = {"first": "1st contact", "second": "2nd contact", "third": "3rd contact"}
+    for stage in result.stages:
+        lines.append("")
+        if not stage.found:
+            lines.append(f"{labels[stage.name]}: none found")
+            continue
+        turn = "" if stage.name == "first" else f"   turn = {stage.angle:.4f} deg"
+        lines.append(f"{labels[stage.name]}:{turn}   ({stage.queries} collision queries)")
+        ox, oy, oz = stage.origin
+        lines.append(f"  BOLT origin: {_fmt(ox)} {_fmt(oy)} {_fmt(oz)}")
+        lines.append("  Contact point locations:")
+        lines.append(f"    {'X':>11} {'Y':>11} {'Z':>11}  {'pairs':>5}  {'bolt/nut':<16}"
+                     f" {'normal (nut -> bolt)'}")
+        for c in stage.contacts:
+            x, y, z = c.point
+            n = " ".join(f"{v:7.4f}" for v in c.normal)
+            lines.append(f"    {_fmt(x)} {_fmt(y)} {_fmt(z)}  {c.pairs:5d}  {c.regions:<16} {n}")
+    lines.append("")
+    lines.append(f"Interference at the 3rd contact: {_fmt(result.interference, 0)} {u}   "
+                 f"origin drop 2nd -> 3rd: {_fmt(result.origin_drop, 0)} {u}")
+    lines.append(f"Pivot axis to compliance centre: {_fmt(result.pivot_offset, 0)} {u}   "
+                 f"collision queries: {result.queries}")
+    final = result.final_pose
+    if final is not None:
+        r, p, ph = final.angles()
+        lines.append(f"Final orientation: roll {r:.4f}  pitch {p:.4f}  phase {ph:.4f} deg; "
+                     f"origin z {final.origin[2]:.6f} {u}")
+    return "\n".join(lines)
+
+
+@cli.command("contact", help=f"""First, second and third contact of a tilted bolt on the nut.
+
+The bolt, tilted by ROLL and PITCH and spun to PHASE (degrees, conventions.md), comes down
+on the nut until it first touches, turns about the nut's tangent there until a second
+contact, then about the pivot axis through the two until a third, each found by bisection
+to 1e-7 in of travel. Prints per stage the contact points, triangle pairs, regions in
+contact, common normals, the bolt origin and turn angle, and the classification
+(stable, quasi-stable, unstable, in-phase, no-contact). Lengths are in the spec's units.
+
+{SPEC_HELP}""")
+@click.argument("spec_text", metavar="DESIGNATION|SPEC")
+@click.option("--roll", type=float, required=True,
+              help=f"Tilt about fixed X in degrees (within +/-{MAX_TILT:g}).")
+@click.option("--pitch", type=float, required=True,
+              help=f"Tilt about fixed Y in degrees (within +/-{MAX_TILT:g}).")
+@click.option("--phase", type=float, required=True,
+              help="Spin of the bolt about its axis in degrees (counter-clockwise from above).")
+@click.option("--chord", type=float, default=None,
+              help="Chord tolerance of the meshes in the spec's units "
+                   "(default 5e-6 in, 1.27e-4 mm).")
+@click.option("--compliance-z", type=float, default=0.0, show_default=True,
+              help="Compliance centre on the bolt axis, bolt frame (0: the tip centre).")
+@click.option("--condition", type=click.Choice(["mean", "max", "min"]), default="mean",
+              show_default=True, help="Material condition at which a designation expands.")
+@click.option("--json", "as_json", is_flag=True,
+              help="Print one JSON document on stdout instead of text.")
+def contact(spec_text: str, roll: float, pitch: float, phase: float, chord: float | None,
+            compliance_z: float, condition: str, as_json: bool) -> None:
+    """Run the three contact stages for one configuration."""
+    for name, value in (("roll", roll), ("pitch", pitch)):
+        if not math.isfinite(value) or abs(value) > MAX_TILT:
+            raise InputError(f"--{name} {value:g} is out of range: give degrees within "
+                             f"+/-{MAX_TILT:g}")
+    if not math.isfinite(phase):
+        raise InputError(f"--phase {phase:g} is not a finite angle")
+    if chord is not None and not (math.isfinite(chord) and chord > 0):
+        raise InputError(f"--chord {chord:g} must be a positive length")
+    if not math.isfinite(compliance_z):
+        raise InputError(f"--compliance-z {compliance_z:g} must be a finite length")
+    spec = resolve_spec(spec_text, condition)
+    if chord is not None and chord > spec.pitch / 10:
+        raise InputError(f"--chord {chord:g} is too coarse for pitch {spec.pitch:g} "
+                         f"{spec.units}: give at most a tenth of the pitch")
+    result = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z).analyze(
+        roll, pitch, phase)
+    if as_json:
+        emit_json(result.to_dict())
+    else:
+        click.echo(_text(result))

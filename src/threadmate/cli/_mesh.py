@@ -1,0 +1,71 @@
+"""``threadmate mesh``: write the bolt and nut of a thread pair as binary STL files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import click
+
+from .._io import atomic_path
+from ..geometry import DEFAULT_CHORD, thread_meshes, write_stl
+from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._main import cli
+
+__all__ = ["mesh", "mesh_document"]
+
+
+def mesh_document(text: str, out_dir: str | Path, chord: float | None = None,
+                  condition: str = "mean") -> dict[str, Any]:
+    """Tessellate a designation or spec file into ``out_dir/bolt.stl`` and ``nut.stl``.
+
+    Both files are written through temporary files and renamed only once both are
+    complete, so a failure leaves neither half-written. Returns the ``--json`` document.
+    """
+    spec = resolve_spec(text, condition)
+    bolt, nut = thread_meshes(spec, chord)
+    out = Path(out_dir)
+    paths = {"bolt": out / "bolt.stl", "nut": out / "nut.stl"}
+    label = spec.designation or "spec"
+    # Both land under temporary names first; the renames happen only after both writes.
+    with atomic_path(paths["bolt"]) as tmp_bolt, atomic_path(paths["nut"]) as tmp_nut:
+        for tmp, name, tb in ((tmp_bolt, "bolt", bolt), (tmp_nut, "nut", nut)):
+            write_stl(tb.mesh, tmp, f"threadmate {name} {label} units={spec.units} "
+                                    f"chord={tb.chord:g}")
+    return {
+        "units": spec.units,
+        "designation": spec.designation,
+        "chord": bolt.chord,
+        "bolt": {"path": str(paths["bolt"]), "triangles": bolt.triangles,
+                 "max_deviation": bolt.max_deviation},
+        "nut": {"path": str(paths["nut"]), "triangles": nut.triangles,
+                "max_deviation": nut.max_deviation},
+    }
+
+
+@cli.command("mesh", help="Write the bolt and nut as binary STL (DIR/bolt.stl, DIR/nut.stl), "
+                          f"each in its own frame. {SPEC_HELP}")
+@click.argument("designation", metavar="DESIGNATION|SPEC")
+@click.option("-o", "--output", "out_dir", required=True,
+              type=click.Path(file_okay=False, path_type=Path),
+              help="Folder for bolt.stl and nut.stl (created if missing).")
+@click.option("--chord", type=float, default=None,
+              help=f"Largest distance from the mesh to the exact surface, in the spec's units "
+                   f"(default {DEFAULT_CHORD['in']:g} in, {DEFAULT_CHORD['mm']:g} mm).")
+@click.option("--condition", type=click.Choice(["mean", "max", "min"], case_sensitive=False),
+              default="mean", show_default=True,
+              help="Material condition at which a designation expands into a spec.")
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
+def mesh(designation: str, out_dir: Path, chord: float | None, condition: str,
+         as_json: bool) -> None:
+    """Tessellate a thread pair and write its two STL files."""
+    doc = mesh_document(designation, out_dir, chord, condition.lower())
+    if as_json:
+        emit_json(doc)
+        return
+    units = doc["units"]
+    click.echo(f"{doc['designation'] or 'thread spec'}: chord {doc['chord']:g} {units}")
+    for name in ("bolt", "nut"):
+        part = doc[name]
+        click.echo(f"  {name:4} {part['path']}  {part['triangles']} triangles, "
+                   f"max deviation {part['max_deviation']:.3g} {units}")

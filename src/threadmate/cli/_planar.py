@@ -1,0 +1,120 @@
+"""``threadmate planar``: the flush bolt on the nut at one phase (the thesis's chapter 2)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import click
+
+from .._errors import InputError
+from ..geometry import ThreadSpec
+from ..planar import (
+    CriticalPhase,
+    PlanarState,
+    critical_phases,
+    figure_format,
+    in_phase_window,
+    planar_state,
+    plot_pivot_axes,
+    plot_region_disk,
+)
+from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._main import cli
+
+__all__ = ["planar"]
+
+#: The default phase: the thesis's example (section 2.4.1), where the bolt rests on two
+#: contacts for any common thread (the in-phase window is a few degrees either side of 0).
+DEFAULT_PHASE = 30.0
+
+
+def _pivot_path(plot: Path) -> Path:
+    return plot.with_name(f"{plot.stem}-pivot{plot.suffix}")
+
+
+@cli.command("planar", help=f"""Contact of the bolt standing flush on the nut at one phase.
+
+The bolt (roll = pitch = 0, tip face in the nut's top plane) is turned to PHASE degrees,
+counter-clockwise seen from above. Prints the contact points where the bolt's tip outline
+crosses the nut's top outline (angle theta in the fixed frame, x, y, the regions in
+contact, the common normal), the contact angle, the pivot axis, the in-phase window and
+the critical phases at which a contact changes regions. Lengths are in the spec's units,
+angles in degrees.
+
+{SPEC_HELP}""")
+@click.argument("spec_text", metavar="DESIGNATION|SPEC")
+@click.option("--phase", type=float, default=DEFAULT_PHASE, show_default=True,
+              help="Bolt phase in degrees (any finite value, taken modulo 360). The default "
+                   "is the thesis's example phase, where two contacts show.")
+@click.option("--condition", type=click.Choice(["mean", "max", "min"]), default="mean",
+              show_default=True, help="Material condition at which a designation expands.")
+@click.option("--json", "as_json", is_flag=True,
+              help="Print one JSON document on stdout instead of text.")
+@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the contact-region combination disk (one turn of phase) to this "
+                   ".png or .svg file, and the pivot-axis chart beside it as "
+                   "<stem>-pivot<suffix> unless --pivot-plot names another file.")
+@click.option("--pivot-plot", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the pivot-axis-versus-phase chart to this .png or .svg file.")
+def planar(spec_text: str, phase: float, condition: str, as_json: bool, plot: Path | None,
+           pivot_plot: Path | None) -> None:
+    """Report the planar contact state (see the command's help)."""
+    if not math.isfinite(phase):
+        raise InputError(f"--phase {phase} is not a finite number of degrees")
+    # Refuse bad figure names before any work, so that nothing is half done.
+    if plot is not None:
+        figure_format(plot)
+        if pivot_plot is None:
+            pivot_plot = _pivot_path(plot)
+    if pivot_plot is not None:
+        figure_format(pivot_plot)
+        if plot is not None and plot.resolve() == pivot_plot.resolve():
+            raise InputError(f"--plot and --pivot-plot name the same file: {plot}")
+    spec = resolve_spec(spec_text, condition)
+    state = planar_state(spec, phase)
+    window = in_phase_window(spec)
+    critical = critical_phases(spec)
+    figures: list[Path] = []
+    if plot is not None:
+        figures.append(plot_region_disk(spec, plot))
+    if pivot_plot is not None:
+        figures.append(plot_pivot_axes(spec, pivot_plot))
+    if as_json:
+        doc = {"units": spec.units}
+        if spec.designation:
+            doc["designation"] = spec.designation
+        doc.update(state.to_dict())
+        doc["in_phase_window"] = [list(w) for w in window]
+        doc["critical_phases"] = [c.to_dict() for c in critical]
+        doc["figures"] = [str(f) for f in figures]
+        emit_json(doc)
+        return
+    _echo_text(spec, state, window, critical, figures)
+
+
+def _echo_text(spec: ThreadSpec, state: PlanarState, window: list[tuple[float, float]],
+               critical: list[CriticalPhase], figures: list[Path]) -> None:
+    u = spec.units
+    name = spec.designation or "spec"
+    click.echo(f"{name}: bolt flush on nut at phase {state.phase:g} deg")
+    spans = ", ".join(f"[{a:.4f}, {b:.4f}]" for a, b in window) or "none"
+    click.echo(f"  in-phase window (deg): {spans}")
+    if state.in_phase and not state.contacts:
+        click.echo("  in phase: the outlines do not overlap; the bolt can drop into the nut")
+    else:
+        if state.line_contact:
+            click.echo("  at the window's edge: equal flanks coincide (line contact); its ends:")
+        click.echo(f"  contact angle: {state.contact_angle:.4f} deg")
+        click.echo(f"  pivot axis length: {state.pivot_axis_length:.6g} {u}")
+        for i, c in enumerate(state.contacts):
+            click.echo(f"  contact {i % 2 + 1}: theta {c.theta:.4f} deg, x {c.x:.6g} {u}, "
+                       f"y {c.y:.6g} {u}, bolt {c.bolt_region} / nut {c.nut_region}, "
+                       f"normal (0, 0, 1)")
+    click.echo("  critical phases (deg):")
+    for c in critical:
+        before = "in phase" if c.before is None else f"{c.before[0]}/{c.before[1]}"
+        after = "in phase" if c.after is None else f"{c.after[0]}/{c.after[1]}"
+        click.echo(f"    {c.phase:9.4f}  contact {c.contact}: {before} -> {after}")
+    for f in figures:
+        click.echo(f"  wrote {f}")

@@ -1,0 +1,407 @@
+"""The contact analyser: meshes and BVHs built once, three stages per configuration."""
+
+from __future__ import annotations
+
+import functools
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import trimesh
+from numpy.typing import NDArray
+from scipy.spatial import ConvexHull, QhullError, cKDTree
+
+from .._errors import InputError
+from ..geometry import Pose, ThreadSpec, bolt_body, bolt_rotation, nut_body
+from ._collision import CollisionPair
+from ._exact import contact_normal, region_at, turn_axis_tangent
+from ._result import Contact, ContactResult, StageResult
+from ._stability import classify, interference_depth, pivot_offset
+from ._stages import (
+    Cluster,
+    Search,
+    first_contact,
+    lowering_direction,
+    turn_to_new_contact,
+)
+from ._triangles import intersection_segments
+
+__all__ = ["ContactAnalyzer", "analyze", "MAX_TILT", "TRAVEL_TOLERANCE"]
+
+#: Largest roll or pitch (degrees) the analyser accepts: beyond it the "bolt comes down on
+#: the nut" picture (tip first, compliance centre above the nut) no longer holds.
+MAX_TILT = 45.0
+#: Bisection tolerance on travel (bolt motion), per unit.
+TRAVEL_TOLERANCE = {"in": 1e-7, "mm": 2.54e-6}
+
+
+def _positive(name: str, value: float | None) -> float | None:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) \
+            or value <= 0:
+        raise InputError(f"{name} must be a positive length, got {value!r}")
+    return float(value)
+
+
+def _mesh_api() -> tuple[Any, Any, Any]:
+    """``DEFAULT_CHORD``, ``mesh_deviation`` and ``thread_meshes`` of threadmate.geometry."""
+    try:
+        from ..geometry import DEFAULT_CHORD, mesh_deviation, thread_meshes
+    except ImportError:  # the meshes' module before geometry exports it
+        from ..geometry._mesh import DEFAULT_CHORD, mesh_deviation, thread_meshes
+    return DEFAULT_CHORD, mesh_deviation, thread_meshes
+
+
+def check_configuration(roll: float, pitch: float, phase: float) -> tuple[float, float, float]:
+    """Refuse non-finite angles and roll or pitch beyond +/-:data:`MAX_TILT` degrees."""
+    out = []
+    for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
+        if isinstance(value, bool) or not isinstance(value, int | float | np.floating):
+            raise InputError(f"{name} must be a number of degrees, got {value!r}")
+        value = float(value)
+        if not math.isfinite(value):
+            raise InputError(f"{name} must be finite, got {value!r}")
+        if name != "phase" and abs(value) > MAX_TILT:
+            raise InputError(f"{name} {value:g} deg is out of range: the contact stages take "
+                             f"roll and pitch within +/-{MAX_TILT:g} deg")
+        out.append(value)
+    return out[0], out[1], out[2]
+
+
+def _user_mesh(mesh: Any, kind: str, spec: ThreadSpec) -> trimesh.Trimesh:
+    """A user mesh from a path (validated by :func:`threadmate.geometry.load_mesh`) or a
+    Trimesh (checked to sit in its frame)."""
+    if isinstance(mesh, str | Path):
+        try:
+            from ..geometry import load_mesh
+        except ImportError:  # the mesh-file module before geometry exports it
+            from ..geometry._meshio import load_mesh
+
+        return load_mesh(mesh, kind, spec=spec)
+    if not isinstance(mesh, trimesh.Trimesh):
+        raise InputError(f"{kind}_mesh must be a mesh file path or a trimesh.Trimesh, "
+                         f"got {type(mesh).__name__}")
+    lo, hi = mesh.bounds
+    size = float(np.max(hi - lo))
+    slack = 1e-6 * max(size, spec.pitch)
+    centred = np.all(np.abs(0.5 * (lo[:2] + hi[:2])) <= 0.05 * size)
+    if kind == "bolt":
+        framed = abs(lo[2]) <= slack and centred
+        where = "tip face at z = 0, body in z >= 0, axis along Z"
+    else:
+        framed = abs(hi[2]) <= slack and centred
+        where = "top face at z = 0, body in z <= 0, axis along Z"
+    if not framed:
+        raise InputError(f"{kind} mesh is not in its frame ({where}); its bounds are "
+                         f"{lo.round(6).tolist()} to {hi.round(6).tolist()}")
+    if not mesh.is_watertight:
+        raise InputError(f"{kind} mesh is not a closed volume (not watertight)")
+    return mesh
+
+
+def _share(cluster: Cluster, corners: NDArray[np.float64]) -> list[Cluster]:
+    """Split an area contact into distinct contacts at ``corners``: each pair goes to the
+    nearest corner."""
+    ends = cluster.ends
+    n = len(ends) // 2
+    mid = 0.5 * (ends[:n] + ends[n:])
+    near = np.argmin(np.linalg.norm(mid[:, None] - corners[None], axis=-1), axis=1)
+    return [Cluster(corners[j], int((near == j).sum()),
+                    np.concatenate([ends[:n][near == j], ends[n:][near == j]]))
+            for j in range(len(corners))]
+
+
+def _flat_support(cluster: Cluster, centre: NDArray[np.float64], separation: float
+                  ) -> list[Cluster] | tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """How a tip face resting flat over an area supports the compliance centre.
+
+    The area's horizontal convex hull either surrounds the compliance centre (the bolt
+    rests on it: three distinct contacts at hull vertices whose triangle holds the
+    centre), or not (the bolt tips over the hull edge facing the centre: the edge's two
+    ends as two distinct contacts, or the edge as a turn axis ``(point, direction)`` when
+    its ends are closer than ``separation``). None when the area has no proper hull.
+    """
+    ends = cluster.ends
+    try:
+        hull = ConvexHull(ends[:, :2])
+    except QhullError:
+        return None
+    c = centre[:2]
+    dist = hull.equations[:, :2] @ c + hull.equations[:, 2]  # > 0 outside the facet
+    if dist.max() < 0:
+        v = hull.vertices
+        for k in range(1, len(v) - 1):
+            tri = ends[[v[0], v[k], v[k + 1]], :2]
+            m = np.column_stack([tri[1] - tri[0], tri[2] - tri[0]])
+            b = np.linalg.solve(m, c - tri[0])
+            if b.min() >= 0 and b.sum() <= 1:
+                return _share(cluster, ends[[v[0], v[k], v[k + 1]]])
+        return None
+    a, b = ends[hull.simplices[int(np.argmax(dist))]]
+    if np.linalg.norm(b - a) > separation:
+        return _share(cluster, np.array([a, b]))
+    return a, b - a
+
+
+class ContactAnalyzer:
+    """First, second and third contact of a bolt on its nut, for any orientation.
+
+    Meshes and their python-fcl BVHs are built once here and reused by every
+    :meth:`analyze` call (the bolt only moves). One analyser per process: fcl objects
+    neither pickle nor release the GIL.
+
+    Parameters
+    ----------
+    spec : ThreadSpec
+        The thread pair (lengths in ``spec.units``).
+    chord : float, optional
+        Chord tolerance of the generated meshes (default
+        :data:`threadmate.geometry.DEFAULT_CHORD`, 5e-6 in).
+    compliance_z : float
+        Compliance centre on the bolt axis, bolt frame (default 0: the tip centre).
+    bolt_mesh, nut_mesh : path or trimesh.Trimesh, optional
+        Meshes from CAD instead of generated ones, each in its own frame (bolt tip face at
+        z = 0, nut top face at z = 0, axes along Z); refused with :class:`InputError`
+        otherwise. Regions and normals still come from the exact bodies of ``spec``.
+    quasi_tolerance : float, optional
+        Largest pivot offset of a quasi-stable two-point state (default pitch / 10).
+    interference_tolerance : float, optional
+        Largest interference of a stable three-point state (default 4 x the mesh
+        deviation bound).
+    max_turn : float
+        Search range of the second and third stages (degrees, default 30).
+    """
+
+    def __init__(self, spec: ThreadSpec, *, chord: float | None = None,
+                 compliance_z: float = 0.0, bolt_mesh: Any = None, nut_mesh: Any = None,
+                 quasi_tolerance: float | None = None,
+                 interference_tolerance: float | None = None, max_turn: float = 30.0) -> None:
+        if not isinstance(spec, ThreadSpec):
+            raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
+        chord = _positive("chord", chord)
+        if isinstance(compliance_z, bool) or not isinstance(compliance_z, int | float) \
+                or not math.isfinite(compliance_z):
+            raise InputError(f"compliance_z must be a finite length, got {compliance_z!r}")
+        if not (isinstance(max_turn, int | float) and 0 < max_turn <= 90):
+            raise InputError(f"max_turn must be within (0, 90] degrees, got {max_turn!r}")
+        self.spec = spec
+        self.units = spec.units
+        self.compliance_z = float(compliance_z)
+        self.bolt = bolt_body(spec)
+        self.nut = nut_body(spec)
+
+        DEFAULT_CHORD, mesh_deviation, thread_meshes = _mesh_api()
+
+        if bolt_mesh is None or nut_mesh is None:
+            gen_bolt, gen_nut = thread_meshes(spec, chord)
+        self.chord = float(chord if chord is not None else DEFAULT_CHORD[spec.units])
+        if bolt_mesh is None:
+            bm, dev_b = gen_bolt.mesh, float(gen_bolt.max_deviation)
+        else:
+            bm = _user_mesh(bolt_mesh, "bolt", spec)
+            dev_b = float(mesh_deviation(bm, self.bolt))
+        if nut_mesh is None:
+            nm, dev_n = gen_nut.mesh, float(gen_nut.max_deviation)
+        else:
+            nm = _user_mesh(nut_mesh, "nut", spec)
+            dev_n = float(mesh_deviation(nm, self.nut))
+        self._setup(bm, nm, max(dev_b, dev_n, 0.0), quasi_tolerance, interference_tolerance,
+                    max_turn)
+
+    def _setup(self, bolt_mesh: trimesh.Trimesh, nut_mesh: trimesh.Trimesh, deviation: float,
+               quasi_tolerance: float | None, interference_tolerance: float | None,
+               max_turn: float) -> None:
+        spec = self.spec
+        self.deviation = deviation
+        self.engine = CollisionPair(bolt_mesh, nut_mesh)
+        self._bolt_tree = cKDTree(self.engine.bolt_vertices)
+        verts = self.engine.bolt_vertices
+        self._tip = verts[np.abs(verts[:, 2]) <= 1e-9 * spec.pitch]
+        self._nut_tree = cKDTree(self.engine.nut_vertices)
+        travel = TRAVEL_TOLERANCE[spec.units]
+        self.search = Search(travel=travel, separation=spec.pitch / 4, pitch=spec.pitch,
+                             min_radius=0.5 * min(spec.nut.minor, spec.bolt.minor),
+                             max_turn=float(max_turn))
+        bound = max(deviation, 1e-9 * spec.pitch)
+        #: Distance within which a contact point is taken to lie on a face or edge.
+        self.feature_tolerance = 2.0 * bound + 10.0 * travel
+        self.quasi_tolerance = _positive("quasi_tolerance", quasi_tolerance) or spec.pitch / 10
+        self.interference_tolerance = (_positive("interference_tolerance",
+                                                 interference_tolerance) or 4.0 * bound)
+
+    @property
+    def tolerances(self) -> dict[str, float]:
+        """Tolerances in force (spec units)."""
+        return {
+            "travel": self.search.travel,
+            "separation": self.search.separation,
+            "feature": self.feature_tolerance,
+            "interference": self.interference_tolerance,
+            "quasi": self.quasi_tolerance,
+            "mesh_deviation": self.deviation,
+        }
+
+    # -- pieces ---------------------------------------------------------------------------
+    def _contacts(self, pose: Pose, clusters: list[Cluster]) -> list[Contact]:
+        if not clusters:
+            return []
+        tol = self.feature_tolerance
+        out = []
+        for c in clusters:
+            n, fn, fb = contact_normal(self.nut, self.bolt, pose, c.point, tol)
+            out.append(Contact(tuple(float(x) for x in c.point), tuple(float(x) for x in n),
+                               c.pairs, region_at(self.bolt, pose.to_bolt(c.point), fb),
+                               region_at(self.nut, c.point, fn), fb.kind, fn.kind))
+        return out
+
+    def _centre(self, pose: Pose) -> NDArray[np.float64]:
+        return pose.to_fixed(np.array([0.0, 0.0, self.compliance_z]))
+
+    def _interference(self, pose: Pose) -> float:
+        eng = self.engine
+        pairs = eng.pairs(pose)
+        if len(pairs) == 0:
+            return 0.0
+        bolt_tris_f, nut_tris = eng.triangles(pose, pairs)
+        segs = intersection_segments(bolt_tris_f, nut_tris)
+        ends = np.concatenate([segs.start, segs.end])
+        bolt_tris_b = eng.bolt_vertices[eng.bolt_faces[np.unique(pairs[:, 0])]]
+        nut_tris_f = eng.nut_vertices[eng.nut_faces[np.unique(pairs[:, 1])]]
+        return interference_depth(self.bolt, self.nut, pose, eng.bolt_vertices,
+                                  self._bolt_tree, eng.nut_vertices, self._nut_tree,
+                                  bolt_tris_b, nut_tris_f, ends, self.search.separation)
+
+    def _turn(self, name: str, start: Pose, existing: list[tuple[Contact, Cluster]],
+              axis_point: NDArray[np.float64], axis: NDArray[np.float64]
+              ) -> tuple[StageResult, Pose, list[tuple[Contact, Cluster]]] | None:
+        out = turn_to_new_contact(self.engine, start, axis_point, axis,
+                                  [cl for _, cl in existing], self.search)
+        if out is None:
+            return None
+        found = [c for c in out.existing if c is not None] + out.new
+        fresh = iter(zip(self._contacts(out.contact, found), found, strict=True))
+        # An existing contact without pairs left lies on the turn axis: it stays put.
+        kept = [next(fresh) if c is not None else old
+                for c, old in zip(out.existing, existing, strict=True)]
+        both = kept + list(fresh)
+        stage = StageResult.at(name, out.free, tuple(c for c, _ in both), out.angle,
+                               out.queries, axis=(axis_point, axis))
+        return stage, out.contact, both
+
+    # -- the analysis ---------------------------------------------------------------------
+    def analyze(self, roll: float, pitch: float, phase: float) -> ContactResult:
+        """The three contact stages and the classification of one configuration.
+
+        Parameters
+        ----------
+        roll, pitch : float
+            Tilt of the bolt axis about fixed X and Y (degrees, within +/-45).
+        phase : float
+            Spin of the bolt about its own axis (degrees, any finite value).
+
+        Returns
+        -------
+        ContactResult
+        """
+        roll, pitch, phase = check_configuration(roll, pitch, phase)
+        eng = self.engine
+        q0 = eng.queries
+        rotation = bolt_rotation(roll, pitch, phase)
+        floor = -float(self.nut.z_max - self.nut.z_min) - float(
+            (eng.bolt_vertices @ rotation[2]).max()) - self.spec.pitch
+        none = {name: StageResult(name, False) for name in ("first", "second", "third")}
+        common: dict[str, Any] = dict(units=self.units, roll=roll, pitch=pitch, phase=phase,
+                                      compliance_z=self.compliance_z,
+                                      tolerances=self.tolerances)
+
+        def done(cls: str, **kw: Any) -> ContactResult:
+            stages = {**none, **{k: v for k, v in kw.items() if k in none}}
+            rest = {k: v for k, v in kw.items() if k not in none}
+            return ContactResult(classification=cls, queries=eng.queries - q0, **stages,
+                                 **common, **rest)
+
+        s1 = first_contact(eng, rotation, self.search, floor)
+        if s1 is None or not s1.clusters:
+            return done("no-contact")
+        clusters = s1.clusters
+        centre = self._centre(s1.contact)
+        turn_line = None
+        if len(clusters) == 1 and np.ptp(clusters[0].ends, axis=0).max() > self.search.separation \
+                and self._contacts(s1.contact, clusters)[0].bolt_feature == "cap":
+            # The tip face itself touches over an area (an upright bolt flat on the top
+            # face): the area's hull decides the support (see _flat_support).
+            support = _flat_support(clusters[0], centre, self.search.separation)
+            if isinstance(support, list):
+                clusters = support
+            elif support is not None:
+                turn_line = support
+        c1 = tuple(self._contacts(s1.contact, clusters))
+        held = list(zip(c1, clusters, strict=True))
+        first = StageResult.at("first", s1.free, c1, 0.0, s1.queries)
+        tol = self.feature_tolerance
+        # In phase: the whole tip face went below the nut's top face before touching.
+        if s1.free.origin[2] + float((self._tip @ rotation[2]).max()) < -tol:
+            return done("in-phase", first=first)
+
+        # Second contact: turn about the nut's tangent at the first contact.
+        if len(c1) >= 2:
+            second, pose2 = StageResult.at("second", s1.free, c1, 0.0, 0), s1.contact
+        else:
+            if turn_line is None:
+                pivot = np.array(c1[0].point)
+                tangent = turn_axis_tangent(self.nut, self.bolt, s1.contact, pivot, tol)
+            else:
+                pivot, tangent = turn_line
+            axis = lowering_direction(pivot, tangent, centre)
+            turned = self._turn("second", s1.contact, held, pivot, axis)
+            if turned is None:
+                return done("no-contact", first=first)
+            second, pose2, held = turned
+
+        # Third contact: turn about the pivot axis through the two contacts.
+        c2 = second.contacts
+        p1, p2 = np.array(c2[0].point), np.array(c2[1].point)
+        offset = pivot_offset(p1, p2, self._centre(pose2))
+        if len(c2) >= 3:
+            third = StageResult.at("third", second.pose, c2, 0.0, 0)
+        else:
+            axis = lowering_direction(p1, p2 - p1, self._centre(pose2))
+            turned = self._turn("third", pose2, held[:2], p1, axis)
+            third = turned[0] if turned is not None else StageResult("third", False)
+        interference = math.nan
+        drop = math.nan
+        if third.found:
+            interference = self._interference(third.pose)
+            drop = float(second.origin[2] - third.origin[2])
+        cls = classify(first_found=True, in_phase=False, second_found=True, offset=offset,
+                       third_found=third.found, interference=interference,
+                       quasi_tolerance=self.quasi_tolerance,
+                       interference_tolerance=self.interference_tolerance)
+        return done(cls, first=first, second=second, third=third, interference=interference,
+                    origin_drop=drop, pivot_offset=offset)
+
+
+@functools.lru_cache(maxsize=4)
+def _cached(spec: ThreadSpec, chord: float | None, compliance_z: float,
+            quasi_tolerance: float | None) -> ContactAnalyzer:
+    return ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z,
+                           quasi_tolerance=quasi_tolerance)
+
+
+def analyze(spec: ThreadSpec, *, roll: float = 0.0, pitch: float = 0.0, phase: float = 0.0,
+            chord: float | None = None, compliance_z: float = 0.0,
+            quasi_tolerance: float | None = None) -> ContactResult:
+    """The contact stages of one configuration (a cached :class:`ContactAnalyzer` per
+    spec and settings).
+
+    Examples
+    --------
+    >>> from threadmate.geometry import spec_from_designation
+    >>> from threadmate.contact import analyze
+    >>> result = analyze(spec_from_designation("1/4-20 UNC-2A/2B"), roll=4, pitch=0,
+    ...                  phase=185)                                      # doctest: +SKIP
+    >>> result.classification, result.third.contacts[0].point           # doctest: +SKIP
+    """
+    return _cached(spec, chord, compliance_z, quasi_tolerance).analyze(roll, pitch, phase)

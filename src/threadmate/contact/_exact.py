@@ -1,0 +1,218 @@
+"""What a contact point touches on each exact body: feature, region, normal, tangent.
+
+The meshes only say where the bodies cross; everything a contact reports beyond its
+location comes from the exact helical bodies (:class:`threadmate.geometry.ThreadBody`).
+
+Features. A point (in a body's own frame) within ``tol`` of a body's surface lies on
+
+- ``rim``: the edge where the end face (bolt ``base``, nut ``surface``) meets the thread;
+- ``cap``: the end face itself;
+- ``corner``: a sharp (unfilleted) corner of the profile swept along the helix;
+- ``thread``: the smooth helical thread surface.
+
+Rims and corners are edges, the others faces. ``tol`` is a few chord tolerances: the
+contact point sits within the meshes' deviation of both exact surfaces.
+
+Regions come from the exact profile with the rule of :meth:`ThreadBody.region_of`: a
+point on the end face or its rim has the end face's region (``base`` / ``surface``; the
+thesis names the tip rim landing on the nut's top ``base/surface``), any other the
+profile's region (:meth:`Profile.region`) at its helix coordinate ``t``.
+
+Common normal (fixed frame, unit, from the nut into the bolt), by features:
+
+1. the nut touches with a face: the nut's exact outward normal there;
+2. else the bolt touches with a face: minus the bolt's exact outward normal;
+3. else (edge on edge) the cross product of the two edge tangents (thesis 3.11), oriented
+   along the nut's outward side and against the bolt's.
+
+The helical surface ``r = R(t)``, ``t = z - hand * lead * theta / 2 pi``, has the gradient
+``e_r + R'(t) hand lead / (2 pi r) e_theta - R'(t) e_z`` (pointing out of the bolt's
+material and into the nut's).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..geometry import Pose, ThreadBody
+
+__all__ = ["Feature", "feature_at", "contact_normal", "region_at", "turn_axis_tangent"]
+
+TWO_PI = 2.0 * math.pi
+
+
+@dataclass(frozen=True)
+class Feature:
+    """The feature of one exact body at a point (vectors in that body's frame).
+
+    Attributes
+    ----------
+    kind : {"rim", "cap", "corner", "thread"}
+    normal : (3,) array or None
+        Outward unit normal for a face (None for an edge).
+    tangent : (3,) array or None
+        Unit tangent for an edge (None for a face).
+    side : (3,) array
+        Outward direction of the material at the point (the face normal, or for an edge
+        the sum of its two faces' normals); orients edge-on-edge normals.
+    """
+
+    kind: str
+    normal: NDArray[np.float64] | None
+    tangent: NDArray[np.float64] | None
+    side: NDArray[np.float64]
+
+    @property
+    def is_edge(self) -> bool:
+        """Whether the feature is an edge (rim or sharp corner)."""
+        return self.kind in ("rim", "corner")
+
+
+def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    n = float(np.linalg.norm(v))
+    return v / n if n > 0 else v
+
+
+def _helical_normal(body: ThreadBody, p: NDArray[np.float64], t: float) -> NDArray[np.float64]:
+    """Outward unit normal of the body's thread surface at ``p`` using the slope at ``t``."""
+    r = max(math.hypot(p[0], p[1]), 1e-300)
+    c, s = p[0] / r, p[1] / r
+    slope = float(body.profile.slope(t))
+    g_theta = slope * body.hand * body.lead / (TWO_PI * r)
+    grad = np.array([c - g_theta * s, s + g_theta * c, -slope])
+    return _unit(grad if body.kind == "bolt" else -grad)
+
+
+def _rim_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
+    theta = math.atan2(p[1], p[0])
+    radius = float(body.section_radius(theta, body.cap_z))
+    d_radius = float(body.section_slope(theta, body.cap_z))
+    c, s = math.cos(theta), math.sin(theta)
+    return _unit(np.array([d_radius * c - radius * s, d_radius * s + radius * c, 0.0]))
+
+
+def _helix_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
+    r = math.hypot(p[0], p[1])
+    theta = math.atan2(p[1], p[0])
+    return _unit(np.array([-r * math.sin(theta), r * math.cos(theta),
+                           body.hand * body.lead / TWO_PI]))
+
+
+def _sharp_corners(body: ThreadBody) -> list[float]:
+    """``|t|`` of the profile's sharp corners (a zero fillet keeps its corner)."""
+    prof = body.profile
+    a1, _, _, a4 = prof.breakpoints
+    out = []
+    if prof.fillet_hi <= 0:
+        out.append(a1)
+    if prof.fillet_lo <= 0:
+        out.append(a4)
+    return out
+
+
+def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feature:
+    """The feature of ``body`` at ``point`` (body frame); see the module docstring."""
+    p = np.asarray(point, dtype=float)
+    prof = body.profile
+    r = math.hypot(p[0], p[1])
+    theta = math.atan2(p[1], p[0])
+    t = float(body.t_of(theta, p[2]))
+    R = float(prof.radius(t))
+    # Distance to the thread in the axial section: the radial offset projected on the
+    # profile's normal (exact on flats and flanks; contact points lie within ``tol``).
+    d_thread = abs(r - R) / math.hypot(1.0, float(prof.slope(t)))
+    d_cap = abs(p[2] - body.cap_z)
+    over_cap = r <= R + tol if body.kind == "bolt" else r >= R - tol
+    cap_normal = np.array([0.0, 0.0, -1.0 if body.kind == "bolt" else 1.0])
+    near_cap = d_cap <= tol and over_cap
+    near_thread = d_thread <= tol
+    if near_cap and near_thread:
+        side = cap_normal + _helical_normal(body, p, t)
+        return Feature("rim", None, _rim_tangent(body, p), _unit(side))
+    if near_cap or (over_cap and d_cap < d_thread):
+        return Feature("cap", cap_normal, None, cap_normal)
+    # A sharp corner: the profile point nearest to (t, r) is within tol of a corner.
+    u = abs(t)
+    for uc in _sharp_corners(body):
+        rc = float(prof.radius(uc))
+        if math.hypot(u - uc, r - rc) <= tol:
+            h = 1e-4 * prof.pitch
+            sign = 1.0 if t >= 0 else -1.0
+            n_in = _helical_normal(body, p, sign * max(uc - h, 0.0))
+            n_out = _helical_normal(body, p, sign * min(uc + h, prof.pitch / 2))
+            return Feature("corner", None, _helix_tangent(body, p), _unit(n_in + n_out))
+    n = _helical_normal(body, p, t)
+    return Feature("thread", n, None, n)
+
+
+def contact_normal(nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64],
+                   tol: float) -> tuple[NDArray[np.float64], Feature, Feature]:
+    """Common normal at a contact (fixed frame, unit, from the nut into the bolt).
+
+    Returns the normal and the nut's and bolt's features (each in its own frame).
+    """
+    fn = feature_at(nut, point_f, tol)
+    fb = feature_at(bolt, pose.to_bolt(point_f), tol)
+    return _common_normal(fn, fb, pose), fn, fb
+
+
+def _common_normal(fn: Feature, fb: Feature, pose: Pose) -> NDArray[np.float64]:
+    if not fn.is_edge:
+        return fn.normal.copy()
+    if not fb.is_edge:
+        return -pose.vector_to_fixed(fb.normal)
+    tb = pose.vector_to_fixed(fb.tangent)
+    side_b = pose.vector_to_fixed(fb.side)
+    n = np.cross(tb, fn.tangent)
+    if np.linalg.norm(n) < 1e-9:  # parallel edges: split the two sides
+        n = fn.side - side_b
+    n = _unit(n)
+    if n @ fn.side - n @ side_b < 0:
+        n = -n
+    return n
+
+
+def region_at(body: ThreadBody, point: NDArray[np.float64], feature: Feature) -> str:
+    """Region of ``body`` at ``point`` (body frame) from the exact profile: the end face's
+    name (``base`` / ``surface``) on the cap and its rim, else the profile region at the
+    point's helix coordinate ``t``."""
+    if feature.kind in ("cap", "rim"):
+        return body.cap_region
+    p = np.asarray(point, dtype=float)
+    return str(body.profile.region(body.t_of(math.atan2(p[1], p[0]), p[2])))
+
+
+def turn_axis_tangent(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
+                      point_f: NDArray[np.float64], tol: float) -> NDArray[np.float64]:
+    """Tangent of the nut's surface or edge at a first contact: the second stage's axis.
+
+    Rule (by the features at the contact):
+
+    - the nut touches with an edge (its top rim, a sharp thread corner): that edge's
+      tangent (the rim: the nut's top outline ``r = R_n(theta)``; a corner: its helix);
+    - the nut touches with a face and the bolt with an edge (the bolt's tip rim or a sharp
+      corner): the bolt edge's tangent projected onto the nut's tangent plane. Of all the
+      tangents of the nut's face this is the one about which the bolt can turn without at
+      once cutting into the face beside the contact (at the lowest point of a tilted rim
+      resting on the top face, the rim's tangent is horizontal: it lies in the face);
+    - face on face: on the top face the counter-clockwise circumferential direction
+      (thesis eq. 3.74), on the thread the helix through the point.
+    """
+    p = np.asarray(point_f, dtype=float)
+    fn = feature_at(nut, p, tol)
+    if fn.is_edge:
+        return fn.tangent
+    fb = feature_at(bolt, pose.to_bolt(p), tol)
+    if fb.is_edge:
+        t = pose.vector_to_fixed(fb.tangent)
+        t = t - (t @ fn.normal) * fn.normal
+        if np.linalg.norm(t) > 1e-9:
+            return _unit(t)
+    if fn.kind == "cap":
+        theta = math.atan2(p[1], p[0])
+        return np.array([-math.sin(theta), math.cos(theta), 0.0])
+    return _helix_tangent(nut, p)

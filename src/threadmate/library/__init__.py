@@ -1,0 +1,61 @@
+"""The contact-state library: every configuration of a roll/pitch/phase grid, on disk.
+
+The thesis's chapter 4 swept roll and pitch from -4 to +4 deg by 1 and phase over a turn by
+5 deg (5,832 configurations). :func:`sweep` runs the contact stages
+(:mod:`threadmate.contact`) over any grid, in a local process pool (one analyser, meshes
+and BVHs included, per worker) or on Dask, and writes the rows in chunks as a Parquet
+dataset directory that describes itself (spec, grid, mesh and contact settings, units,
+version). An interrupted sweep resumes where it stopped; a library of another request is
+refused, never mixed.
+
+Configurations are numbered roll-major, phase fastest:
+``config_id = (i_roll * n_pitch + i_pitch) * n_phase + i_phase``. Angles are degrees,
+lengths the spec's units, poses per conventions.md.
+
+Example
+-------
+>>> from threadmate.geometry import spec_from_designation
+>>> from threadmate import library
+>>> spec = spec_from_designation("1/4-20 UNC-2A/2B")
+>>> path = library.sweep(spec, out="lib-1-4-20")                      # doctest: +SKIP
+>>> df = library.load(path)                                            # doctest: +SKIP
+>>> library.summary(path)["counts"]                                    # doctest: +SKIP
+
+The directory also reads directly: ``pandas.read_parquet("lib-1-4-20")``,
+``pyarrow.dataset.dataset("lib-1-4-20")`` or DuckDB's
+``SELECT * FROM read_parquet('lib-1-4-20/*.parquet')``.
+"""
+
+from ._grid import DEFAULT_GRID, MAX_TILT, Grid, parse_range
+from ._store import METADATA_FILE, compare_metadata, info, library_schema, load, query
+from ._summary import (
+    CLASS_ORDER,
+    plot_phase_strips,
+    plot_region_combinations,
+    plot_stability_map,
+    summary,
+    write_figures,
+)
+from ._sweep import ProgressCallback, SweepInterrupted, sweep
+
+__all__ = [
+    "CLASS_ORDER",
+    "DEFAULT_GRID",
+    "MAX_TILT",
+    "METADATA_FILE",
+    "Grid",
+    "ProgressCallback",
+    "SweepInterrupted",
+    "compare_metadata",
+    "info",
+    "library_schema",
+    "load",
+    "parse_range",
+    "plot_phase_strips",
+    "plot_region_combinations",
+    "plot_stability_map",
+    "query",
+    "summary",
+    "sweep",
+    "write_figures",
+]

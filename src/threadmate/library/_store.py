@@ -1,0 +1,355 @@
+"""The library on disk: a Parquet dataset directory that describes itself.
+
+Layout of a library directory::
+
+    _threadmate.json        metadata (spec, grid, mesh and contact settings, units, version)
+    part-00000.parquet      rows of finished configurations, one file per chunk
+    part-00001.parquet      ...
+
+Every file appears whole or not at all (written to a temporary name, then renamed), and
+every part carries the same metadata in its Arrow schema (key ``threadmate``), so the
+directory reads directly with ``pyarrow.dataset.dataset(dir)``,
+``pandas.read_parquet(dir)`` or DuckDB's ``read_parquet('dir/*.parquet')``: names that
+start with ``_`` or ``.`` are skipped by pyarrow. Each row is one configuration: its
+``config_id`` (see :class:`~threadmate.library.Grid`), the contact record of
+docs/architecture.md, and ``error`` (the message when the analysis raised, else "").
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import pyarrow as pa
+import pyarrow.dataset as ds
+import pyarrow.parquet as pq
+
+from .._errors import LibraryError
+from .._io import atomic_path, atomic_write_text
+from ._grid import Grid
+
+__all__ = [
+    "METADATA_FILE",
+    "FORMAT",
+    "library_schema",
+    "read_metadata",
+    "write_metadata",
+    "write_part",
+    "part_files",
+    "done_ids",
+    "load",
+    "info",
+    "query",
+    "compare_metadata",
+]
+
+#: Name of the metadata file inside a library directory.
+METADATA_FILE = "_threadmate.json"
+#: Key of the metadata in each part's Arrow schema.
+SCHEMA_KEY = b"threadmate"
+#: Format tag and version of the metadata.
+FORMAT = "threadmate-contact-library"
+FORMAT_VERSION = 1
+_PART = re.compile(r"^part-(\d{5,})\.parquet$")
+
+
+def library_schema(metadata: dict[str, Any] | None = None) -> pa.Schema:
+    """``config_id``, the contact record's columns, then ``error``; with ``metadata``
+    attached under the key ``threadmate``."""
+    from ..contact import record_schema
+
+    fields = [pa.field("config_id", pa.int64()), *record_schema(),
+              pa.field("error", pa.string())]
+    schema = pa.schema(fields)
+    if metadata is not None:
+        schema = schema.with_metadata({SCHEMA_KEY: json.dumps(metadata, sort_keys=True)})
+    return schema
+
+
+def _check_dir(path: str | Path) -> Path:
+    path = Path(path)
+    if not path.exists():
+        raise LibraryError(f"no library at {path}: the path does not exist")
+    if not path.is_dir():
+        raise LibraryError(f"{path} is not a library: a library is a directory of Parquet "
+                           f"parts with {METADATA_FILE}")
+    return path
+
+
+def read_metadata(path: str | Path) -> dict[str, Any]:
+    """The metadata of the library at ``path`` (LibraryError if it is not one)."""
+    path = _check_dir(path)
+    meta_file = path / METADATA_FILE
+    if not meta_file.is_file():
+        raise LibraryError(f"{path} is not a threadmate library: it has no {METADATA_FILE}")
+    try:
+        doc = json.loads(meta_file.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise LibraryError(f"{meta_file} is unreadable or not JSON: {exc}") from None
+    if not isinstance(doc, dict) or doc.get("format") != FORMAT:
+        raise LibraryError(f"{meta_file} is not threadmate library metadata "
+                           f"(no format {FORMAT!r})")
+    for key in ("spec", "grid", "mesh", "contact", "units", "threadmate_version"):
+        if key not in doc:
+            raise LibraryError(f"{meta_file} lacks the key {key!r}")
+    return doc
+
+
+def write_metadata(path: str | Path, metadata: dict[str, Any]) -> Path:
+    """Write the metadata file atomically (creating the directory)."""
+    path = Path(path)
+    path.mkdir(parents=True, exist_ok=True)
+    return atomic_write_text(path / METADATA_FILE,
+                             json.dumps(metadata, indent=2, sort_keys=True) + "\n")
+
+
+def part_files(path: str | Path) -> list[Path]:
+    """The part files of a library, in part order."""
+    path = Path(path)
+    parts = [p for p in path.iterdir() if _PART.match(p.name)]
+    return sorted(parts, key=lambda p: int(_PART.match(p.name).group(1)))
+
+
+def next_part_index(path: str | Path) -> int:
+    """The number of the next part file to write."""
+    parts = part_files(path)
+    return int(_PART.match(parts[-1].name).group(1)) + 1 if parts else 0
+
+
+def write_part(path: str | Path, index: int, table: pa.Table) -> Path:
+    """Write one chunk of rows as ``part-{index:05d}.parquet``, atomically."""
+    target = Path(path) / f"part-{index:05d}.parquet"
+    if target.exists():
+        raise LibraryError(f"{target} already exists: refusing to overwrite finished rows")
+    with atomic_path(target) as tmp:
+        pq.write_table(table, tmp, compression="zstd")
+    return target
+
+
+def remove_stale_temporaries(path: str | Path) -> None:
+    """Remove temporary files a killed sweep left behind (they hold no finished rows)."""
+    for p in Path(path).glob(".part-*.tmp"):
+        p.unlink(missing_ok=True)
+
+
+def _dataset(path: Path, columns: list[str] | None = None) -> ds.Dataset:
+    parts = part_files(path)
+    try:
+        return ds.dataset([str(p) for p in parts], format="parquet",
+                          schema=library_schema())
+    except (pa.ArrowInvalid, OSError) as exc:
+        raise LibraryError(f"{path} holds a corrupt or foreign part: {exc}") from None
+
+
+def _read(path: Path, columns: list[str] | None = None,
+          filter: ds.Expression | None = None) -> pa.Table:
+    dataset = _dataset(path)
+    try:
+        return dataset.to_table(columns=columns, filter=filter)
+    except (pa.ArrowInvalid, OSError) as exc:
+        raise LibraryError(f"{path} holds a corrupt part: {exc}") from None
+
+
+def done_ids(path: str | Path) -> np.ndarray:
+    """Sorted config_ids that the library's parts already hold."""
+    path = _check_dir(path)
+    if not part_files(path):
+        return np.empty(0, dtype=np.int64)
+    ids = _read(path, ["config_id"]).column("config_id").to_numpy()
+    uniq = np.unique(ids)
+    if len(uniq) != len(ids):
+        raise LibraryError(f"{path} holds some configurations twice: it was mixed by hand")
+    return uniq
+
+
+def load(path: str | Path, columns: list[str] | None = None) -> pd.DataFrame:
+    """Every row of a library, sorted by ``config_id``.
+
+    Parameters
+    ----------
+    path : path-like
+        The library directory.
+    columns : list of str, optional
+        Read only these columns (``config_id`` is always read).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per finished configuration (columns: ``config_id``, the contact record of
+        docs/architecture.md, ``error``); ``df.attrs["threadmate"]`` holds the metadata.
+
+    Raises
+    ------
+    LibraryError
+        ``path`` is missing, not a directory, has no metadata or holds corrupt parts.
+    """
+    path = _check_dir(path)
+    meta = read_metadata(path)
+    schema = library_schema()
+    if columns is not None:
+        unknown = [c for c in columns if c not in schema.names]
+        if unknown:
+            raise LibraryError(f"no column {unknown[0]!r} in a library")
+        columns = ["config_id", *[c for c in columns if c != "config_id"]]
+    if part_files(path):
+        table = _read(path, columns)
+    else:
+        table = schema.empty_table()
+        if columns is not None:
+            table = table.select(columns)
+    df = table.to_pandas().sort_values("config_id", kind="stable").reset_index(drop=True)
+    df.attrs["threadmate"] = meta
+    return df
+
+
+def _counts(values: pd.Series | np.ndarray) -> dict[str, int]:
+    s = pd.Series(values).value_counts()
+    return {str(k): int(v) for k, v in s.items()}
+
+
+def info(path: str | Path) -> dict[str, Any]:
+    """What a library holds, without loading its rows.
+
+    Returns
+    -------
+    dict
+        ``path``, ``metadata``, ``configurations`` (grid size), ``done``, ``complete``,
+        ``parts``, ``classifications`` (counts of the finished rows) and ``grid``
+        (a one-line description).
+    """
+    path = _check_dir(path)
+    meta = read_metadata(path)
+    grid = Grid.from_dict(meta["grid"])
+    if part_files(path):
+        table = _read(path, ["config_id", "classification"])
+        done = table.num_rows
+        classes = _counts(table.column("classification").to_numpy(zero_copy_only=False))
+    else:
+        done, classes = 0, {}
+    return {
+        "path": str(path),
+        "units": meta["units"],
+        "grid": grid.describe(),
+        "configurations": grid.size,
+        "done": done,
+        "complete": done == grid.size,
+        "parts": len(part_files(path)),
+        "classifications": classes,
+        "metadata": meta,
+    }
+
+
+def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str, Any]:
+    """The stored contact state nearest a configuration, without recomputing.
+
+    Parameters
+    ----------
+    path : path-like
+        The library directory.
+    roll, pitch, phase : float
+        The configuration asked for (degrees; phase modulo 360).
+
+    Returns
+    -------
+    dict
+        ``requested`` and ``grid`` (roll, pitch, phase), ``snapped`` (True when the grid
+        state differs from the request), ``config_id``, ``units``, ``computed`` (False
+        when an unfinished sweep has not reached it yet) and ``record`` (the row, or None).
+    """
+    path = _check_dir(path)
+    meta = read_metadata(path)
+    grid = Grid.from_dict(meta["grid"])
+    cid, on_grid = grid.nearest(roll, pitch, phase)
+    snapped = not (math.isclose(on_grid[0], roll, abs_tol=1e-9)
+                   and math.isclose(on_grid[1], pitch, abs_tol=1e-9)
+                   and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= 1e-9)
+    record = None
+    if part_files(path):
+        rows = _read(path, filter=ds.field("config_id") == cid).to_pylist()
+        record = rows[0] if rows else None
+    return {
+        "requested": {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)},
+        "grid": {"roll": on_grid[0], "pitch": on_grid[1], "phase": on_grid[2]},
+        "snapped": snapped,
+        "config_id": cid,
+        "units": meta["units"],
+        "computed": record is not None,
+        "record": record,
+    }
+
+
+#: Metadata entries that must agree for two libraries (or a library and a request) to
+#: hold comparable rows, with the words used to name a difference.
+_IDENTITY = (
+    (("spec",), "spec"),
+    (("grid", "roll"), "grid roll values"),
+    (("grid", "pitch"), "grid pitch values"),
+    (("grid", "phase"), "grid phase values"),
+    (("mesh", "chord"), "mesh chord tolerance"),
+    (("contact", "compliance_z"), "compliance centre (compliance_z)"),
+    (("contact", "analyzer"), "contact analyser"),
+    (("threadmate_version",), "threadmate version"),
+)
+
+
+def _get(doc: dict[str, Any], keys: tuple[str, ...]) -> Any:
+    for k in keys:
+        if not isinstance(doc, dict) or k not in doc:
+            return None
+        doc = doc[k]
+    return doc
+
+
+def _same(a: Any, b: Any) -> bool:
+    if isinstance(a, float | int) and isinstance(b, float | int) \
+            and not isinstance(a, bool) and not isinstance(b, bool):
+        return math.isclose(a, b, rel_tol=1e-12, abs_tol=1e-15)
+    if isinstance(a, list | tuple) and isinstance(b, list | tuple):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    return a == b
+
+
+def compare_metadata(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
+    """What differs between two libraries' metadata in the entries that decide their rows
+    (spec values, grid, chord, compliance centre, analyser, version); empty when they
+    agree."""
+    out = []
+    for keys, words in _IDENTITY:
+        va, vb = _get(a, keys), _get(b, keys)
+        if keys == ("spec",) and isinstance(va, dict) and isinstance(vb, dict):
+            # The designation text names a spec; the values decide the rows.
+            va = {k: v for k, v in va.items() if k != "designation"}
+            vb = {k: v for k, v in vb.items() if k != "designation"}
+        if not _same(va, vb):
+            if keys == ("spec",) and isinstance(va, dict) and isinstance(vb, dict):
+                diff = sorted(_flat_diff(va, vb))
+                out.append(f"spec ({', '.join(diff)})")
+            elif keys[0] == "grid":
+                out.append(f"{words} ({_short(va)} vs {_short(vb)})")
+            else:
+                out.append(f"{words} ({va!r} vs {vb!r})")
+    return out
+
+
+def _short(v: Any) -> str:
+    if isinstance(v, list) and len(v) > 4:
+        return f"{len(v)} values {v[0]:g}..{v[-1]:g}"
+    return repr(v)
+
+
+def _flat_diff(a: dict[str, Any], b: dict[str, Any], prefix: str = "") -> list[str]:
+    out = []
+    for k in sorted(set(a) | set(b)):
+        va, vb = a.get(k), b.get(k)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += _flat_diff(va, vb, f"{prefix}{k}.")
+        elif not _same(va, vb):
+            out.append(f"{prefix}{k}: {va!r} vs {vb!r}")
+    return out

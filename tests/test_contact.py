@@ -1,0 +1,404 @@
+"""The spatial contact engine against geometry computed independently of the meshes.
+
+References:
+- triangle-pair intersection segments and touch points: hand-worked cases;
+- first-contact height, roll = pitch = 0: closed form (0 where the flush outlines overlap;
+  in the in-phase window the drop until flank meets flank, c/2 - s, c the axial clearance,
+  s = lead * phase / 360);
+- first-contact height, tilted: a dense parametric search over the EXACT bolt surface (tip
+  face and thread) for the highest point of nut material under each bolt point, written
+  here from the profile formula (no mesh involved);
+- contact points on both exact surfaces, interference of stable poses, proper rotations,
+  the record schema of docs/architecture.md.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pyarrow as pa
+import pytest
+
+from threadmate._errors import InputError
+from threadmate.contact import (
+    CLASSIFICATIONS,
+    ContactAnalyzer,
+    ContactResult,
+    record_schema,
+)
+from threadmate.contact._triangles import (
+    cluster_location,
+    cluster_segments,
+    intersection_segments,
+    touch_points,
+)
+from threadmate.geometry import BOLT_REGIONS, NUT_REGIONS, bolt_body, nut_body
+
+ACCURACY = 5e-6  # inch: the issue's first-contact accuracy at the default chord
+
+
+# -- triangle pairs ---------------------------------------------------------------------
+
+def test_segment_of_crossing_triangles_is_bounded_by_both():
+    a = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)  # in z = 0, hypotenuse x + y = 1
+    # Vertical triangle in x = 0.25; its section at z = 0 spans y in [-0.25, 1.25].
+    b = np.array([[0.25, -1, -1], [0.25, 2, -1], [0.25, 0.5, 1]], float)
+    seg = intersection_segments(a[None], b[None])
+    assert seg.valid[0]
+    ends = sorted([seg.start[0].tolist(), seg.end[0].tolist()], key=lambda p: p[1])
+    np.testing.assert_allclose(ends, [[0.25, 0.0, 0.0], [0.25, 0.75, 0.0]], atol=1e-12)
+    # A narrower vertical triangle: its own section (y in [0.2, 0.5]) bounds the segment.
+    c = np.array([[0.25, 0.05, -1], [0.25, 0.65, -1], [0.25, 0.35, 1]], float)
+    seg = intersection_segments(a[None], c[None])  # section at z = 0: y in [0.2, 0.5]
+    ys = sorted([seg.start[0, 1], seg.end[0, 1]])
+    np.testing.assert_allclose(ys, [0.2, 0.5], atol=1e-12)
+    np.testing.assert_allclose(seg.midpoint[0], [0.25, 0.35, 0.0], atol=1e-12)
+
+
+def test_touching_pair_reports_the_touch_point():
+    a = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    b = np.array([[0.2, 0.2, 0], [0.9, 0.3, 0.5], [0.3, 0.8, 0.6]], float)  # vertex on a
+    seg = intersection_segments(a[None], b[None])
+    np.testing.assert_allclose(touch_points(a[None], b[None])[0], [0.2, 0.2, 0.0], atol=1e-12)
+    assert not seg.valid[0] or np.allclose(seg.midpoint[0], [0.2, 0.2, 0.0])
+    # Disjoint edges crossing at a distance 0.1: the midpoint of the closest points.
+    e = np.array([[0.5, -1, 0.1], [0.5, 1, 0.1], [0.5, 0, 1]], float)
+    f = np.array([[-1, 0.2, 0], [1, 0.2, 0], [0, 0.2, -1]], float)
+    np.testing.assert_allclose(touch_points(e[None], f[None])[0], [0.5, 0.2, 0.05], atol=1e-12)
+
+
+def test_distinct_contacts_are_linked_by_segment_ends():
+    def seg(p, q):
+        return np.array(p, float), np.array(q, float)
+
+    # A long chain of end-to-end segments (one contact) and a far-away pair.
+    chain = [seg([0.01 * k, 0, 0], [0.01 * (k + 1), 0, 0]) for k in range(20)]
+    far = [seg([1, 1, 0], [1.001, 1, 0])]
+    start = np.array([s for s, _ in chain + far])
+    end = np.array([e for _, e in chain + far])
+    from threadmate.contact._triangles import IntersectionSegments
+
+    segs = IntersectionSegments(start, end, np.ones(len(start), bool))
+    labels = cluster_segments(segs, separation=0.0125)
+    assert labels.tolist() == [0] * 20 + [1]
+    # The chain's location lies on the chain, at its length-weighted centre.
+    sub = IntersectionSegments(start[:20], end[:20], np.ones(20, bool))
+    np.testing.assert_allclose(cluster_location(sub), [0.1, 0, 0], atol=1e-12)
+
+
+# -- exact reference ----------------------------------------------------------------------
+
+def _rot(roll, pitch, phase):
+    """Rx(roll) Ry(pitch) Rz(phase), written out here (conventions.md)."""
+    a, b, c = np.radians([roll, pitch, phase])
+    rx = np.array([[1, 0, 0], [0, math.cos(a), -math.sin(a)], [0, math.sin(a), math.cos(a)]])
+    ry = np.array([[math.cos(b), 0, math.sin(b)], [0, 1, 0], [-math.sin(b), 0, math.cos(b)]])
+    rz = np.array([[math.cos(c), -math.sin(c), 0], [math.sin(c), math.cos(c), 0], [0, 0, 1]])
+    return rx @ ry @ rz
+
+
+def _sharp_radius(t, p, pd, major, minor):
+    """conventions.md's sharp profile R(t) = pd/2 + sqrt3 (p/4 - |t|), clamped."""
+    u = np.abs(t - p * np.floor(t / p + 0.5))
+    return np.clip(pd / 2 + math.sqrt(3) * (p / 4 - u), minor / 2, major / 2)
+
+
+def _nut_top(spec, x, y):
+    """Highest z <= 0 of the (sharp) nut's material on the vertical line through (x, y).
+
+    Material where R_n(t) <= r with t = z - lead theta / 2 pi: |t| >= u_r, the flank
+    solution of R_n(u_r) = r. Coming down from z = 0, t falls from t0 and first reaches
+    -u_r at z = -(t0 + u_r).
+    """
+    n, p = spec.nut, spec.pitch
+    r, th = np.hypot(x, y), np.arctan2(y, x)
+    t0 = -spec.lead * th / (2 * math.pi)
+    t0 = t0 - p * np.floor(t0 / p + 0.5)
+    u_r = np.clip(p / 4 + (n.pitch_diameter / 2 - r) / math.sqrt(3), 0, p / 2)
+    z = np.where(np.abs(t0) >= u_r, 0.0, -(t0 + u_r))
+    return np.where((r < n.minor / 2) | (r > n.outer_radius), -np.inf, z)
+
+
+def exact_first_height(spec, roll, pitch, phase, n_theta=2400, n_v=80):
+    """Origin height at which the exact bolt first touches the exact nut.
+
+    max over bolt points q (tip face and thread surface, bolt at h = 0) of
+    nut_top(q_x, q_y) - q_z: a dense grid, then a shrinking local grid around the best
+    candidates.
+    """
+    bolt = bolt_body(spec)  # R_b(t) with its root fillet, from the profile
+    R = _rot(roll, pitch, phase)
+    length = spec.bolt.length
+
+    def lateral(th, zb):
+        r = bolt.section_radius(th, zb)
+        q = np.stack([r * np.cos(th), r * np.sin(th), zb], -1) @ R.T
+        return _nut_top(spec, q[..., 0], q[..., 1]) - q[..., 2]
+
+    def tip(th, s):
+        r = s * bolt.section_radius(th, 0.0)
+        q = np.stack([r * np.cos(th), r * np.sin(th), 0 * r], -1) @ R.T
+        return _nut_top(spec, q[..., 0], q[..., 1]) - q[..., 2]
+
+    best = -np.inf
+    for f, top in ((lateral, length), (tip, 1.0)):
+        th = np.linspace(-np.pi, np.pi, n_theta, endpoint=False)
+        v = np.linspace(0, top, n_v)
+        grid = f(*np.meshgrid(th, v, indexing="ij"))
+        for k in np.argsort(grid.ravel())[-6:]:
+            i, j = np.unravel_index(k, grid.shape)
+            t0, v0, h = th[i], v[j], grid[i, j]
+            wt, wv = 2 * np.pi / n_theta, top / n_v
+            for _ in range(12):
+                tt = t0 + np.linspace(-wt, wt, 21)
+                vv = np.clip(v0 + np.linspace(-wv, wv, 21), 0, top)
+                local = f(*np.meshgrid(tt, vv, indexing="ij"))
+                a, b = np.unravel_index(local.argmax(), local.shape)
+                if local[a, b] >= h:
+                    h, t0, v0 = local[a, b], tt[a], vv[b]
+                wt, wv = wt / 4, wv / 4
+            best = max(best, h)
+    return float(best)
+
+
+# -- the analyser -------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def analyzer(quarter_20):
+    return ContactAnalyzer(quarter_20)
+
+
+CONFIGS = [(4, 0, 185), (4, 4, 235), (-4, 0, 131), (2, -3, 40), (-3, 2, 300), (1, 0.5, 10)]
+
+
+@pytest.fixture(scope="module")
+def results(analyzer):
+    return {cfg: analyzer.analyze(*cfg) for cfg in CONFIGS}
+
+
+def test_reference_matches_closed_form(quarter_20):
+    c = quarter_20.axial_clearance
+    for phase in (0.0, 6.0, -8.0):
+        s = quarter_20.lead * phase / 360
+        assert exact_first_height(quarter_20, 0, 0, phase) == pytest.approx(-(c / 2 - s),
+                                                                            abs=2e-8)
+
+
+@pytest.mark.parametrize("phase", [0.0, 6.0, -8.0, 90.0, 200.0])
+def test_aligned_first_contact_height_closed_form(analyzer, quarter_20, phase):
+    c = quarter_20.axial_clearance
+    s = quarter_20.lead * (((phase + 180) % 360) - 180) / 360
+    expected = -(c / 2 - s) if abs(s) <= c / 2 else 0.0
+    result = analyzer.analyze(0, 0, phase)
+    assert result.first.found
+    assert result.first.origin[2] == pytest.approx(expected, abs=ACCURACY)
+    assert result.first.origin[:2] == (0.0, 0.0)
+    if expected < 0:
+        assert result.classification == "in-phase"
+        # Flank meets flank: the common normal is the 60-degree flank's, sqrt(3)/2 up
+        # (to within the helix's lead angle), wherever along the helix the mesh touches.
+        for c in result.first.contacts:
+            assert c.normal[2] == pytest.approx(math.sqrt(3) / 2, abs=0.01)
+
+
+def test_tilted_first_contact_height_matches_exact_geometry(results, quarter_20):
+    for cfg, result in results.items():
+        expected = exact_first_height(quarter_20, *cfg)
+        assert result.first.origin[2] == pytest.approx(expected, abs=ACCURACY), cfg
+
+
+def test_stage_poses_are_proper_rotations_with_the_configuration(results):
+    for cfg, result in results.items():
+        for stage in result.stages:
+            if not stage.found:
+                continue
+            R = np.array(stage.rotation)
+            np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
+            assert np.linalg.det(R) == pytest.approx(1.0, abs=1e-12)
+        np.testing.assert_allclose(np.array(result.first.rotation), _rot(*cfg), atol=1e-12)
+
+
+def test_contact_points_lie_on_both_exact_surfaces(results, analyzer, quarter_20):
+    bolt, nut = bolt_body(quarter_20), nut_body(quarter_20)
+    tol = 2 * analyzer.chord + 1e-6
+    checked = 0
+    for cfg, result in results.items():
+        for stage in result.stages:
+            if not stage.found:
+                continue
+            pose = stage.pose
+            for c in stage.contacts:
+                p = np.array(c.point)
+                assert nut.surface_distance(p) <= tol, (cfg, stage.name, c)
+                assert bolt.surface_distance(pose.to_bolt(p)) <= tol, (cfg, stage.name, c)
+                assert np.linalg.norm(c.normal) == pytest.approx(1.0, abs=1e-9)
+                assert c.bolt_region in BOLT_REGIONS and c.nut_region in NUT_REGIONS
+                assert c.pairs >= 1
+                checked += 1
+    assert checked >= 10
+
+
+def test_turns_lower_the_compliance_centre(results):
+    for cfg, result in results.items():
+        z = [s.origin[2] for s in result.stages if s.found]
+        assert all(b <= a + 1e-9 for a, b in zip(z, z[1:], strict=False)), cfg
+
+
+def _exact_interference(spec, pose, n_theta=1440, n_v=60):
+    """Deepest point of the exact bolt surface inside the exact nut at ``pose``."""
+    bolt, nut = bolt_body(spec), nut_body(spec)
+    th = np.linspace(-np.pi, np.pi, n_theta, endpoint=False)
+    v = np.linspace(0, spec.bolt.length, n_v)
+    T, V = np.meshgrid(th, v, indexing="ij")
+    r = bolt.section_radius(T, V)
+    lateral = np.stack([r * np.cos(T), r * np.sin(T), V], -1).reshape(-1, 3)
+    S = np.linspace(0, 1, 40)
+    T2, S2 = np.meshgrid(th, S, indexing="ij")
+    r2 = S2 * bolt.section_radius(T2, 0.0)
+    tip = np.stack([r2 * np.cos(T2), r2 * np.sin(T2), 0 * r2], -1).reshape(-1, 3)
+    pts = pose.to_fixed(np.concatenate([lateral, tip]))
+    inside = nut.contains(pts)
+    return float(nut.surface_distance(pts[inside]).max(initial=0.0))
+
+
+def test_stable_poses_show_no_interference(results, analyzer, quarter_20):
+    stable = [(cfg, r) for cfg, r in results.items() if r.classification == "stable"]
+    assert stable, "expected a stable configuration among the samples"
+    for cfg, result in stable:
+        assert result.n_contacts >= 3
+        depth = _exact_interference(quarter_20, result.third.pose)
+        assert depth <= analyzer.interference_tolerance + analyzer.chord, cfg
+
+
+def test_classifications_follow_the_rules(results, analyzer):
+    for result in results.values():
+        assert result.classification in CLASSIFICATIONS
+        if result.classification in ("stable", "unstable"):
+            assert result.third.found and math.isfinite(result.interference)
+            assert result.origin_drop == pytest.approx(
+                result.second.origin[2] - result.third.origin[2], abs=1e-12)
+        if result.classification == "unstable":
+            assert result.interference > analyzer.interference_tolerance
+        if result.classification == "quasi-stable":
+            assert result.pivot_offset <= analyzer.quasi_tolerance
+
+
+# -- record and JSON ---------------------------------------------------------------------
+
+def _architecture_columns():
+    """The contact record's columns as docs/architecture.md lists them."""
+    cols = ["roll", "pitch", "phase", "classification", "n_contacts", "region_combination",
+            "interference", "origin_drop", "pivot_offset", "final_roll", "final_pitch",
+            "final_phase", "final_origin_z", "queries"]
+    for s in ("first", "second", "third"):
+        cols += [f"{s}_found", f"{s}_angle", f"{s}_origin_x", f"{s}_origin_y", f"{s}_origin_z"]
+        cols += [f"{s}_r{i}{j}" for i in range(3) for j in range(3)]
+        for i in (1, 2, 3):
+            cols += [f"{s}_c{i}_{a}" for a in "xyz"] + [f"{s}_c{i}_n{a}" for a in "xyz"]
+            cols += [f"{s}_c{i}_pairs", f"{s}_c{i}_bolt_region", f"{s}_c{i}_nut_region"]
+    return cols
+
+
+def test_record_has_exactly_the_architecture_columns(results):
+    schema = record_schema()
+    assert schema.names == _architecture_columns()
+    rows = [r.to_record() for r in results.values()]
+    for row in rows:
+        assert list(row) == schema.names
+    table = pa.Table.from_pylist(rows, schema=schema)
+    assert table.num_rows == len(rows)
+    for name in ("n_contacts", "queries", "first_c1_pairs"):
+        assert schema.field(name).type == pa.int64()
+    assert schema.field("first_found").type == pa.bool_()
+    assert schema.field("region_combination").type == pa.string()
+
+
+def test_record_values(results):
+    for cfg, result in results.items():
+        rec = result.to_record()
+        assert (rec["roll"], rec["pitch"], rec["phase"]) == cfg
+        last = result.last_stage
+        assert rec["n_contacts"] == len(last.contacts)
+        assert rec["region_combination"].count("+ ") + 1 == len(last.contacts) or \
+            rec["region_combination"].count(" + ") + 1 == len(last.contacts)
+        assert rec["final_origin_z"] == last.origin[2]
+        fr, fp, fph = rec["final_roll"], rec["final_pitch"], rec["final_phase"]
+        np.testing.assert_allclose(_rot(fr, fp, fph), np.array(last.rotation), atol=1e-9)
+        assert rec["first_angle"] == 0.0
+        for s in ("first", "second", "third"):
+            stage = getattr(result, s)
+            assert rec[f"{s}_found"] == stage.found
+            n = len(stage.contacts)
+            for i in (1, 2, 3):
+                if i > n:
+                    assert rec[f"{s}_c{i}_pairs"] == 0 and rec[f"{s}_c{i}_bolt_region"] == ""
+                    assert math.isnan(rec[f"{s}_c{i}_x"])
+        assert rec["queries"] == result.queries > 0
+
+
+def test_in_phase_result_record_fills_missing_values(analyzer):
+    result = analyzer.analyze(0, 0, 0)
+    assert result.classification == "in-phase"
+    rec = result.to_record()
+    assert rec["first_found"] and not rec["second_found"] and not rec["third_found"]
+    assert math.isnan(rec["second_angle"]) and math.isnan(rec["interference"])
+    assert rec["third_c1_pairs"] == 0 and rec["third_c1_nut_region"] == ""
+    pa.Table.from_pylist([rec], schema=record_schema())
+
+
+def test_json_document_layout(results):
+    import json
+
+    from threadmate.cli._common import to_jsonable
+
+    doc = json.loads(json.dumps(to_jsonable(results[(4, 4, 235)].to_dict())))
+    assert {"units", "roll", "pitch", "phase", "classification", "stages", "interference",
+            "origin_drop"} <= set(doc)
+    assert doc["units"] == "in"
+    first = doc["stages"]["first"]
+    assert len(first["origin"]) == 3 and np.array(first["rotation"]).shape == (3, 3)
+    for c in first["contacts"]:
+        assert {"point", "normal", "pairs", "bolt_region", "nut_region"} <= set(c)
+    assert "angle" in doc["stages"]["second"] and "angle" in doc["stages"]["third"]
+
+
+# -- bad input ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("angles", [(46, 0, 0), (0, -60, 0), (float("nan"), 0, 0),
+                                    (0, 0, float("inf"))])
+def test_bad_angles_are_refused(analyzer, angles):
+    with pytest.raises(InputError):
+        analyzer.analyze(*angles)
+
+
+def test_bad_settings_are_refused(quarter_20):
+    with pytest.raises(InputError):
+        ContactAnalyzer(quarter_20, chord=-1.0)
+    with pytest.raises(InputError):
+        ContactAnalyzer(quarter_20, compliance_z=float("nan"))
+    with pytest.raises(InputError):
+        ContactAnalyzer("1/4-20")  # type: ignore[arg-type]
+
+
+def test_user_mesh_off_its_frame_is_refused(quarter_20):
+    import trimesh
+
+    try:
+        from threadmate.geometry import thread_meshes
+    except ImportError:  # before geometry exports the meshes
+        from threadmate.geometry._mesh import thread_meshes
+
+    bolt, nut = thread_meshes(quarter_20)
+    lifted = bolt.mesh.copy()
+    lifted.apply_translation([0, 0, 0.01])
+    with pytest.raises(InputError, match="frame"):
+        ContactAnalyzer(quarter_20, bolt_mesh=lifted, nut_mesh=nut.mesh)
+    assert isinstance(nut.mesh, trimesh.Trimesh)
+
+
+def test_result_is_a_plain_object(results):
+    r = results[(4, 0, 185)]
+    assert isinstance(r, ContactResult)
+    with pytest.raises(AttributeError):
+        r.classification = "stable"  # frozen

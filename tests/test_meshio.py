@@ -1,0 +1,211 @@
+"""Binary STL in the thesis's Figure 3.3 layout, round trips, and user meshes from CAD:
+accepted when closed, consistently wound, plausibly sized and in frame; refused otherwise."""
+
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+import pytest
+import trimesh
+
+from threadmate._errors import InputError, MeshError
+from threadmate.geometry import bolt_mesh, load_mesh, mesh_deviation, nut_mesh, read_stl, write_stl
+
+CHORD = 1e-4  # coarse meshes keep these tests fast
+
+
+@pytest.fixture(scope="module")
+def meshes(quarter_20):
+    return bolt_mesh(quarter_20, CHORD), nut_mesh(quarter_20, CHORD)
+
+
+@pytest.fixture(scope="module")
+def bolt_stl(meshes, tmp_path_factory):
+    path = tmp_path_factory.mktemp("stl") / "bolt.stl"
+    write_stl(meshes[0].mesh, path, "threadmate bolt 1/4-20 units=in")
+    return path
+
+
+def test_stl_layout_parsed_with_struct(meshes, bolt_stl):
+    mesh = meshes[0].mesh
+    data = bolt_stl.read_bytes()
+    n = len(mesh.faces)
+    assert len(data) == 80 + 4 + 50 * n
+    assert data[:80] == b"threadmate bolt 1/4-20 units=in".ljust(80, b" ")
+    assert struct.unpack("<I", data[80:84])[0] == n
+    tri = np.asarray(mesh.vertices)[mesh.faces]
+    for k in (0, 1, n // 3, n // 2, n - 1):
+        rec = struct.unpack("<12fH", data[84 + 50 * k: 84 + 50 * (k + 1)])
+        normal = np.array(rec[0:3])
+        verts = np.array(rec[3:12]).reshape(3, 3)
+        assert rec[12] == 0  # attribute, unused
+        assert np.allclose(verts, tri[k], rtol=0, atol=1e-7)  # float32 of the vertices
+        # Unit normal, on the side the vertex order (right-hand rule) says.
+        cross = np.cross(tri[k][1] - tri[k][0], tri[k][2] - tri[k][0])
+        assert np.linalg.norm(normal) == pytest.approx(1.0, abs=1e-6)
+        assert np.allclose(normal, cross / np.linalg.norm(cross), atol=1e-6)
+
+
+def test_round_trip_keeps_the_solid(meshes, bolt_stl, quarter_20):
+    tb = meshes[0]
+    back = read_stl(bolt_stl)
+    assert isinstance(back, trimesh.Trimesh)
+    assert len(back.faces) == len(tb.mesh.faces)
+    assert len(back.vertices) == len(tb.mesh.vertices)  # welded again
+    assert back.is_watertight and back.is_winding_consistent
+    assert back.volume == pytest.approx(tb.mesh.volume, rel=1e-6)
+    f32 = np.asarray(tb.mesh.vertices, dtype=np.float32).astype(float)[tb.mesh.faces]
+    assert np.array_equal(np.sort(back.triangles.reshape(-1, 9), axis=0),
+                          np.sort(f32.reshape(-1, 9), axis=0))
+    # float32 moves vertices by ~1e-8 in: still within the chord of the exact surface.
+    assert mesh_deviation(back, tb.body) <= CHORD + 1e-7
+
+
+def test_header_never_reads_as_ascii(meshes, tmp_path):
+    path = write_stl(meshes[0].mesh, tmp_path / "a.stl", "solid model")
+    assert not path.read_bytes()[:80].lower().startswith(b"solid")
+    assert len(read_stl(path).faces) == len(meshes[0].mesh.faces)
+
+
+def test_write_is_atomic_and_creates_the_folder(meshes, tmp_path):
+    path = write_stl(meshes[1].mesh, tmp_path / "deep" / "nut.stl")
+    assert path.is_file()
+    assert [p.name for p in path.parent.iterdir()] == ["nut.stl"]  # no temporary left
+
+
+def test_ascii_stl_reads(meshes, tmp_path):
+    path = tmp_path / "ascii.stl"
+    path.write_text(trimesh.exchange.stl.export_stl_ascii(meshes[1].mesh))
+    back = read_stl(path)
+    assert back.is_watertight and len(back.faces) == len(meshes[1].mesh.faces)
+
+
+# -- user meshes -------------------------------------------------------------------------
+@pytest.mark.parametrize("suffix", [".stl", ".obj", ".ply"])
+def test_user_meshes_accepted(meshes, quarter_20, tmp_path, suffix):
+    for tb, kind in zip(meshes, ("bolt", "nut"), strict=True):
+        path = tmp_path / f"{kind}{suffix}"
+        if suffix == ".stl":
+            write_stl(tb.mesh, path)
+        else:
+            tb.mesh.export(path)
+        m = load_mesh(path, kind, spec=quarter_20)
+        assert m.is_watertight and m.volume > 0
+        assert m.vertices.dtype == np.float64
+        assert m.volume == pytest.approx(tb.mesh.volume, rel=1e-6)
+        assert mesh_deviation(m, tb.body) <= CHORD + 1e-7
+        assert isinstance(load_mesh(path, kind), trimesh.Trimesh)  # no spec: no size check
+
+
+def test_inside_out_mesh_is_turned_outward(meshes, quarter_20, tmp_path):
+    inverted = meshes[0].mesh.copy()
+    inverted.invert()
+    assert inverted.volume < 0
+    path = write_stl(inverted, tmp_path / "inverted.stl")
+    m = load_mesh(path, "bolt", spec=quarter_20)
+    assert m.volume == pytest.approx(meshes[0].mesh.volume, rel=1e-6)
+
+
+def test_file_in_other_units_is_scaled(meshes, quarter_20, tmp_path):
+    mm = meshes[0].mesh.copy()
+    mm.apply_scale(25.4)
+    path = write_stl(mm, tmp_path / "bolt_mm.stl")
+    m = load_mesh(path, "bolt", spec=quarter_20, units="mm")
+    assert m.volume == pytest.approx(meshes[0].mesh.volume, rel=1e-5)
+
+
+def _refused(path, body, spec, match):
+    with pytest.raises(MeshError, match=match) as info:
+        load_mesh(path, body, spec=spec)
+    assert isinstance(info.value, InputError)  # the CLI's exit 2
+    return str(info.value)
+
+
+def test_open_mesh_refused(meshes, quarter_20, tmp_path):
+    m = meshes[0].mesh.copy()
+    m.update_faces(np.arange(len(m.faces)) != 7)
+    path = write_stl(m, tmp_path / "open.stl")
+    _refused(path, "bolt", quarter_20, "not a closed volume")
+
+
+def test_flipped_winding_refused(meshes, quarter_20, tmp_path):
+    m = meshes[1].mesh.copy()
+    faces = np.asarray(m.faces).copy()
+    faces[::5] = faces[::5, ::-1]  # every fifth triangle turned around
+    path = tmp_path / "flipped.ply"
+    trimesh.Trimesh(m.vertices, faces, process=False).export(path)
+    _refused(path, "nut", quarter_20, "inconsistent winding")
+
+
+def test_mm_mesh_for_an_inch_spec_refused(meshes, quarter_20, tmp_path):
+    m = meshes[0].mesh.copy()
+    m.apply_scale(25.4)
+    path = write_stl(m, tmp_path / "bolt_mm.stl")
+    _refused(path, "bolt", quarter_20, "looks like mm")
+
+
+def test_inch_mesh_for_a_mm_spec_refused(meshes, quarter_20, tmp_path):
+    d = quarter_20.to_dict()
+    d["units"] = "mm"
+    for key in ("pitch",):
+        d[key] *= 25.4
+    for body in ("bolt", "nut"):
+        for k, v in d[body].items():
+            d[body][k] = v * 25.4
+    spec_mm = type(quarter_20).from_dict(d)
+    path = write_stl(meshes[1].mesh, tmp_path / "nut_in.stl")
+    _refused(path, "nut", spec_mm, "looks like inches")
+
+
+def test_wrong_size_refused(meshes, quarter_20, tmp_path):
+    m = meshes[0].mesh.copy()
+    m.apply_scale(2.0)
+    path = write_stl(m, tmp_path / "big.stl")
+    _refused(path, "bolt", quarter_20, "implausible size")
+
+
+@pytest.mark.parametrize("move", ["lifted", "sideways", "lying", "nut_as_bolt"])
+def test_off_frame_refused(meshes, quarter_20, tmp_path, move):
+    bolt = meshes[0].mesh.copy()
+    body = "bolt"
+    if move == "lifted":
+        bolt.apply_translation([0, 0, 0.01])
+    elif move == "sideways":
+        bolt.apply_translation([0.05, 0, 0])
+    elif move == "lying":  # axis along X
+        bolt.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 1, 0]))
+        bolt.apply_translation([0, 0, -bolt.bounds[0][2]])
+    else:  # a bolt in z >= 0 handed over as the nut (top face must be at z = 0)
+        body = "nut"
+        bolt = meshes[1].mesh.copy()
+        bolt.apply_translation([0, 0, quarter_20.nut.height])
+    path = write_stl(bolt, tmp_path / f"{move}.stl")
+    with pytest.raises(MeshError, match="frame|size"):
+        load_mesh(path, body)  # no spec: the frame alone decides
+    _refused(path, body, quarter_20, "frame|size")
+
+
+def test_missing_file_refused(tmp_path):
+    with pytest.raises(MeshError, match="file not found"):
+        load_mesh(tmp_path / "nowhere.stl", "bolt")
+    with pytest.raises(MeshError, match="file not found"):
+        read_stl(tmp_path / "nowhere.stl")
+
+
+@pytest.mark.parametrize("name", ["garbage.stl", "garbage.obj", "garbage.ply", "empty.stl"])
+def test_garbage_bytes_refused(tmp_path, name):
+    path = tmp_path / name
+    rng = np.random.default_rng(7)
+    path.write_bytes(b"" if name.startswith("empty") else rng.bytes(5000))
+    with pytest.raises(MeshError):
+        load_mesh(path, "bolt")
+
+
+def test_unsupported_format_and_body_refused(bolt_stl, tmp_path):
+    step = tmp_path / "bolt.step"
+    step.write_text("ISO-10303-21;")
+    with pytest.raises(MeshError, match="unsupported"):
+        load_mesh(step, "bolt")
+    with pytest.raises(MeshError, match="bolt"):
+        load_mesh(bolt_stl, "screw")  # type: ignore[arg-type]
