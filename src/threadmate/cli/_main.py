@@ -22,14 +22,14 @@ def cli() -> None:
 
 
 def _register() -> None:
-    # Each command lives in its own module; registration order is the help order.
+    # Each command lives in its own module and registers itself on import.
     from . import _thread  # noqa: F401, I001  (registers: thread)
     from . import _planar  # noqa: F401  (registers: planar)
     from . import _contact  # noqa: F401  (registers: contact)
     from . import _library  # noqa: F401  (registers: sweep, library)
     from . import _mesh  # noqa: F401  (registers: mesh)
     from . import _network  # noqa: F401  (registers: network, path, recommend)
-    # -- more commands register below --
+    from . import _run  # noqa: F401  (registers: run)
 
 
 def main(argv: list[str] | None = None) -> None:
