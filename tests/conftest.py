@@ -14,8 +14,8 @@ from threadmate.geometry import BoltSpec, NutSpec, ThreadSpec  # noqa: E402
 def quarter_20() -> ThreadSpec:
     """1/4-20 UNC-2A/2B at mean material, from the ASME B1.1 table values.
 
-    Bolt: major 0.2408-0.2489, PD 0.2127-0.2164, UNR minor max 0.1887 (root radius
-    0.125 p). Nut: minor 0.196-0.207, PD 0.2175-0.2224, major min 0.2500.
+    Bolt: major 0.2408-0.2489, PD 0.2127-0.2164, minor near the UNR reference (root
+    radius 0.125 p). Nut: minor 0.196-0.207, PD 0.2175-0.2224, major min 0.2500.
     """
     return ThreadSpec(
         units="in",
