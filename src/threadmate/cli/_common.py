@@ -1,13 +1,12 @@
-"""Helpers shared by the commands: spec resolution, JSON output, progress on stderr."""
+"""Helpers shared by the commands: spec resolution, JSON output."""
 
 from __future__ import annotations
 
 import json
 import math
 import sys
-from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any
 
 import click
 import numpy as np
@@ -15,9 +14,7 @@ import numpy as np
 from .._errors import InputError
 from ..geometry import ThreadSpec, load_spec
 
-__all__ = ["resolve_spec", "emit_json", "to_jsonable", "progress", "SPEC_HELP", "check_angle"]
-
-T = TypeVar("T")
+__all__ = ["resolve_spec", "emit_json", "to_jsonable", "SPEC_HELP", "check_angle"]
 
 SPEC_HELP = (
     "DESIGNATION|SPEC is a thread designation such as '1/4-20 UNC-2A/2B', '#10-24 UNC', "
@@ -68,36 +65,6 @@ def check_angle(name: str, value: float, limit: float = 90.0) -> float:
     if not math.isfinite(value) or abs(value) > limit:
         raise InputError(f"--{name} {value:g} is out of range: give degrees within +/-{limit:g}")
     return value
-
-
-def progress(items: Iterable[T], total: int | None, label: str) -> Iterator[T]:
-    """Iterate with a progress bar on stderr: items done, rate and time left.
-
-    stdout is never touched, so ``--json`` output stays one clean document.
-    """
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        ProgressColumn,
-        TextColumn,
-        TimeRemainingColumn,
-    )
-    from rich.text import Text
-
-    class _Rate(ProgressColumn):
-        def render(self, task):  # noqa: ANN001, ANN202 - rich's column protocol
-            return Text(f"{task.speed:.1f}/s" if task.speed else "-/s")
-
-    console = Console(file=sys.stderr)
-    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), _Rate(),
-               TimeRemainingColumn())
-    with Progress(*columns, console=console, transient=False) as bar:
-        task = bar.add_task(label, total=total)
-        for item in items:
-            yield item
-            bar.advance(task)
 
 
 def echo_err(message: str) -> None:
