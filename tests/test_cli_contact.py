@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from threadmate.cli import main
+from _cli import run_cli
 
 # 1/4-20 UNC-2A/2B at mean material (ASME B1.1 table values), UNR root radius 0.125 p.
 SPEC = {
@@ -28,10 +28,7 @@ def spec_file(tmp_path):
 
 
 def run(argv, capsys):
-    with pytest.raises(SystemExit) as exc:
-        main(argv)
-    out, err = capsys.readouterr()
-    return exc.value.code, out, err
+    return run_cli(capsys, *argv)
 
 
 def test_json_document(spec_file, capsys):

@@ -13,6 +13,7 @@ import time
 import pandas as pd
 import pytest
 
+from _cli import run_cli
 from threadmate.cli import main
 from threadmate.contact import ContactAnalyzer
 from threadmate.geometry import save_spec
@@ -21,12 +22,7 @@ from threadmate.library import load, sweep
 CHORD = "1e-4"
 
 
-def run(capsys, *args: str) -> tuple[int, str, str]:
-    """Run the real entry point in-process; return (exit status, stdout, stderr)."""
-    with pytest.raises(SystemExit) as exc:
-        main(list(args))
-    out, err = capsys.readouterr()
-    return exc.value.code, out, err
+run = run_cli
 
 
 @pytest.fixture(scope="module")

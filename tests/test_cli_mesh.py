@@ -8,18 +8,13 @@ import struct
 import numpy as np
 import pytest
 
-from threadmate.cli import main
+from _cli import run_cli
 from threadmate.geometry import bolt_body, load_mesh, mesh_deviation, nut_body, save_spec
 
 CHORD = "1e-4"
 
 
-def run(capsys, *args: str) -> tuple[int, str, str]:
-    """Run the real entry point in-process; return (exit status, stdout, stderr)."""
-    with pytest.raises(SystemExit) as exc:
-        main(list(args))
-    out, err = capsys.readouterr()
-    return exc.value.code, out, err
+run = run_cli
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from threadmate.cli import main
+from _cli import run_cli
 
 SQ3 = math.sqrt(3.0)
 
@@ -30,10 +30,7 @@ def spec_file(tmp_path):
 
 
 def run(argv, capsys):
-    with pytest.raises(SystemExit) as exc:
-        main(argv)
-    out, err = capsys.readouterr()
-    return exc.value.code, out, err
+    return run_cli(capsys, *argv)
 
 
 def test_json_document(spec_file, capsys):

@@ -1,0 +1,15 @@
+"""Run the real ``threadmate`` entry point in-process for the CLI tests."""
+
+from __future__ import annotations
+
+import pytest
+
+from threadmate.cli import main
+
+
+def run_cli(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
+    """Run ``threadmate ARGS``; return (exit status, stdout, stderr)."""
+    with pytest.raises(SystemExit) as exc:
+        main([str(a) for a in args])
+    out, err = capsys.readouterr()
+    return exc.value.code, out, err
