@@ -259,9 +259,9 @@ class ContactAnalyzer:
     def _centre(self, pose: Pose) -> NDArray[np.float64]:
         return pose.to_fixed(np.array([0.0, 0.0, self.compliance_z]))
 
-    def _interference(self, pose: Pose) -> float:
+    def _interference(self, pose: Pose, sectors: frozenset[int] | None) -> float:
         eng = self.engine
-        pairs = eng.pairs(pose)
+        pairs = eng.pairs(pose, sectors)
         if len(pairs) == 0:
             return 0.0
         bolt_tris_f, nut_tris = eng.triangles(pose, pairs)
@@ -275,7 +275,8 @@ class ContactAnalyzer:
 
     def _turn(self, name: str, start: Pose, existing: list[tuple[Contact, Cluster]],
               axis_point: NDArray[np.float64], axis: NDArray[np.float64]
-              ) -> tuple[StageResult, Pose, list[tuple[Contact, Cluster]]] | None:
+              ) -> tuple[StageResult, Pose, list[tuple[Contact, Cluster]],
+                         frozenset[int] | None] | None:
         out = turn_to_new_contact(self.engine, start, axis_point, axis,
                                   [cl for _, cl in existing], self.search)
         if out is None:
@@ -288,7 +289,7 @@ class ContactAnalyzer:
         both = kept + list(fresh)
         stage = StageResult.at(name, out.free, tuple(c for c, _ in both), out.angle,
                                out.queries, axis=(axis_point, axis))
-        return stage, out.contact, both
+        return stage, out.contact, both, out.sectors
 
     # -- the analysis ---------------------------------------------------------------------
     def analyze(self, roll: float, pitch: float, phase: float) -> ContactResult:
@@ -326,18 +327,19 @@ class ContactAnalyzer:
         if s1 is None or not s1.clusters:
             return done("no-contact")
         clusters = s1.clusters
+        c1 = tuple(self._contacts(s1.contact, clusters))
         centre = self._centre(s1.contact)
         turn_line = None
         if len(clusters) == 1 and np.ptp(clusters[0].ends, axis=0).max() > self.search.separation \
-                and self._contacts(s1.contact, clusters)[0].bolt_feature == "cap":
+                and c1[0].bolt_feature == "cap":
             # The tip face itself touches over an area (an upright bolt flat on the top
             # face): the area's hull decides the support (see _flat_support).
             support = _flat_support(clusters[0], centre, self.search.separation)
             if isinstance(support, list):
                 clusters = support
+                c1 = tuple(self._contacts(s1.contact, clusters))
             elif support is not None:
                 turn_line = support
-        c1 = tuple(self._contacts(s1.contact, clusters))
         held = list(zip(c1, clusters, strict=True))
         first = StageResult.at("first", s1.free, c1, 0.0, s1.queries)
         tol = self.feature_tolerance
@@ -358,22 +360,26 @@ class ContactAnalyzer:
             turned = self._turn("second", s1.contact, held, pivot, axis)
             if turned is None:
                 return done("no-contact", first=first)
-            second, pose2, held = turned
+            second, pose2, held, _ = turned
 
         # Third contact: turn about the pivot axis through the two contacts.
         c2 = second.contacts
         p1, p2 = np.array(c2[0].point), np.array(c2[1].point)
         offset = pivot_offset(p1, p2, self._centre(pose2))
+        sectors: frozenset[int] | None = None  # where the third pose meets the nut
         if len(c2) >= 3:
             third = StageResult.at("third", second.pose, c2, 0.0, 0)
         else:
             axis = lowering_direction(p1, p2 - p1, self._centre(pose2))
             turned = self._turn("third", pose2, held[:2], p1, axis)
-            third = turned[0] if turned is not None else StageResult("third", False)
+            if turned is not None:
+                third, sectors = turned[0], turned[3]
+            else:
+                third = StageResult("third", False)
         interference = math.nan
         drop = math.nan
         if third.found:
-            interference = self._interference(third.pose)
+            interference = self._interference(third.pose, sectors)
             drop = float(second.origin[2] - third.origin[2])
         cls = classify(first_found=True, in_phase=False, second_found=True, offset=offset,
                        third_found=third.found, interference=interference,

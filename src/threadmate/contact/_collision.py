@@ -2,18 +2,24 @@
 
 The BVHs are built once per analyser; a query only moves the bolt's collision object with
 ``setTransform``. fcl objects neither pickle nor release the GIL, so a process pool builds
-one analyser per worker. Two kinds of query, both counted in :attr:`queries`:
+one analyser per worker.
 
-- :meth:`collides`: yes/no (``num_max_contacts=1``, no contact geometry);
+The nut is held twice: whole, and split once into :data:`SECTORS` angular sectors about
+its axis (each face by its centroid's angle), each its own BVH. The sectors serve two
+ends. The turning stages look for a new contact while ignoring the interference beside
+the contacts the bolt turns about: they leave those sectors out. And a search, once it
+has a colliding pose, asks again only of the sectors that collide there: a threaded pair
+is close to contact all round its circumference, so a query of the whole nut must prove
+separation everywhere (hundreds of microseconds), while a few sectors answer in tens.
+
+Queries, each one yes/no question counted in :attr:`queries`:
+
+- :meth:`collides`: whether the bolt intersects the nut, or the given sectors of it;
+- :meth:`collides_outside`: the same for every sector but the excluded ones;
+- :meth:`colliding_sectors`: which sectors (of those not excluded) the bolt intersects;
 - :meth:`pairs`: every intersecting bolt/nut triangle pair (python-fcl still reports the
   triangle ids ``b1``/``b2`` with ``enable_contact=False``; we compute the intersection
-  geometry ourselves, see :mod:`._triangles`);
-- :meth:`collides_outside`: yes/no against the nut with some of its angular sectors left
-  out. The nut's triangles are also split, once, into :data:`SECTORS` sectors about its
-  axis (by centroid angle), each its own BVH; a query registers the sectors it keeps in a
-  python-fcl dynamic AABB tree and stops at the first collision. This is how the turning
-  stages look for a new contact while ignoring the interference beside the contacts the
-  bolt turns about, without enumerating those pairs.
+  geometry ourselves, see :mod:`._triangles`).
 
 ``continuousCollide`` (wrong times on thread meshes, alters models in place) and
 ``penetration_depth`` (a per-triangle figure) are deliberately not used.
@@ -34,6 +40,21 @@ __all__ = ["CollisionPair"]
 MAX_PAIRS = 200_000
 #: Angular sectors of the nut for :meth:`CollisionPair.collides_outside`.
 SECTORS = 36
+
+
+def _pair_ids(bolt: fcl.CollisionObject, nut: fcl.CollisionObject,
+              request: fcl.CollisionRequest, nut_ids: NDArray[np.int64] | None
+              ) -> NDArray[np.int64]:
+    """Unique intersecting (bolt face, nut face) pairs; ``nut_ids`` maps a sector's local
+    face numbers to the nut's."""
+    result = fcl.CollisionResult()
+    fcl.collide(bolt, nut, request, result)
+    if not result.contacts:
+        return np.empty((0, 2), dtype=np.int64)
+    ids = np.unique(np.array([(c.b1, c.b2) for c in result.contacts], dtype=np.int64), axis=0)
+    if nut_ids is not None:
+        ids[:, 1] = nut_ids[ids[:, 1]]
+    return ids
 
 
 def _bvh(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> fcl.BVHModel:
@@ -69,16 +90,14 @@ class CollisionPair:
         #: Sector (0 .. SECTORS-1, counter-clockwise from -pi) of each nut face.
         sector = np.floor((angle + np.pi) / (2 * np.pi) * SECTORS).astype(np.intp)
         self.nut_sector = sector % SECTORS
-        self._sectors = []
+        self._sectors: dict[int, tuple[fcl.CollisionObject, NDArray[np.int64]]] = {}
         for k in range(SECTORS):
-            faces = self.nut_faces[self.nut_sector == k]
-            if len(faces) == 0:
-                self._sectors.append(None)
+            ids = np.flatnonzero(self.nut_sector == k)
+            if len(ids) == 0:
                 continue
-            used, local = np.unique(faces, return_inverse=True)
-            self._sectors.append(fcl.CollisionObject(
-                _bvh(self.nut_vertices[used], local.reshape(-1, 3)), fcl.Transform()))
-        self._managers: dict[frozenset[int], fcl.DynamicAABBTreeCollisionManager] = {}
+            used, local = np.unique(self.nut_faces[ids], return_inverse=True)
+            self._sectors[k] = (fcl.CollisionObject(
+                _bvh(self.nut_vertices[used], local.reshape(-1, 3)), fcl.Transform()), ids)
         self._yes_no = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
         self._all = fcl.CollisionRequest(num_max_contacts=MAX_PAIRS, enable_contact=False)
         #: Collision queries spent since construction (or the last reset).
@@ -89,29 +108,34 @@ class CollisionPair:
     def _place(self, pose: Pose) -> None:
         self._bolt.setTransform(fcl.Transform(pose.rotation, pose.origin))
 
-    def collides(self, pose: Pose) -> bool:
-        """Whether the bolt at ``pose`` intersects the nut (one query)."""
+    def _hits(self, other: fcl.CollisionObject) -> bool:
+        return fcl.collide(self._bolt, other, self._yes_no, fcl.CollisionResult()) > 0
+
+    def collides(self, pose: Pose, sectors: frozenset[int] | None = None) -> bool:
+        """Whether the bolt at ``pose`` intersects the nut, or only the nut's ``sectors``
+        when given (one query)."""
         self._place(pose)
         self.queries += 1
-        return fcl.collide(self._bolt, self._nut, self._yes_no, fcl.CollisionResult()) > 0
+        if sectors is None:
+            return self._hits(self._nut)
+        return any(self._hits(self._sectors[k][0]) for k in sectors if k in self._sectors)
 
     def collides_outside(self, pose: Pose, excluded: frozenset[int]) -> bool:
         """Whether the bolt at ``pose`` intersects the nut outside the ``excluded`` sectors
         (one query)."""
-        manager = self._managers.get(excluded)
-        if manager is None:
-            if len(self._managers) > 64:
-                self._managers.clear()
-            manager = fcl.DynamicAABBTreeCollisionManager()
-            manager.registerObjects([o for k, o in enumerate(self._sectors)
-                                     if o is not None and k not in excluded])
-            manager.setup()
-            self._managers[excluded] = manager
         self._place(pose)
         self.queries += 1
-        data = fcl.CollisionData(request=self._yes_no)
-        manager.collide(self._bolt, data, fcl.defaultCollisionCallback)
-        return bool(data.result.is_collision)
+        return any(self._hits(obj) for k, (obj, _) in self._sectors.items()
+                   if k not in excluded)
+
+    def colliding_sectors(self, pose: Pose, excluded: frozenset[int] = frozenset(),
+                          among: frozenset[int] | None = None) -> frozenset[int]:
+        """The sectors, other than ``excluded`` and within ``among`` when given, that the
+        bolt at ``pose`` intersects (one query)."""
+        self._place(pose)
+        self.queries += 1
+        keys = self._sectors.keys() if among is None else sorted(among & self._sectors.keys())
+        return frozenset(k for k in keys if k not in excluded and self._hits(self._sectors[k][0]))
 
     def sectors_near(self, points: NDArray[np.float64], reach: float,
                      min_radius: float) -> frozenset[int]:
@@ -128,16 +152,18 @@ class CollisionPair:
             out.update(k % SECTORS for k in range(a, b + 1))
         return frozenset(out)
 
-    def pairs(self, pose: Pose) -> NDArray[np.int64]:
-        """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose`` (one query)."""
+    def pairs(self, pose: Pose, sectors: frozenset[int] | None = None) -> NDArray[np.int64]:
+        """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose``, over the whole
+        nut or only its ``sectors`` (one query)."""
         self._place(pose)
         self.queries += 1
-        result = fcl.CollisionResult()
-        fcl.collide(self._bolt, self._nut, self._all, result)
-        if not result.contacts:
+        if sectors is None:
+            return _pair_ids(self._bolt, self._nut, self._all, None)
+        found = [_pair_ids(self._bolt, obj, self._all, ids)
+                 for k, (obj, ids) in self._sectors.items() if k in sectors]
+        if not found:
             return np.empty((0, 2), dtype=np.int64)
-        ids = np.array([(c.b1, c.b2) for c in result.contacts], dtype=np.int64)
-        return np.unique(ids, axis=0)
+        return np.unique(np.concatenate(found), axis=0)
 
     def triangles(self, pose: Pose, pairs: NDArray[np.int64]
                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

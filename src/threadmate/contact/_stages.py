@@ -7,10 +7,17 @@ rim landing on the top face; otherwise the drop doubles from a sixteenth of the 
 the bolt collides, and bisection closes the bracket to ``travel`` (1e-7 in). The stage's
 pose is the collision-free end of the bracket; its contacts are read at the other end.
 
+Every search closes its bracket the same way (:func:`_close_in`): one query names the nut
+sectors the bolt intersects at the colliding end, the bisection asks only those (an
+interference that starts inside the bracket persists to its colliding end, as the bolt
+only goes deeper), and a last query of the whole nut confirms the free end. Should it
+collide (a contact that came and went inside the bracket), the bisection is redone on the
+whole nut.
+
 Second and third contact. The bolt turns about a line (second: through the first
 contact along the nut's tangent there; third: the pivot axis through the two contacts) in
 the sense that lowers the compliance centre. The predicate of the search is "a NEW
-distinct contact exists". Each existing contact owns the nut's angular sectors (72 about
+distinct contact exists". Each existing contact owns the nut's angular sectors (36 about
 the axis, see :mod:`._collision`) that come within ``separation`` (a quarter pitch, as
 arc length at the contact's radius) of its triangle pairs; the predicate is one yes/no
 query of the bolt against the other sectors. Interference beside an existing contact (the
@@ -19,16 +26,20 @@ spreads beyond its sectors (the thesis's "rolling" contact) counts as new. At th
 pairs are enumerated once: those in owned sectors relocate the existing contacts (each to
 the contact whose pairs come nearest), the rest are clustered into the new ones
 (:mod:`._triangles`).
-The turn doubles from the angle that moves the farthest bolt point by 1/64 of a pitch up
-to ``max_turn`` (30 degrees), then bisects until the farthest bolt point moves less than
-``travel``. The stage's pose is the end of the bracket without the new contact; contacts
-are read at the other end. A stage that finds nothing within the range is reported as not
-found.
+
+The turn doubles from a sixteenth of ``max_turn`` (30 degrees) up to ``max_turn``, then
+bisects until the farthest bolt point moves less than ``travel``. (The turns seen over the
+thesis's grid range from thousandths of a degree to about 8 degrees; a first trial near
+their median spends the costly queries of the whole nut on few trials, and the bisection
+that follows asks only the sectors that collide.) The stage's pose is the end of the
+bracket without the new contact; contacts are read at the other end. A stage that finds
+nothing within the range is reported as not found.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -79,8 +90,9 @@ class StageOutcome:
     queries: int
 
 
-def _segments(engine: CollisionPair, pose: Pose) -> IntersectionSegments:
-    pairs = engine.pairs(pose)
+def _segments(engine: CollisionPair, pose: Pose,
+              sectors: frozenset[int] | None = None) -> IntersectionSegments:
+    pairs = engine.pairs(pose, sectors)
     return intersection_segments(*engine.triangles(pose, pairs))
 
 
@@ -130,15 +142,56 @@ def first_contact(engine: CollisionPair, rotation: NDArray[np.float64], search: 
             if lo < floor:
                 return None
             step *= 2
-    while hi - lo > tol:
-        mid = 0.5 * (hi + lo)
-        if engine.collides(pose(mid)):
-            lo = mid
-        else:
-            hi = mid
+    hi, lo, sectors = _close_in(engine, pose, hi, lo, tol, None)
     contact = pose(lo)
-    clusters = clusters_at(engine, contact, search.separation)
+    clusters = _clusters(_segments(engine, contact, sectors), search.separation)
     return StageOutcome(pose(hi), contact, clusters, 0.0, engine.queries - q0)
+
+
+def _bisect(hit: Callable[[float], bool], free: float, stuck: float,
+            tol: float) -> tuple[float, float]:
+    """Halve the bracket from ``free`` (no hit) to ``stuck`` (hit) down to ``tol``."""
+    while abs(stuck - free) > tol:
+        mid = 0.5 * (free + stuck)
+        if hit(mid):
+            stuck = mid
+        else:
+            free = mid
+    return free, stuck
+
+
+def _close_in(engine: CollisionPair, pose: Callable[[float], Pose], free: float,
+              stuck: float, tol: float, excluded: frozenset[int] | None
+              ) -> tuple[float, float, frozenset[int] | None]:
+    """Bisect from a collision-free parameter to a colliding one, asking only the nut
+    sectors that collide at the colliding end (``excluded`` sectors never count; None:
+    none excluded).
+
+    Returns the closed bracket and the sectors holding its contacts (None: the search
+    fell back to the whole nut).
+    """
+    excluded_set = excluded or frozenset()
+
+    def anywhere(s: float) -> bool:
+        if excluded is None:
+            return engine.collides(pose(s))
+        return engine.collides_outside(pose(s), excluded)
+
+    sectors = engine.colliding_sectors(pose(stuck), excluded_set)
+    if sectors:
+        start = free
+        while abs(stuck - free) > tol:
+            mid = 0.5 * (free + stuck)
+            hit = engine.colliding_sectors(pose(mid), frozenset(), among=sectors)
+            if hit:
+                stuck, sectors = mid, hit
+            else:
+                free = mid
+        if not anywhere(free):
+            return free, stuck, sectors | excluded_set
+        free = start
+    free, stuck = _bisect(anywhere, free, stuck, tol)
+    return free, stuck, None
 
 
 def lowering_direction(axis_point: NDArray[np.float64], axis: NDArray[np.float64],
@@ -152,7 +205,8 @@ def lowering_direction(axis_point: NDArray[np.float64], axis: NDArray[np.float64
 @dataclass(frozen=True)
 class TurnOutcome:
     """What a turn found: free and contact poses, the existing contacts as they are at the
-    contact pose (None where one has no pairs left), the new ones, the angle (degrees)."""
+    contact pose (None where one has no pairs left), the new ones, the angle (degrees),
+    the queries spent and the nut sectors where the bolt meets the nut."""
 
     free: Pose
     contact: Pose
@@ -160,6 +214,8 @@ class TurnOutcome:
     new: list[Cluster]
     angle: float
     queries: int
+    #: Nut sectors that hold every intersecting pair at either pose (None: any).
+    sectors: frozenset[int] | None = None
 
 
 def turn_to_new_contact(engine: CollisionPair, start: Pose, axis_point: NDArray[np.float64],
@@ -184,7 +240,7 @@ def turn_to_new_contact(engine: CollisionPair, start: Pose, axis_point: NDArray[
         return engine.collides_outside(start.rotated_about(axis_point, axis, deg), excluded)
 
     lo, hi = 0.0, math.nan
-    step = max(math.degrees(search.pitch / 64 / arm), 4 * tol_deg)
+    step = max(search.max_turn / 16, 4 * tol_deg)
     while True:
         trial = min(step, search.max_turn)
         if hit(trial):
@@ -194,14 +250,10 @@ def turn_to_new_contact(engine: CollisionPair, start: Pose, axis_point: NDArray[
         if trial >= search.max_turn:
             return None
         step *= 2
-    while hi - lo > tol_deg:
-        mid = 0.5 * (hi + lo)
-        if hit(mid):
-            hi = mid
-        else:
-            lo = mid
+    lo, hi, sectors = _close_in(engine, lambda deg: start.rotated_about(axis_point, axis, deg),
+                                lo, hi, tol_deg, excluded)
     contact = start.rotated_about(axis_point, axis, hi)
-    pairs = engine.pairs(contact)
+    pairs = engine.pairs(contact, sectors)
     segs = intersection_segments(*engine.triangles(contact, pairs))
     new_pair = ~np.isin(engine.nut_sector[pairs[:, 1]], list(excluded))
     # Old pairs go to the existing contact whose pairs come nearest.
@@ -214,4 +266,4 @@ def turn_to_new_contact(engine: CollisionPair, start: Pose, axis_point: NDArray[
            for k in range(len(existing))]
     new = _clusters(_subset(segs, new_pair), sep)
     free = start.rotated_about(axis_point, axis, lo)
-    return TurnOutcome(free, contact, old, new, lo, engine.queries - q0)
+    return TurnOutcome(free, contact, old, new, lo, engine.queries - q0, sectors)

@@ -18,6 +18,7 @@ and raises it at the low one, whichever body it belongs to; only the region name
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
@@ -46,6 +47,11 @@ def wrap_t(t: ArrayLike, pitch: float) -> NDArray[np.float64]:
     """Wrap an axial coordinate into one pitch, ``[-p/2, p/2)``."""
     t = np.asarray(t, dtype=float)
     return t - pitch * np.floor(t / pitch + 0.5)
+
+
+def _wrap1(t: float, pitch: float) -> float:
+    """:func:`wrap_t` of one number."""
+    return t - pitch * math.floor(t / pitch + 0.5)
 
 
 @dataclass(frozen=True)
@@ -82,13 +88,13 @@ class Profile:
         """Fillet radius at the minor-diameter corner (bolt root, nut crest)."""
         return self.root_fillet if self.body == "bolt" else self.crest_fillet
 
-    @property
+    @functools.cached_property
     def r_hi(self) -> float:
         """Radius of the major flat (capped by the sharp-V apex)."""
         apex = self.pitch_diameter / 2 + SQRT3 * self.pitch / 4
         return min(self.major / 2, apex)
 
-    @property
+    @functools.cached_property
     def r_lo(self) -> float:
         """Radius of the minor flat (raised to the sharp-V bottom)."""
         bottom = self.pitch_diameter / 2 - SQRT3 * self.pitch / 4
@@ -97,7 +103,7 @@ class Profile:
     def _flank_u(self, r: float) -> float:
         return self.pitch / 4 + (self.pitch_diameter / 2 - r) / SQRT3
 
-    @property
+    @functools.cached_property
     def breakpoints(self) -> tuple[float, float, float, float]:
         """``(a1, a2, a3, a4)``: region boundaries in ``u = |t|`` (see module docstring)."""
         u_hi = self._flank_u(self.r_hi)
@@ -110,13 +116,13 @@ class Profile:
             u_lo + rl / SQRT3,
         )
 
-    @property
+    @functools.cached_property
     def centre_hi(self) -> tuple[float, float]:
         """``(u, r)`` centre of the major-corner fillet arc."""
         u_hi = self._flank_u(self.r_hi)
         return (u_hi - self.fillet_hi / SQRT3, self.r_hi - self.fillet_hi)
 
-    @property
+    @functools.cached_property
     def centre_lo(self) -> tuple[float, float]:
         """``(u, r)`` centre of the minor-corner fillet arc."""
         u_lo = self._flank_u(self.r_lo)
@@ -149,6 +155,8 @@ class Profile:
     # -- evaluation --------------------------------------------------------------------
     def radius(self, t: ArrayLike) -> NDArray[np.float64]:
         """Exact profile radius ``R(t)`` (any ``t``; wrapped into one pitch)."""
+        if np.ndim(t) == 0:  # the contact code asks one point at a time
+            return np.float64(self._radius_at(abs(_wrap1(float(t), self.pitch))))
         u = np.abs(wrap_t(t, self.pitch))
         a1, a2, a3, a4 = self.breakpoints
         ch, cl = self.centre_hi, self.centre_lo
@@ -164,6 +172,9 @@ class Profile:
 
     def slope(self, t: ArrayLike) -> NDArray[np.float64]:
         """``dR/dt`` of the exact profile."""
+        if np.ndim(t) == 0:
+            w = _wrap1(float(t), self.pitch)
+            return np.float64(self._slope_at(abs(w)) * (-1.0 if w < 0 else 1.0))
         t = wrap_t(t, self.pitch)
         u = np.abs(t)
         sign = np.where(t < 0, -1.0, 1.0)
@@ -179,6 +190,34 @@ class Profile:
             np.zeros_like(u),
         )
         return sign * du
+
+    def _radius_at(self, u: float) -> float:
+        """:meth:`radius` at one ``u = |t|`` (the same pieces, without array overhead)."""
+        a1, a2, a3, a4 = self.breakpoints
+        if u <= a1:
+            return self.r_hi
+        if u <= a2:
+            (cu, cr), rho = self.centre_hi, self.fillet_hi
+            return cr + math.sqrt(max(rho * rho - (u - cu) ** 2, 0.0))
+        if u <= a3:
+            return self.pitch_diameter / 2 + SQRT3 * (self.pitch / 4 - u)
+        if u <= a4:
+            (cu, cr), rho = self.centre_lo, self.fillet_lo
+            return cr - math.sqrt(max(rho * rho - (u - cu) ** 2, 0.0))
+        return self.r_lo
+
+    def _slope_at(self, u: float) -> float:
+        """``dR/du`` at one ``u = |t|`` (see :meth:`slope`)."""
+        a1, a2, a3, a4 = self.breakpoints
+        if u <= a1 or u > a4:
+            return 0.0
+        if u <= a2:
+            cu, rho = self.centre_hi[0], self.fillet_hi
+            return -(u - cu) / math.sqrt(max(rho * rho - (u - cu) ** 2, 1e-300))
+        if u <= a3:
+            return -SQRT3
+        cu, rho = self.centre_lo[0], self.fillet_lo
+        return (u - cu) / math.sqrt(max(rho * rho - (u - cu) ** 2, 1e-300))
 
     def region(self, t: ArrayLike) -> NDArray[np.str_]:
         """Region name (``crest``, ``+CF``, ... ``-CF``) of the profile at ``t``."""
@@ -243,66 +282,51 @@ class Profile:
         The profile curve lies on the helical surface, so this bounds the true 3-D
         distance to the surface from above.
         """
-        t = wrap_t(t, self.pitch)
-        r = np.asarray(r, dtype=float)
-        best = np.full(np.broadcast(t, r).shape, np.inf)
-        for shift in (-self.pitch, 0.0, self.pitch):
-            u_signed = t + shift
-            for seg in self._segments():
-                best = np.minimum(best, seg(u_signed, r))
-        return best
+        t, r = np.broadcast_arrays(wrap_t(t, self.pitch), np.asarray(r, dtype=float))
+        tf, rf = t.ravel(), r.ravel()
+        p0, d, inv_dd, centre, rho, lo, hi, side = self._pieces
+        shifts = np.array([-self.pitch, 0.0, self.pitch])
+        out = np.empty(tf.size)
+        step = 20_000  # bounds the (points x shifts x pieces) temporaries
+        for i in range(0, tf.size, step):
+            u = tf[i:i + step, None, None] + shifts[None, :, None]
+            rr = rf[i:i + step, None, None]
+            du, dr = u - p0[:, 0], rr - p0[:, 1]
+            w = np.clip((du * d[:, 0] + dr * d[:, 1]) * inv_dd, 0.0, 1.0)
+            best = np.hypot(du - w * d[:, 0], dr - w * d[:, 1]).min(axis=(1, 2))
+            if len(rho):
+                uu = u * side  # mirror the negative side onto u >= 0
+                radial = np.abs(np.hypot(uu - centre[:, 0], rr - centre[:, 1]) - rho)
+                radial = np.where((uu >= lo) & (uu <= hi), radial, np.inf)
+                best = np.minimum(best, radial.min(axis=(1, 2)))
+            out[i:i + step] = best
+        return out.reshape(t.shape)
 
-    def _segments(self):  # noqa: ANN202 - internal closures
+    @functools.cached_property
+    def _pieces(self) -> tuple[NDArray[np.float64], ...]:
+        """The profile over one pitch as straight pieces (flats, flanks, and the arcs' end
+        points as zero-length pieces: they cover the outside of an arc's angular span) and
+        fillet arcs, both sides of ``u = 0``: ``(start, direction, 1/|direction|^2 or 0,
+        arc centre, radius, u from, u to, side)``."""
         a1, a2, a3, a4 = self.breakpoints
         h = self.pitch / 2
-
-        def line(p0, p1):
-            p0 = np.asarray(p0, float)
-            d = np.asarray(p1, float) - p0
-            dd = float(d @ d)
-
-            def f(u, r):
-                if dd == 0:
-                    return np.hypot(u - p0[0], r - p0[1])
-                s = np.clip(((u - p0[0]) * d[0] + (r - p0[1]) * d[1]) / dd, 0.0, 1.0)
-                return np.hypot(u - p0[0] - s * d[0], r - p0[1] - s * d[1])
-
-            return f
-
-        def arc(centre, rho, lo, hi, side):
-            def f(u, r):
-                uu = side * u  # mirror the negative side onto u >= 0
-                du, dr = uu - centre[0], r - centre[1]
-                inside = (uu >= lo) & (uu <= hi)
-                radial = np.abs(np.hypot(du, dr) - rho)
-                return np.where(inside, radial, np.inf)
-
-            return f
-
-        segs = []
-        for side in (1.0, -1.0):
-            pts = [
-                (0.0, self.r_hi),
-                (a1, self.r_hi),
-                (a2, self.radius(a2).item()),
-                (a3, self.radius(a3).item()),
-                (a4, self.r_lo),
-                (h, self.r_lo),
-            ]
-            pts = [(side * u, r) for u, r in pts]
-            segs.append(line(pts[0], pts[1]))
-            segs.append(line(pts[2], pts[3]))
-            segs.append(line(pts[4], pts[5]))
-            # Arc ends as points (covers the outside of the arc's angular span).
-            segs.append(line(pts[1], pts[1]))
-            segs.append(line(pts[2], pts[2]))
-            segs.append(line(pts[3], pts[3]))
-            segs.append(line(pts[4], pts[4]))
+        pts = [(0.0, self.r_hi), (a1, self.r_hi), (a2, self._radius_at(a2)),
+               (a3, self._radius_at(a3)), (a4, self.r_lo), (h, self.r_lo)]
+        lines, arcs = [], []
+        for sd in (1.0, -1.0):
+            q = [(sd * u, r) for u, r in pts]
+            lines += [(q[0], q[1]), (q[2], q[3]), (q[4], q[5])]
+            lines += [(q[k], q[k]) for k in (1, 2, 3, 4)]
             if self.fillet_hi > 0:
-                segs.append(arc(self.centre_hi, self.fillet_hi, a1, a2, side))
+                arcs.append((*self.centre_hi, self.fillet_hi, a1, a2, sd))
             if self.fillet_lo > 0:
-                segs.append(arc(self.centre_lo, self.fillet_lo, a3, a4, side))
-        return segs
+                arcs.append((*self.centre_lo, self.fillet_lo, a3, a4, sd))
+        start = np.array([a for a, _ in lines])
+        d = np.array([b for _, b in lines]) - start
+        dd = np.einsum("ij,ij->i", d, d)
+        inv_dd = np.divide(1.0, dd, out=np.zeros_like(dd), where=dd > 0)
+        arc = np.array(arcs).reshape(-1, 6)
+        return (start, d, inv_dd, arc[:, :2], arc[:, 2], arc[:, 3], arc[:, 4], arc[:, 5])
 
 
 def bolt_profile(spec: ThreadSpec) -> Profile:
