@@ -53,6 +53,16 @@ def _sample(tris: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.einsum("kv,nvj->nkj", _BARY, tris).reshape(-1, 3)
 
 
+def _within(tree: cKDTree, points: NDArray[np.float64], radius: float) -> NDArray[np.intp]:
+    """Indices of the tree's points within ``radius`` of any of ``points``."""
+    # Ends closer than a thousandth of the radius find the same neighbours, near enough.
+    points = np.unique(np.round(points / (1e-3 * radius)), axis=0) * (1e-3 * radius)
+    found = tree.query_ball_point(points, radius + 1e-3 * radius, return_sorted=False)
+    if len(found) == 0:
+        return np.empty(0, dtype=np.intp)
+    return np.unique(np.concatenate([np.asarray(f, dtype=np.intp) for f in found]))
+
+
 def interference_depth(bolt: ThreadBody, nut: ThreadBody, pose: Pose,
                        bolt_vertices: NDArray[np.float64], bolt_tree: cKDTree,
                        nut_vertices: NDArray[np.float64], nut_tree: cKDTree,
@@ -66,8 +76,8 @@ def interference_depth(bolt: ThreadBody, nut: ThreadBody, pose: Pose,
     if len(ends_f) == 0:
         return 0.0
     ends_b = pose.to_bolt(ends_f)
-    ib = sorted({i for lst in bolt_tree.query_ball_point(ends_b, radius) for i in lst})
-    i_n = sorted({i for lst in nut_tree.query_ball_point(ends_f, radius) for i in lst})
+    ib = _within(bolt_tree, ends_b, radius)
+    i_n = _within(nut_tree, ends_f, radius)
     pts_b = np.concatenate([bolt_vertices[ib].reshape(-1, 3), _sample(bolt_tris_b)])
     pts_n = np.concatenate([nut_vertices[i_n].reshape(-1, 3), _sample(nut_tris_f)])
     d_bolt_in_nut = nut.depth(pose.to_fixed(pts_b)) if len(pts_b) else np.zeros(1)

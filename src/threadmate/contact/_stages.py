@@ -10,7 +10,7 @@ pose is the collision-free end of the bracket; its contacts are read at the othe
 Every search closes its bracket the same way (:func:`_close_in`): one query names the nut
 sectors the bolt intersects at the colliding end, the bisection asks only those (an
 interference that starts inside the bracket persists to its colliding end, as the bolt
-only goes deeper), and a last query of the whole nut confirms the free end. Should it
+only goes deeper), and a last query of the other sectors confirms the free end. Should it
 collide (a contact that came and went inside the bracket), the bisection is redone on the
 whole nut.
 
@@ -131,66 +131,53 @@ def first_contact(engine: CollisionPair, rotation: NDArray[np.float64], search: 
 
     hi = h0 + tol  # lowest vertex above z = 0 >= every nut point: free without a query
     lo = h0 - tol
-    if not engine.collides(pose(lo)):
+    hit = engine.colliding_sectors(pose(lo))
+    if not hit:
         hi = lo
         step = search.pitch / 16
         while True:
             lo = h0 - step
-            if engine.collides(pose(lo)):
+            hit = engine.colliding_sectors(pose(lo))
+            if hit:
                 break
             hi = lo
             if lo < floor:
                 return None
             step *= 2
-    hi, lo, sectors = _close_in(engine, pose, hi, lo, tol, None)
+    hi, lo, sectors = _close_in(engine, pose, hi, lo, hit, tol, frozenset())
     contact = pose(lo)
     clusters = _clusters(_segments(engine, contact, sectors), search.separation)
     return StageOutcome(pose(hi), contact, clusters, 0.0, engine.queries - q0)
 
 
-def _bisect(hit: Callable[[float], bool], free: float, stuck: float,
-            tol: float) -> tuple[float, float]:
-    """Halve the bracket from ``free`` (no hit) to ``stuck`` (hit) down to ``tol``."""
+def _close_in(engine: CollisionPair, pose: Callable[[float], Pose], free: float,
+              stuck: float, hit: frozenset[int], tol: float, excluded: frozenset[int]
+              ) -> tuple[float, float, frozenset[int] | None]:
+    """Bisect from a collision-free parameter ``free`` to a colliding one ``stuck``, where
+    the bolt meets the nut sectors ``hit``, asking only those sectors (see the module
+    docstring); ``excluded`` sectors never count.
+
+    Returns the closed bracket and the sectors holding every intersecting pair at its ends
+    (None: any, the search fell back to the whole nut).
+    """
+    start = free
     while abs(stuck - free) > tol:
         mid = 0.5 * (free + stuck)
-        if hit(mid):
+        now = engine.colliding_sectors(pose(mid), among=hit)
+        if now:
+            stuck, hit = mid, now
+        else:
+            free = mid
+    # The bisection cleared ``hit`` at ``free``; the other sectors are asked once.
+    if not engine.collides_outside(pose(free), excluded | hit):
+        return free, stuck, hit | excluded
+    free = start
+    while abs(stuck - free) > tol:
+        mid = 0.5 * (free + stuck)
+        if engine.collides_outside(pose(mid), excluded):
             stuck = mid
         else:
             free = mid
-    return free, stuck
-
-
-def _close_in(engine: CollisionPair, pose: Callable[[float], Pose], free: float,
-              stuck: float, tol: float, excluded: frozenset[int] | None
-              ) -> tuple[float, float, frozenset[int] | None]:
-    """Bisect from a collision-free parameter to a colliding one, asking only the nut
-    sectors that collide at the colliding end (``excluded`` sectors never count; None:
-    none excluded).
-
-    Returns the closed bracket and the sectors holding its contacts (None: the search
-    fell back to the whole nut).
-    """
-    excluded_set = excluded or frozenset()
-
-    def anywhere(s: float) -> bool:
-        if excluded is None:
-            return engine.collides(pose(s))
-        return engine.collides_outside(pose(s), excluded)
-
-    sectors = engine.colliding_sectors(pose(stuck), excluded_set)
-    if sectors:
-        start = free
-        while abs(stuck - free) > tol:
-            mid = 0.5 * (free + stuck)
-            hit = engine.colliding_sectors(pose(mid), frozenset(), among=sectors)
-            if hit:
-                stuck, sectors = mid, hit
-            else:
-                free = mid
-        if not anywhere(free):
-            return free, stuck, sectors | excluded_set
-        free = start
-    free, stuck = _bisect(anywhere, free, stuck, tol)
     return free, stuck, None
 
 
@@ -236,22 +223,21 @@ def turn_to_new_contact(engine: CollisionPair, start: Pose, axis_point: NDArray[
     arm = float(np.linalg.norm(rel - (rel @ axis) * axis)) + engine.bolt_radius
     tol_deg = math.degrees(search.travel / arm)
 
-    def hit(deg: float) -> bool:
-        return engine.collides_outside(start.rotated_about(axis_point, axis, deg), excluded)
+    def pose(deg: float) -> Pose:
+        return start.rotated_about(axis_point, axis, deg)
 
-    lo, hi = 0.0, math.nan
+    lo = 0.0
     step = max(search.max_turn / 16, 4 * tol_deg)
     while True:
-        trial = min(step, search.max_turn)
-        if hit(trial):
-            hi = trial
+        hi = min(step, search.max_turn)
+        hit = engine.colliding_sectors(pose(hi), excluded)
+        if hit:
             break
-        lo = trial
-        if trial >= search.max_turn:
+        lo = hi
+        if hi >= search.max_turn:
             return None
         step *= 2
-    lo, hi, sectors = _close_in(engine, lambda deg: start.rotated_about(axis_point, axis, deg),
-                                lo, hi, tol_deg, excluded)
+    lo, hi, sectors = _close_in(engine, pose, lo, hi, hit, tol_deg, excluded)
     contact = start.rotated_about(axis_point, axis, hi)
     pairs = engine.pairs(contact, sectors)
     segs = intersection_segments(*engine.triangles(contact, pairs))

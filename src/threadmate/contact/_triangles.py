@@ -212,8 +212,8 @@ def cluster_segments(segments: IntersectionSegments, separation: float) -> NDArr
     if n == 0:
         return np.empty(0, dtype=np.intp)
     pts = np.concatenate([segments.start, segments.end])
-    links = cKDTree(pts).query_pairs(separation, output_type="ndarray").reshape(-1, 2)
     if n <= 64:  # a few pairs: union-find beats building a sparse graph
+        links = cKDTree(pts).query_pairs(separation, output_type="ndarray").reshape(-1, 2)
         parent = list(range(n))
 
         def root(i: int) -> int:
@@ -228,14 +228,46 @@ def cluster_segments(segments: IntersectionSegments, separation: float) -> NDArr
                 parent[max(ra, rb)] = min(ra, rb)
         labels = np.array([root(i) for i in range(n)])
     else:
-        own = np.stack([np.arange(n), np.arange(n) + n], axis=1)  # a segment joins its ends
-        edges = np.concatenate([links, own])
-        graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])),
-                           shape=(2 * n, 2 * n))
-        labels = connected_components(graph, directed=False)[1][:n]
+        point = _linked(pts, separation)
+        # A segment joins its two ends' components.
+        joined = _components(int(point.max()) + 1, np.column_stack([point[:n], point[n:]]))
+        labels = joined[point[:n]]
     _, first, inverse = np.unique(labels, return_index=True, return_inverse=True)
     order = np.argsort(np.argsort(first))
     return order[inverse].astype(np.intp)
+
+
+def _components(count: int, links: NDArray[np.intp]) -> NDArray[np.intp]:
+    graph = coo_matrix((np.ones(len(links)), (links[:, 0], links[:, 1])), shape=(count, count))
+    return connected_components(graph, directed=False)[1]
+
+
+def _linked(pts: NDArray[np.float64], separation: float) -> NDArray[np.intp]:
+    """Component label of each point, points within ``separation`` being linked.
+
+    Dense contact patches (a tip face flat on the top face: thousands of points) would
+    give millions of links at the full separation. Components at half of it are found
+    first (a quarter of the links in a plane), then merged where two come within the
+    separation; should many remain, the links at the full separation are used.
+    """
+    tree = cKDTree(pts)
+    half = tree.query_pairs(separation / 2, output_type="ndarray").reshape(-1, 2)
+    labels = _components(len(pts), half)
+    count = labels.max() + 1
+    if count == 1:
+        return labels
+    if count > 8:
+        full = tree.query_pairs(separation, output_type="ndarray").reshape(-1, 2)
+        return _components(len(pts), full)
+    groups = [np.flatnonzero(labels == k) for k in range(count)]
+    trees = [cKDTree(pts[g]) for g in groups]
+    merge = []
+    for i in range(count):
+        for j in range(i + 1, count):
+            dist, _ = trees[j].query(pts[groups[i]], distance_upper_bound=separation)
+            if np.isfinite(dist).any():
+                merge.append((i, j))
+    return _components(count, np.array(merge, dtype=np.intp).reshape(-1, 2))[labels]
 
 
 def cluster_location(segments: IntersectionSegments) -> NDArray[np.float64]:
