@@ -87,6 +87,51 @@ def test_distinct_contacts_are_linked_by_segment_ends():
     np.testing.assert_allclose(cluster_location(sub), [0.1, 0, 0], atol=1e-12)
 
 
+@pytest.mark.parametrize("seed", range(6))
+def test_dense_contact_patches_cluster_as_brute_force_single_linkage(seed):
+    """Many pairs (the two-level path): the same partition as linking every pair of
+    segment ends within the separation, computed from all pairwise distances."""
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial.distance import cdist
+
+    from threadmate.contact._triangles import IntersectionSegments
+
+    rng = np.random.default_rng(seed)
+    n, sep = int(rng.integers(65, 500)), 0.0125
+    centres = rng.uniform(0, 0.3, (int(rng.integers(1, 7)), 3)) * [1, 1, seed % 2]
+    start = centres[rng.integers(0, len(centres), n)] + rng.normal(0, 0.01, (n, 3))
+    end = start + rng.normal(0, 1e-3, (n, 3))
+    labels = cluster_segments(IntersectionSegments(start, end, np.ones(n, bool)), sep)
+    pts = np.concatenate([start, end])
+    adjacent = cdist(pts, pts) <= sep
+    adjacent[np.arange(n), np.arange(n) + n] = True
+    ref = connected_components(adjacent, directed=False)[1][:n]
+    pairs = {(a, b) for a, b in zip(labels.tolist(), ref.tolist(), strict=True)}
+    assert len(pairs) == len(set(labels.tolist())) == len(set(ref.tolist()))
+
+
+def test_sector_queries_agree_with_the_whole_nut(analyzer):
+    """The nut's sectors together answer as its single BVH, pose by pose."""
+    from threadmate.geometry import Pose
+
+    eng = analyzer.engine
+    rng = np.random.default_rng(7)
+    seen = set()
+    for _ in range(40):
+        rotation = _rot(*rng.uniform(-4, 4, 2), rng.uniform(0, 360))
+        h = -eng.lowest_bolt_z(rotation) - rng.uniform(0, 0.004)
+        pose = Pose(rotation, np.array([0.0, 0.0, h]))
+        whole = eng.collides(pose)
+        hit = eng.colliding_sectors(pose)
+        assert bool(hit) == whole == eng.collides(pose, frozenset(range(36)))
+        if hit:
+            nut_sectors = set(eng.nut_sector[eng.pairs(pose)[:, 1]].tolist())
+            assert nut_sectors == set(hit)
+            np.testing.assert_array_equal(eng.pairs(pose, hit), eng.pairs(pose))
+        seen.add(whole)
+    assert seen == {True, False}
+
+
 # -- exact reference ----------------------------------------------------------------------
 
 def _rot(roll, pitch, phase):

@@ -48,3 +48,15 @@ def test_rotation_about_a_line_fixes_the_line():
     )
     cosang = np.clip(pose.axis @ turned.axis, -1, 1)
     assert np.degrees(np.arccos(cosang)) <= 7.5 + 1e-9
+
+
+def test_axis_angle_rotation_matches_scipy():
+    from scipy.spatial.transform import Rotation
+
+    from threadmate.geometry._frames import axis_angle_rotation
+
+    rng = np.random.default_rng(0)
+    for _ in range(50):
+        axis, deg = rng.normal(size=3), rng.uniform(-400, 400)
+        ref = Rotation.from_rotvec(axis / np.linalg.norm(axis) * np.radians(deg)).as_matrix()
+        np.testing.assert_allclose(axis_angle_rotation(axis, deg), ref, atol=1e-14)
