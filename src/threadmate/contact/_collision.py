@@ -14,7 +14,7 @@ separation everywhere (hundreds of microseconds), while a few sectors answer in 
 
 Queries, each one yes/no question counted in :attr:`queries`:
 
-- :meth:`collides`: whether the bolt intersects the nut, or the given sectors of it;
+- :meth:`collides`: whether the bolt intersects the nut;
 - :meth:`collides_outside`: the same for every sector but the excluded ones;
 - :meth:`colliding_sectors`: which sectors (of those not excluded) the bolt intersects;
 - :meth:`pairs`: every intersecting bolt/nut triangle pair (python-fcl still reports the
@@ -111,14 +111,11 @@ class CollisionPair:
     def _hits(self, other: fcl.CollisionObject) -> bool:
         return fcl.collide(self._bolt, other, self._yes_no, fcl.CollisionResult()) > 0
 
-    def collides(self, pose: Pose, sectors: frozenset[int] | None = None) -> bool:
-        """Whether the bolt at ``pose`` intersects the nut, or only the nut's ``sectors``
-        when given (one query)."""
+    def collides(self, pose: Pose) -> bool:
+        """Whether the bolt at ``pose`` intersects the nut (one query)."""
         self._place(pose)
         self.queries += 1
-        if sectors is None:
-            return self._hits(self._nut)
-        return any(self._hits(self._sectors[k][0]) for k in sectors if k in self._sectors)
+        return self._hits(self._nut)
 
     def collides_outside(self, pose: Pose, excluded: frozenset[int]) -> bool:
         """Whether the bolt at ``pose`` intersects the nut outside the ``excluded`` sectors
