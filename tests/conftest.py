@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import matplotlib
 import pytest
 
@@ -34,3 +36,11 @@ def sharp_quarter_20() -> ThreadSpec:
         bolt=BoltSpec(major=0.24485, pitch_diameter=0.21455, minor=0.1887),
         nut=NutSpec(major=0.2500, pitch_diameter=0.21995, minor=0.2015),
     )
+
+
+@pytest.fixture()
+def spec_file(tmp_path, request):
+    """The requesting test module's ``SPEC`` dict written by hand as a JSON spec file."""
+    path = tmp_path / "pair.json"
+    path.write_text(json.dumps(request.module.SPEC))
+    return path

@@ -20,13 +20,6 @@ SPEC = {
 }
 
 
-@pytest.fixture()
-def spec_file(tmp_path):
-    path = tmp_path / "pair.json"
-    path.write_text(json.dumps(SPEC))
-    return path
-
-
 def run(argv, capsys):
     return run_cli(capsys, *argv)
 

@@ -22,13 +22,6 @@ SPEC = {
 HALF_WINDOW = 360.0 * (0.21995 - 0.21455) / SQ3 / (2 * 0.05)
 
 
-@pytest.fixture()
-def spec_file(tmp_path):
-    path = tmp_path / "pair.json"
-    path.write_text(json.dumps(SPEC))
-    return path
-
-
 def run(argv, capsys):
     return run_cli(capsys, *argv)
 
