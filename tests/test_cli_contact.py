@@ -33,8 +33,15 @@ def test_json_document(spec_file, capsys):
     assert (doc["roll"], doc["pitch"], doc["phase"]) == (4.0, 4.0, 235.0)
     assert doc["classification"] in ("stable", "quasi-stable", "unstable", "in-phase",
                                      "no-contact")
-    for key in ("interference", "origin_drop", "stages"):
+    for key in ("interference", "origin_drop", "stages", "pivot_offset", "rolling"):
         assert key in doc
+    assert isinstance(doc["rolling"], bool)
+    if doc["stages"]["third"]["found"] and len(doc["stages"]["second"]["contacts"]) == 2:
+        before = [c["pairs"] for c in doc["stages"]["second"]["contacts"]]
+        after = [c["pairs"] for c in doc["stages"]["third"]["contacts"][:2]]
+        assert doc["rolling"] == any(b > a for a, b in zip(before, after, strict=True))
+    if doc["classification"] == "unstable":
+        assert doc["interference"] > doc["origin_drop"]
     first = doc["stages"]["first"]
     assert first["origin"][:2] == [0.0, 0.0]
     # The tilted bolt's lowest tip point sits on the nut's top plane or below it.
@@ -58,8 +65,18 @@ def test_text_output_has_the_figure_4_1_fields(spec_file, capsys):
     assert rc == 0
     for field in ("ROLL = -4", "PHASE = 131", "Classification:", "1st contact",
                   "2nd contact", "3rd contact", "BOLT origin", "pairs", "bolt/nut",
-                  "Interference"):
+                  "Interference", "origin drop", "rolling pivot axis: "):
         assert field in out
+
+
+def test_help_names_the_fixed_pivot_procedure_and_the_thesis_criteria(capsys):
+    rc, out, err = run(["contact", "--help"], capsys)
+    assert rc == 0
+    text = " ".join(out.split())
+    for phrase in ("fixed-pivot procedure", "compliance holding the bolt is ignored",
+                   "threadmate settle", "threadmate search", "section 4.2", "unstable",
+                   "quasi-stable", "stable", "rolling"):
+        assert phrase in text, phrase
 
 
 def test_in_phase_configuration(spec_file, capsys):

@@ -1,4 +1,8 @@
-"""``threadmate contact``: first, second and third contact of a tilted bolt on its nut."""
+"""``threadmate contact``: first, second and third contact of a tilted bolt on its nut.
+
+The thesis's fixed-pivot procedure, classified by its criteria of section 4.2 (see
+:mod:`threadmate.contact`); the physical model is ``threadmate settle`` / ``search``.
+"""
 
 from __future__ import annotations
 
@@ -48,6 +52,7 @@ def _text(result: ContactResult) -> str:
     lines.append(f"Interference at the 3rd contact: {_fmt(result.interference, 0)} {u}   "
                  f"origin drop 2nd -> 3rd: {_fmt(result.origin_drop, 0)} {u}")
     lines.append(f"Pivot axis to compliance centre: {_fmt(result.pivot_offset, 0)} {u}   "
+                 f"rolling pivot axis: {'yes' if result.rolling else 'no'}   "
                  f"collision queries: {result.queries}")
     final = result.final_pose
     if final is not None:
@@ -57,14 +62,25 @@ def _text(result: ContactResult) -> str:
     return "\n".join(lines)
 
 
-@cli.command("contact", help=f"""First, second and third contact of a tilted bolt on the nut.
+@cli.command("contact", help=f"""First, second and third contact of a tilted bolt on the nut:
+the thesis's fixed-pivot procedure.
 
 The bolt, tilted by ROLL and PITCH and spun to PHASE (degrees, conventions.md), comes down
 on the nut until it first touches, turns about the nut's tangent there until a second
 contact, then about the pivot axis through the two until a third, each found by bisection
-to 1e-7 in of travel. Prints per stage the contact points, triangle pairs, regions in
-contact, common normals, the bolt origin and turn angle, and the classification
-(stable, quasi-stable, unstable, in-phase, no-contact). Lengths are in the spec's units.
+to 1e-7 in of travel. This is the thesis's FIXED-PIVOT procedure: each stage turns about
+an axis fixed in space and the compliance holding the bolt is ignored, so the poses are not
+rest states. The physical model (rest states under load and compliance) is the mechanics:
+threadmate settle / threadmate search.
+
+Prints per stage the contact points, triangle pairs, regions in contact, common normals,
+the bolt origin and turn angle, and the classification by the thesis's own criteria of its
+section 4.2: unstable (two-point: the third contact needed an embedding deeper than the
+drop of the bolt origin from the 2nd to the 3rd stage), quasi-stable (two-point: the pivot
+axis passes within pitch/10 of the compliance centre), stable (three-point), in-phase (the
+bolt dropped into the nut), no-contact. Also reports the thesis's rolling sign: a pivot
+contact gained triangle pairs once the turn about the pivot axis began. Lengths are in the
+spec's units.
 
 {SPEC_HELP}""")
 @click.argument("spec_text", metavar="DESIGNATION|SPEC")

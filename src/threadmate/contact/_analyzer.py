@@ -1,4 +1,9 @@
-"""The contact analyser: meshes and BVHs built once, three stages per configuration."""
+"""The contact analyser: meshes and BVHs built once, three stages per configuration.
+
+The stages are the thesis's fixed-pivot procedure (each turns about an axis fixed in
+space, the compliance is ignored) and the classes its criteria of section 4.2
+(:mod:`._stability`); the physical model is the mechanics' (``threadmate settle``).
+"""
 
 from __future__ import annotations
 
@@ -17,7 +22,7 @@ from ..geometry import Pose, ThreadSpec, bolt_body, bolt_rotation, nut_body
 from ._collision import CollisionPair
 from ._exact import contact_normal, region_at, turn_axis_tangent
 from ._result import Contact, ContactResult, StageResult
-from ._stability import classify, interference_depth, pivot_offset
+from ._stability import classify, interference_depth, is_rolling, pivot_offset
 from ._stages import (
     Cluster,
     Search,
@@ -146,7 +151,8 @@ def _flat_support(cluster: Cluster, centre: NDArray[np.float64], separation: flo
 
 
 class ContactAnalyzer:
-    """First, second and third contact of a bolt on its nut, for any orientation.
+    """First, second and third contact of a bolt on its nut, for any orientation: the
+    thesis's fixed-pivot procedure, classified by its criteria of section 4.2.
 
     Meshes and their python-fcl BVHs are built once here and reused by every
     :meth:`analyze` call (the bolt only moves). One analyser per process: fcl objects
@@ -168,8 +174,8 @@ class ContactAnalyzer:
     quasi_tolerance : float, optional
         Largest pivot offset of a quasi-stable two-point state (default pitch / 10).
     interference_tolerance : float, optional
-        Largest interference of a stable three-point state (default 4 x the mesh
-        deviation bound).
+        Noise floor of the interference: an embedding at most this deep counts as none
+        when comparing it with the origin drop (default 4 x the mesh deviation bound).
     max_turn : float
         Search range of the second and third stages (degrees, default 30).
     """
@@ -293,7 +299,8 @@ class ContactAnalyzer:
 
     # -- the analysis ---------------------------------------------------------------------
     def analyze(self, roll: float, pitch: float, phase: float) -> ContactResult:
-        """The three contact stages and the classification of one configuration.
+        """The three fixed-pivot contact stages and the thesis's 4.2 classification of one
+        configuration.
 
         Parameters
         ----------
@@ -367,6 +374,7 @@ class ContactAnalyzer:
         p1, p2 = np.array(c2[0].point), np.array(c2[1].point)
         offset = pivot_offset(p1, p2, self._centre(pose2))
         sectors: frozenset[int] | None = None  # where the third pose meets the nut
+        rolling = False  # the thesis's rolling axis: a pivot contact gained triangle pairs
         if len(c2) >= 3:
             third = StageResult.at("third", second.pose, c2, 0.0, 0)
         else:
@@ -374,6 +382,8 @@ class ContactAnalyzer:
             turned = self._turn("third", pose2, held[:2], p1, axis)
             if turned is not None:
                 third, sectors = turned[0], turned[3]
+                rolling = is_rolling([c.pairs for c in c2[:2]],
+                                     [c.pairs for c in third.contacts[:2]])
             else:
                 third = StageResult("third", False)
         interference = math.nan
@@ -382,11 +392,11 @@ class ContactAnalyzer:
             interference = self._interference(third.pose, sectors)
             drop = float(second.origin[2] - third.origin[2])
         cls = classify(first_found=True, in_phase=False, second_found=True, offset=offset,
-                       third_found=third.found, interference=interference,
+                       third_found=third.found, interference=interference, origin_drop=drop,
                        quasi_tolerance=self.quasi_tolerance,
                        interference_tolerance=self.interference_tolerance)
         return done(cls, first=first, second=second, third=third, interference=interference,
-                    origin_drop=drop, pivot_offset=offset)
+                    origin_drop=drop, pivot_offset=offset, rolling=rolling)
 
 
 @functools.lru_cache(maxsize=4)

@@ -160,6 +160,10 @@ class ContactResult:
         Drop of the bolt origin from the second to the third stage (positive down).
     pivot_offset : float
         Distance from the compliance centre to the pivot axis (NaN without two contacts).
+    rolling : bool
+        The thesis's rolling axis (4.2): a pivot contact (one of the second stage's two)
+        has more triangle pairs at the third stage than at the second. False when the
+        third stage did not turn.
     compliance_z : float
         Compliance centre on the bolt axis (bolt frame).
     queries : int
@@ -180,6 +184,7 @@ class ContactResult:
     interference: float = _NAN
     origin_drop: float = _NAN
     pivot_offset: float = _NAN
+    rolling: bool = False
     compliance_z: float = 0.0
     queries: int = 0
     tolerances: dict[str, float] = field(default_factory=dict)
@@ -229,6 +234,7 @@ class ContactResult:
             "interference": self.interference,
             "origin_drop": self.origin_drop,
             "pivot_offset": self.pivot_offset,
+            "rolling": bool(self.rolling),
             "final": None if final is None else {
                 "origin": final.origin.tolist(),
                 "angles": list(final.angles()),
@@ -251,6 +257,7 @@ class ContactResult:
             "interference": float(self.interference),
             "origin_drop": float(self.origin_drop),
             "pivot_offset": float(self.pivot_offset),
+            "rolling": bool(self.rolling),
             "final_roll": float(angles[0]),
             "final_pitch": float(angles[1]),
             "final_phase": float(angles[2]),
@@ -292,7 +299,7 @@ def record_schema() -> pa.Schema:
         pa.field("roll", f64), pa.field("pitch", f64), pa.field("phase", f64),
         pa.field("classification", s), pa.field("n_contacts", i64),
         pa.field("region_combination", s), pa.field("interference", f64),
-        pa.field("origin_drop", f64), pa.field("pivot_offset", f64),
+        pa.field("origin_drop", f64), pa.field("pivot_offset", f64), pa.field("rolling", b),
         pa.field("final_roll", f64), pa.field("final_pitch", f64),
         pa.field("final_phase", f64), pa.field("final_origin_z", f64),
         pa.field("queries", i64),

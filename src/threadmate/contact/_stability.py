@@ -1,18 +1,32 @@
-"""Stability of the contact state (thesis 4.2, made precise).
+"""Classification of the fixed-pivot contact states by the thesis's own criteria (4.2).
+
+The contact stages (:mod:`._stages`) are the thesis's FIXED-PIVOT procedure: each stage
+turns the bolt about an axis fixed in space (the nut's tangent at the first contact, then
+the pivot axis through the two contacts) and the compliance holding the bolt is ignored.
+The classes below are the thesis's criteria of its section 4.2 ("Contact Embedment
+Analysis") applied to that procedure, so that its results compare like for like. They are
+not the physical model: rest states of the bolt under its load and compliance are the
+mechanics' (``threadmate settle`` / ``threadmate search``).
 
 Quantities, all in the spec's units:
 
-- ``interference``: depth of interference at the third stage's pose, computed from the
-  EXACT bodies: the largest :meth:`ThreadBody.depth` (distance inside the material) of
-  points of the bolt mesh inside the exact nut and of points of the nut mesh inside the
-  exact bolt. The points are every mesh vertex within ``radius`` (a quarter pitch) of
-  the contacts' intersection segments plus a barycentric sampling (15 points) of
+- ``interference``: depth of interference (embedding) at the third stage's pose, computed
+  from the EXACT bodies: the largest :meth:`ThreadBody.depth` (distance inside the
+  material) of points of the bolt mesh inside the exact nut and of points of the nut mesh
+  inside the exact bolt. The points are every mesh vertex within ``radius`` (a quarter
+  pitch) of the contacts' intersection segments plus a barycentric sampling (15 points) of
   every intersecting triangle, so edge-on-edge embedding between vertices is seen too.
   Mesh points lie within the mesh deviation of the exact surface, so values below a few
-  chord tolerances are noise.
-- ``origin_drop``: height of the bolt origin at the second stage minus that at the third.
+  chord tolerances are noise: ``interference_tolerance`` (default four mesh-deviation
+  bounds) is the floor below which no embedding is resolved.
+- ``origin_drop``: height of the bolt origin at the second stage minus that at the third
+  (positive down).
 - ``pivot_offset``: distance from the compliance centre to the pivot axis (the line
   through the two contacts of the second stage).
+- ``rolling`` (the thesis's *rolling* axis, reported beside the class): the pivot axis
+  "acquires more triangles at one or both of the original points once rotation about the
+  pivot axis commences", i.e. a pivot contact (either of the second stage's two contacts)
+  has more triangle pairs at the third stage than at the second (:func:`is_rolling`).
 
 Classes, decided in this order:
 
@@ -21,19 +35,22 @@ Classes, decided in this order:
    (every point of its tip rim) lies below the nut's top face by more than the feature
    tolerance, so it came down inside the bore until flank met flank. The snap (for an
    upright bolt, the in-phase window of the planar analysis); the later stages are not run;
-3. ``quasi-stable`` (two-point): the pivot axis passes within ``quasi_tolerance``
-   (default a tenth of the pitch) of the compliance centre, where the axial load has
-   (almost) no moment about it;
+3. ``quasi-stable`` (quasi-stable two-point, thesis 4.2.2): the pivot axis passes within
+   ``quasi_tolerance`` (default a tenth of the pitch) of the compliance centre, where the
+   axial load has (almost) no moment about it;
 4. ``no-contact``: the third stage found nothing within its range;
-5. ``stable`` (three-point): the third contact is reached with ``interference`` within
-   ``interference_tolerance`` (default four chord tolerances);
-6. ``unstable`` (two-point): otherwise; the third contact needed the bolt to embed. The
-   thesis's strict case is ``interference > origin_drop`` (embedded deeper than the origin
-   dropped); an embedding that the drop exceeds still is not a rest pose of rigid bodies,
-   so it is reported ``unstable`` too, and the record keeps both numbers.
+5. ``unstable`` (unstable two-point, thesis 4.2.1): the third contact was reached with an
+   ``interference`` LARGER than ``origin_drop``: the bolt embedded in the nut deeper than
+   its origin dropped, "we located a third contact point by doing something impossible".
+   An interference within ``interference_tolerance`` (mesh noise) counts as none, so the
+   rule is ``interference > max(origin_drop, interference_tolerance)``;
+6. ``stable`` (stable three-point, thesis 4.2.3): otherwise; the origin dropped at least as
+   much as the bolt embedded (it released potential energy).
 """
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -41,7 +58,7 @@ from scipy.spatial import cKDTree
 
 from ..geometry import Pose, ThreadBody
 
-__all__ = ["interference_depth", "classify", "pivot_offset"]
+__all__ = ["interference_depth", "classify", "pivot_offset", "is_rolling"]
 
 # Barycentric sample of a triangle: 15 points (a 4-division grid).
 _N = 4
@@ -95,9 +112,16 @@ def pivot_offset(p1: NDArray[np.float64], p2: NDArray[np.float64],
     return float(np.linalg.norm(np.cross(np.asarray(centre, float) - p1, a / n)))
 
 
+def is_rolling(second_pairs: Sequence[int], third_pairs: Sequence[int]) -> bool:
+    """The thesis's rolling axis: a pivot contact gained triangle pairs from the second
+    stage (``second_pairs``, one count per pivot contact) to the third (``third_pairs``,
+    the same contacts in the same order)."""
+    return any(b > a for a, b in zip(second_pairs, third_pairs, strict=True))
+
+
 def classify(*, first_found: bool, in_phase: bool, second_found: bool, offset: float,
-             third_found: bool, interference: float, quasi_tolerance: float,
-             interference_tolerance: float) -> str:
+             third_found: bool, interference: float, origin_drop: float,
+             quasi_tolerance: float, interference_tolerance: float) -> str:
     """The classification rules of the module docstring, in order."""
     if not first_found:
         return "no-contact"
@@ -109,6 +133,6 @@ def classify(*, first_found: bool, in_phase: bool, second_found: bool, offset: f
         return "quasi-stable"
     if not third_found:
         return "no-contact"
-    if interference <= interference_tolerance:
-        return "stable"
-    return "unstable"
+    if interference > max(origin_drop, interference_tolerance):
+        return "unstable"
+    return "stable"
