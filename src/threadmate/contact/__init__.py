@@ -1,50 +1,72 @@
-"""Spatial contact analysis (thesis chapter 3 and section 4.2) on python-fcl.
+"""Contacts of a bolt on its nut: the mechanics of the held bolt, and the thesis's stages.
 
-For a thread pair and an orientation (roll, pitch, phase; degrees, conventions.md) the bolt
+Two models live here.
 
-1. comes down along -Z of the fixed frame until it first touches the nut (*first*);
-2. turns about the nut's tangent at that contact, in the sense that lowers the compliance
-   centre, until a second distinct contact appears (*second*);
-3. turns about the pivot axis through the two contacts, in the sense that lowers the
-   compliance centre, until a third distinct contact appears (*third*).
+**The mechanics** (design/mechanics.md; :mod:`._settle`, :mod:`._search`). The bolt is
+held through a compliance (:class:`Compliance`: axial force, rotational stiffness about
+the compliance centre, optional lateral stiffness, friction). A *rest state* is a local
+minimum of the potential ``F z_C + k/2 |tilt - held tilt|^2`` over the poses where bolt
+and nut do not interpenetrate; :func:`settle` finds the one reached from first contact
+by an active-set descent (the thesis's stages completed by its rolling pivot), with the
+contact forces, the driver's torque and the unstable states passed on the way.
+:func:`search` simulates the counter-clockwise search: a quasi-static continuation in
+phase, its contact changes, jumps and the snap into the thread, with the driver's work.
+Classes: ``stable`` (the contacts alone hold the load), ``quasi-stable`` (a rest state
+that needs the compliance), ``unstable`` (not a rest state), ``in-phase`` (the snap).
 
-Each event is found by bisection on yes/no collision queries to 1e-7 in (2.54e-6 mm) of
-bolt travel (:mod:`._stages`). A contact's location comes from the intersection segments
-of its triangle pairs; distinct contacts are single-linkage clusters of segment end points
-a quarter pitch apart (:mod:`._triangles`). Regions, normals and the second stage's axis
-come from the exact bodies (:mod:`._exact`); the stability rules are in
-:mod:`._stability`. Lengths are in the spec's units, angles in degrees.
+**The thesis's fixed-pivot procedure** (:class:`ContactAnalyzer`, :func:`analyze`; its
+chapter 3 and section 4.2). The bolt, at a fixed tilt, comes down until it first touches
+(*first*), turns about the nut's tangent there until a second contact (*second*), then
+about the pivot axis through the two until a third (*third*); the compliance is ignored.
+Classified by the thesis's own criteria: ``quasi-stable`` when the pivot axis passes
+within pitch/10 of the compliance centre, ``unstable`` when the third contact needed an
+embedding deeper than the origin's drop (and than the mesh noise), ``stable`` otherwise;
+``rolling`` marks a pivot contact whose triangle pairs grew during the third turn.
 
-Classification (:mod:`._stability`), in this order: ``no-contact`` (the first or second
-stage finds nothing within its range: the bolt misses the nut, or no second contact within
-30 degrees); ``in-phase`` (at the first contact the whole tip face is below the nut's top
-face: the bolt dropped into the nut, the snap; later stages are not run); ``quasi-stable`` (the
-pivot axis through the two contacts passes within ``quasi_tolerance``, default pitch/10,
-of the compliance centre); ``no-contact`` (no third contact within 30 degrees);
-``stable`` (three contacts with an interference, measured on the exact bodies, within
-``interference_tolerance``, default four mesh-deviation bounds); ``unstable`` (the third
-contact needed the bolt to embed beyond that; the thesis's case is an embedding deeper
-than the drop of the origin, and the record keeps both numbers).
-
-Second-stage axis: the nut's edge tangent where the nut touches with an edge, else the
-bolt edge's tangent projected on the nut's face (the one tangent of the face the bolt can
-turn about without cutting into it), else the circumferential (top face) or helix (thread)
-direction; an upright tip face resting flat over an area is resolved by the area's convex
-hull (three contacts around the compliance centre, or a tip over the hull edge facing it).
+Both stand on python-fcl queries of the meshes (:mod:`._collision`), contact location
+from triangle pairs (:mod:`._triangles`, :mod:`._vertical`) and the exact bodies for
+regions, normals and edge contact points (:mod:`._exact`). Lengths are in the spec's
+units, angles in degrees, forces in N, torques in N m, energies in mJ.
 
 Example
 -------
->>> from threadmate.contact import ContactAnalyzer
->>> analyzer = ContactAnalyzer(spec)                                   # doctest: +SKIP
->>> result = analyzer.analyze(roll=4, pitch=0, phase=185)              # doctest: +SKIP
->>> result.classification, result.to_record()["third_c1_x"]           # doctest: +SKIP
+>>> from threadmate.geometry import spec_from_designation
+>>> from threadmate.contact import Compliance, search, settle
+>>> spec = spec_from_designation("1/4-20 UNC-2A/2B")
+>>> rest = settle(spec, 4, 0, 185, compliance=Compliance(force=10))  # doctest: +SKIP
+>>> rest.classification, rest.state.roll                           # doctest: +SKIP
+>>> run = search(spec, 4, 0, 185)                                   # doctest: +SKIP
+>>> run.snap.phase, run.snap.drop, run.work                         # doctest: +SKIP
 """
 
 from ._analyzer import MAX_TILT, TRAVEL_TOLERANCE, ContactAnalyzer, analyze
+from ._compliance import LIMITS as COMPLIANCE_LIMITS
+from ._compliance import Compliance
+from ._rest_state import (
+    REST_CLASSES,
+    LoadedContact,
+    MechanicalState,
+    RestState,
+    SearchEvent,
+    SearchResult,
+)
 from ._result import CLASSIFICATIONS, STAGES, Contact, ContactResult, StageResult, record_schema
+from ._search import search
+from ._settle import Mechanics, settle
 
 __all__ = [
     "CLASSIFICATIONS",
+    "COMPLIANCE_LIMITS",
+    "Compliance",
+    "LoadedContact",
+    "MechanicalState",
+    "Mechanics",
+    "REST_CLASSES",
+    "RestState",
+    "SearchEvent",
+    "SearchResult",
+    "search",
+    "settle",
     "MAX_TILT",
     "STAGES",
     "TRAVEL_TOLERANCE",

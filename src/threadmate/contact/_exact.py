@@ -40,7 +40,8 @@ from numpy.typing import NDArray
 
 from ..geometry import Pose, ThreadBody
 
-__all__ = ["Feature", "feature_at", "contact_normal", "region_at", "turn_axis_tangent"]
+__all__ = ["Feature", "feature_at", "contact_normal", "region_at", "turn_axis_tangent",
+           "refine_on_edge"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -216,3 +217,112 @@ def turn_axis_tangent(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
         theta = math.atan2(p[1], p[0])
         return np.array([-math.sin(theta), math.cos(theta), 0.0])
     return _helix_tangent(nut, p)
+
+
+def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Signed distance (negative inside the material) of points in the body's frame."""
+    d = body.surface_distance(points_b)
+    return np.where(body.contains(points_b), -d, d)
+
+
+def _edge_points(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64],
+                 angles: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Points of the exact edge through ``anchor`` (body frame) at polar ``angles``."""
+    if feature.kind == "rim":
+        r = body.section_radius(angles, body.cap_z)
+        return np.column_stack([r * np.cos(angles), r * np.sin(angles),
+                                np.full_like(angles, body.cap_z)])
+    theta0 = math.atan2(anchor[1], anchor[0])
+    r = math.hypot(anchor[0], anchor[1])
+    prof = body.profile
+    t0 = float(body.t_of(theta0, anchor[2]))
+    # The corner's radius, exactly: the sharp corner nearest the anchor's profile point.
+    corners = _sharp_corners(body)
+    if corners:
+        uc = min(corners, key=lambda u: abs(abs(t0) - u))
+        r = float(prof.radius(uc))
+    z = anchor[2] + body.hand * body.lead * (angles - theta0) / TWO_PI
+    return np.column_stack([r * np.cos(angles), r * np.sin(angles), z])
+
+
+def refine_on_edge(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
+                   point_f: NDArray[np.float64], tol: float, window: float) -> NDArray[np.float64]:
+    """The exact contact point of an edge touching a face near ``point_f`` (fixed frame).
+
+    A mesh locates an edge-on-face contact only to within a facet of the edge, and the
+    facet it picks jumps as the pose moves. The exact point is where the edge (the exact
+    rim or sharp corner helix) comes closest to, or deepest into, the other body's exact
+    surface: searched along the edge within ``window`` (arc length) of ``point_f`` on
+    shrinking grids. Contacts that are not edge-on-face are returned unchanged.
+    """
+    p = np.asarray(point_f, dtype=float)
+    fn = feature_at(nut, p, tol)
+    fb = feature_at(bolt, pose.to_bolt(p), tol)
+    if fn.is_edge and fb.is_edge:
+        return _edge_crossing(nut, fn, bolt, fb, pose, p, window)
+    if fn.is_edge == fb.is_edge:
+        return p
+    if fn.is_edge:
+        edge_body, edge, anchor = nut, fn, p
+
+        def gap(pts: NDArray[np.float64]) -> NDArray[np.float64]:
+            return _signed_distance(bolt, pose.to_bolt(pts))
+
+        def to_f(pts: NDArray[np.float64]) -> NDArray[np.float64]:
+            return pts
+    else:
+        edge_body, edge, anchor = bolt, fb, pose.to_bolt(p)
+
+        def gap(pts: NDArray[np.float64]) -> NDArray[np.float64]:
+            return _signed_distance(nut, pose.to_fixed(pts))
+
+        def to_f(pts: NDArray[np.float64]) -> NDArray[np.float64]:
+            return pose.to_fixed(pts)
+    theta0 = math.atan2(anchor[1], anchor[0])
+    half = window / max(math.hypot(anchor[0], anchor[1]), 1e-300)
+    best = theta0
+    for _ in range(3):
+        angles = best + np.linspace(-half, half, 17)
+        values = gap(_edge_points(edge_body, edge, anchor, angles))
+        j = int(np.argmin(values))
+        best = float(angles[j])
+        if 0 < j < 16:  # the parabola through the least value and its neighbours
+            a, b, c = values[j - 1:j + 2]
+            den = a - 2 * b + c
+            if den > 0:
+                best += 0.5 * (a - c) / den * (angles[1] - angles[0])
+        half /= 8
+    return to_f(_edge_points(edge_body, edge, anchor, np.array([best])))[0]
+
+
+def _edge_crossing(nut: ThreadBody, fn: Feature, bolt: ThreadBody, fb: Feature, pose: Pose,
+                   point_f: NDArray[np.float64], window: float) -> NDArray[np.float64]:
+    """Where two exact edges cross, seen along Z (an edge-on-edge contact under a vertical
+    approach): Gauss-Newton on the two edges' polar angles from the mesh's point. The
+    point returned is the nut edge's (fixed frame); ``point_f`` when it does not
+    converge within ``window``."""
+    anchor_b = pose.to_bolt(point_f)
+    a0 = math.atan2(point_f[1], point_f[0])
+    b0 = math.atan2(anchor_b[1], anchor_b[0])
+
+    def gap(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        q = _edge_points(nut, fn, point_f, x[:1])[0]
+        b = pose.to_fixed(_edge_points(bolt, fb, anchor_b, x[1:])[0])
+        return (q - b)[:2]
+
+    x = np.array([a0, b0])
+    h = 1e-7
+    for _ in range(8):
+        g = gap(x)
+        jac = np.column_stack([(gap(x + h * e) - g) / h for e in np.eye(2)])
+        try:
+            dx = np.linalg.solve(jac, -g)
+        except np.linalg.LinAlgError:
+            return point_f
+        x = x + dx
+        if float(np.abs(dx).max()) < 1e-12:
+            break
+    q = _edge_points(nut, fn, point_f, x[:1])[0]
+    if not np.all(np.isfinite(q)) or float(np.linalg.norm(q - point_f)) > window:
+        return point_f
+    return q

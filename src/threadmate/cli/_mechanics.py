@@ -1,0 +1,374 @@
+"""``threadmate settle`` and ``threadmate search``: the mechanics of the compliance-held bolt.
+
+``settle`` prints one rest state (design/mechanics.md: a local minimum of the potential
+under the axial force and the compliance's spring, with the contact forces that hold it);
+``search`` simulates the counter-clockwise search from a start, its events and the snap.
+Both are thin wrappers over :func:`threadmate.contact.settle` and
+:func:`threadmate.contact.search`; their ``--json`` documents are the results' ``to_dict()``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import click
+import numpy as np
+
+from .._errors import InputError, NoPathError
+from ..contact import MAX_TILT, Compliance, RestState, SearchResult, search, settle
+from ..geometry import ThreadSpec
+from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._main import cli
+
+__all__ = ["search_command", "settle_command", "plot_search"]
+
+#: The defaults of the options are those of :class:`Compliance`.
+_D = Compliance()
+#: File suffixes ``--plot`` writes, and their matplotlib formats.
+_FIGURE_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
+#: Largest ``--turns`` (the API's limit).
+MAX_TURNS = 10.0
+#: Largest ``--step`` (degrees; the API's limit).
+MAX_STEP = 10.0
+#: How closely the search locates its events in phase (degrees; the API's default).
+PHASE_TOLERANCE = 0.01
+
+_DEFAULTS_NOTE = (
+    "Defaults (threadmate.contact.Compliance): 10 N is a light hand or float-spring push "
+    "on a small screw; 1 N m/rad is the soft end of remote-centre compliances for small "
+    "parts (Whitney's k_r = k_t l^2 with about 1.6 N/mm projected 25 mm); the centre is "
+    "held laterally at x = y = 0 and sits at the bolt's tip; friction 0.15 is steel on "
+    "steel in a thread (VDI 2230's 0.08 to 0.20)."
+)
+
+
+# -- options ---------------------------------------------------------------------------------
+def _mechanics_options(func: Callable[..., Any]) -> Callable[..., Any]:
+    """The configuration and the compliance's parameters, shared by both commands."""
+    options = [
+        click.argument("spec_text", metavar="DESIGNATION|SPEC"),
+        click.option("--roll", type=float, required=True,
+                     help=f"Held tilt about fixed X in degrees (within +/-{MAX_TILT:g})."),
+        click.option("--pitch", type=float, required=True,
+                     help=f"Held tilt about fixed Y in degrees (within +/-{MAX_TILT:g})."),
+        click.option("--phase", type=float, required=True,
+                     help="Spin of the bolt about its axis in degrees (counter-clockwise "
+                          "seen from above)."),
+        click.option("--force", type=float, default=_D.force, show_default=True,
+                     help="Axial force pressing the bolt down through the compliance "
+                          "centre, in N (1 lbf = 4.448 N)."),
+        click.option("--stiffness", "stiffness_text", default=f"{_D.roll_stiffness:g}",
+                     show_default=True, metavar="K|ROLL,PITCH",
+                     help="Rotational stiffness of the compliance about X and Y through "
+                          "its centre, in N m/rad: one number, or two as ROLL,PITCH for an "
+                          "anisotropic compliance (0 is a free tilt)."),
+        click.option("--lateral-stiffness", type=float, default=None,
+                     help="Lateral stiffness of the compliance centre in N/m (default: the "
+                          "centre is held at x = y = 0)."),
+        click.option("--friction", type=float, default=_D.friction, show_default=True,
+                     help="Coulomb friction coefficient of the thread contacts (enters the "
+                          "driver's torque and work, not the rest pose)."),
+        click.option("--compliance-z", type=float, default=_D.compliance_z,
+                     show_default=True,
+                     help="Compliance centre on the bolt axis, bolt frame, in the spec's "
+                          "length units (0: the tip centre)."),
+        click.option("--chord", type=float, default=None,
+                     help="Chord tolerance of the meshes in the spec's length units "
+                          "(default 5e-6 in, 1.27e-4 mm)."),
+        click.option("--condition", type=click.Choice(["mean", "max", "min"]),
+                     default="mean", show_default=True,
+                     help="Material condition at which a designation expands."),
+        click.option("--json", "as_json", is_flag=True,
+                     help="Print one JSON document on stdout instead of text."),
+    ]
+    for option in reversed(options):
+        func = option(func)
+    return func
+
+
+def _stiffness(text: str) -> float | tuple[float, float]:
+    """``K`` or ``ROLL,PITCH`` as numbers (their range is the Compliance's to check)."""
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        values = []
+    if len(values) not in (1, 2):
+        raise InputError(f"--stiffness {text!r}: give one number or two as ROLL,PITCH "
+                         "(N m/rad), e.g. 1 or 0.5,2")
+    return values[0] if len(values) == 1 else (values[0], values[1])
+
+
+def _setup(spec_text: str, roll: float, pitch: float, phase: float, force: float,
+           stiffness_text: str, lateral_stiffness: float | None, friction: float,
+           compliance_z: float, chord: float | None, condition: str
+           ) -> tuple[ThreadSpec, Compliance]:
+    """Check the options (cheapest first) and build the spec and the compliance.
+
+    Every check runs before the meshes are built and before anything is written.
+    """
+    for name, value in (("roll", roll), ("pitch", pitch)):
+        if not math.isfinite(value) or abs(value) > MAX_TILT:
+            raise InputError(f"--{name} {value:g} is out of range: give degrees within "
+                             f"+/-{MAX_TILT:g}")
+    if not math.isfinite(phase):
+        raise InputError(f"--phase {phase:g} is not a finite angle")
+    if chord is not None and not (math.isfinite(chord) and chord > 0):
+        raise InputError(f"--chord {chord:g} must be a positive length")
+    # The Compliance refuses non-finite or out-of-range values with a message naming them.
+    compliance = Compliance(force=force, stiffness=_stiffness(stiffness_text),
+                            lateral_stiffness=lateral_stiffness, compliance_z=compliance_z,
+                            friction=friction)
+    spec = resolve_spec(spec_text, condition)
+    if chord is not None and chord > spec.pitch / 10:
+        raise InputError(f"--chord {chord:g} is too coarse for pitch {spec.pitch:g} "
+                         f"{spec.units}: give at most a tenth of the pitch")
+    compliance.check_for(spec.pitch)
+    return spec, compliance
+
+
+# -- text ------------------------------------------------------------------------------------
+def _name(spec: ThreadSpec) -> str:
+    return spec.designation or f"spec (pitch {spec.pitch:g} {spec.units})"
+
+
+def _num(v: float | None, fmt: str = ".6f") -> str:
+    return "-" if v is None or not math.isfinite(v) else format(v, fmt)
+
+
+def _parameters(p: dict[str, Any], units: str) -> list[str]:
+    k = p["stiffness"]
+    stiff = (f"{k['roll']:g} N m/rad" if k["roll"] == k["pitch"]
+             else f"{k['roll']:g} (roll), {k['pitch']:g} (pitch) N m/rad")
+    lateral = ("held at x = y = 0" if p.get("lateral_stiffness") is None
+               else f"{p['lateral_stiffness']:g} N/m")
+    return [f"Parameters: force {p['force']:g} N, stiffness {stiff}, lateral {lateral},",
+            f"            compliance centre z = {p['compliance_z']:g} {units} (bolt frame), "
+            f"friction {p['friction']:g}"]
+
+
+def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
+    u = rest.units
+    s = rest.state
+    touching = s.touching
+    lines = [f"{_name(spec)}: rest state of the bolt held at roll {rest.held_roll:g}, "
+             f"pitch {rest.held_pitch:g} deg, turned to phase {rest.phase:g} deg "
+             f"(lengths in {u})",
+             *_parameters(rest.parameters, u),
+             f"Class: {s.classification}",
+             f"Rest pose: roll {s.roll:.4f}  pitch {s.pitch:.4f} deg;  origin "
+             f"({s.origin[0]:.6f}, {s.origin[1]:.6f}, {s.origin[2]:.6f}) {u};  "
+             f"compliance centre height {s.centre[2]:.6f} {u}",
+             f"Contacts ({len(touching)} touching):"]
+    if touching:
+        lines.append(f"  {'X':>10} {'Y':>10} {'Z':>10}  {'normal (nut -> bolt)':<26} "
+                     f"{'force N':>9}  bolt/nut")
+        for c in touching:
+            p = " ".join(f"{v:10.6f}" for v in c.point)
+            n = " ".join(f"{v:8.5f}" for v in c.normal)
+            lines.append(f"  {p}  {n} {_num(c.force, '9.4f'):>9}  {c.regions}")
+    lines.append(f"Potential: {_num(s.potential, '.6g')} mJ   driver torque: "
+                 f"{_num(s.driver_torque, '.6g')} N m (friction part "
+                 f"{_num(s.friction_torque, '.6g')} N m)")
+    b = rest.balance
+    if "force" in b and "moment" in b:
+        note = "" if b.get("converged", 1.0) else "   (the descent did NOT converge)"
+        lines.append(f"Balance residuals (relative to the load): force {b['force']:.2g}, "
+                     f"moment {b['moment']:.2g}{note}")
+    if rest.path:
+        lines.append(f"Path from first contact ({len(rest.path)} unstable state(s)):")
+        lines.append(f"  {'kind':<14} {'turn deg':>9}  regions")
+        for p in rest.path:
+            lines.append(f"  {p.kind:<14} {p.turn:9.4f}  {p.region_combination or '-'}")
+    else:
+        lines.append("Path from first contact: none (the first contact is at rest)")
+    return "\n".join(lines)
+
+
+def _search_text(spec: ThreadSpec, run: SearchResult, step: float) -> str:
+    u = run.units
+    sense = "counter-clockwise" if spec.handedness > 0 else "clockwise"
+    start = run.states[0] if run.states else None
+    lines = [f"{_name(spec)}: {sense} search from roll {run.held_roll:g}, pitch "
+             f"{run.held_pitch:g} deg, phase {run.start_phase:g} deg ({run.turns:g} turn(s), "
+             f"step {step:g} deg; lengths in {u})",
+             *_parameters(run.parameters, u)]
+    if start is not None:
+        lines.append(f"Start: {start.classification} on {start.region_combination or '-'}, "
+                     f"compliance centre height {start.centre[2]:.6f} {u}")
+    if run.snap is None:
+        lines.append(f"Snap: no snap within {run.turns:g} turn(s)")
+        over = "over the turns searched"
+    else:
+        lines.append(f"Snap: at phase {run.snap.phase:.4f} deg after a turn of "
+                     f"{run.snap_turn:.4f} deg; drop (click) {run.snap.drop:.6f} {u}")
+        over = "to the snap"
+    lines.append(f"Work {over}: total {run.work:.6g} mJ (friction {run.work_friction:.6g} "
+                 f"mJ, potential {run.work_potential:.6g} mJ)")
+    torques = [s.driver_torque for s in run.states if math.isfinite(s.driver_torque)]
+    if torques:
+        lines.append(f"Peak driver torque: {max(torques, key=abs):.6g} N m")
+    lines.append(f"Events ({len(run.events)}):")
+    if run.events:
+        lines.append(f"  {'phase deg':>10}  {'kind':<14} {'drop ' + u:>11} "
+                     f"{'tilt chg deg':>12}  before -> after")
+        for e in run.events:
+            lines.append(f"  {e.phase:10.4f}  {e.kind:<14} {e.drop:11.6f} "
+                         f"{e.tilt_change:12.4f}  {e.before or '-'} -> {e.after or '-'}")
+    return "\n".join(lines)
+
+
+# -- figure ----------------------------------------------------------------------------------
+def _figure_path(plot: Path | None) -> Path | None:
+    """Refuse a figure path with a wrong suffix or naming a folder, before any work."""
+    if plot is None:
+        return None
+    if plot.suffix.lower() not in _FIGURE_FORMATS:
+        raise InputError(f"--plot {plot}: expected a file ending in "
+                         f"{', '.join(_FIGURE_FORMATS)} (got {plot.suffix or 'no suffix'!r})")
+    if plot.is_dir():
+        raise InputError(f"--plot {plot}: is a folder; give a file name")
+    return plot
+
+
+def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
+    """The snap signature of a search: height of the compliance centre, tilt of the bolt
+    axis from vertical and the driver's torque against phase, events marked.
+
+    Written atomically as PNG, PDF or SVG by the file's suffix.
+    """
+    from ..planar._plots import _new_figure, _save
+
+    path = Path(path)
+    states = run.states
+    phase = np.array([s.phase for s in states])
+    height = np.array([s.centre[2] for s in states])
+    roll = np.radians([s.roll for s in states])
+    pitch = np.radians([s.pitch for s in states])
+    # The bolt axis is Rx(roll) Ry(pitch) Z: its vertical component is cos(roll) cos(pitch).
+    tilt = np.degrees(np.arccos(np.clip(np.cos(roll) * np.cos(pitch), -1.0, 1.0)))
+    torque = np.array([s.driver_torque for s in states])
+
+    fig = _new_figure((8.0, 8.0))
+    axes = fig.subplots(3, 1, sharex=True)
+    series = ((height, f"compliance centre height [{run.units}]"),
+              (tilt, "tilt of the bolt axis [deg]"), (torque, "driver torque [N m]"))
+    for ax, (values, label) in zip(axes, series, strict=True):
+        ax.plot(phase, values, ".-", color="#3182bd", lw=1.2, ms=3)
+        ax.set_ylabel(label)
+        ax.grid(True, color="0.9")
+        for e in run.events:
+            snap = e.kind == "snap"
+            ax.axvline(e.phase, color="#d62728" if snap else "0.55", lw=2.0 if snap else 0.8,
+                       ls="-" if snap else "--", zorder=0)
+    top = axes[0]
+    for e in run.events:
+        snap = e.kind == "snap"
+        text = f"snap: click {e.drop:.4g} {run.units}" if snap else e.kind
+        top.annotate(text, (e.phase, 1.0), xycoords=("data", "axes fraction"),
+                     xytext=(2, -4), textcoords="offset points", rotation=90, va="top",
+                     ha="left", fontsize="small" if snap else "x-small",
+                     fontweight="bold" if snap else "normal",
+                     color="#d62728" if snap else "0.35")
+    axes[-1].set_xlabel("phase [deg]")
+    if spec.handedness < 0:
+        axes[-1].invert_xaxis()  # the search turns clockwise: time runs right to left
+    p = run.parameters
+    k = p["stiffness"]
+    outcome = ("no snap within " f"{run.turns:g} turn(s)" if run.snap is None
+               else f"snap at {run.snap.phase:.2f} deg after {run.snap_turn:.2f} deg")
+    fig.suptitle(f"{_name(spec)}: search from roll {run.held_roll:g}, pitch "
+                 f"{run.held_pitch:g}, phase {run.start_phase:g} deg - {outcome}\n"
+                 f"F {p['force']:g} N, k {k['roll']:g}/{k['pitch']:g} N m/rad, "
+                 f"mu {p['friction']:g}, work {run.work:.4g} mJ", fontsize="medium")
+    return _save(fig, path, _FIGURE_FORMATS[path.suffix.lower()])
+
+
+# -- commands --------------------------------------------------------------------------------
+@cli.command("settle", help=f"""The rest state of a bolt held through a compliance.
+
+The tool holds the bolt's tilt at ROLL and PITCH through a rotational stiffness about the
+compliance centre, spins it to PHASE and presses it down with FORCE (degrees,
+conventions.md). The bolt comes down to first contact and tips, pivots and rolls on its
+contacts until the contact forces balance the load and the spring: a local minimum of the
+potential F z_C + k/2 |tilt - held tilt|^2 (design/mechanics.md). Prints the class
+(stable: the contacts alone hold the load; quasi-stable: the rest needs the compliance;
+in-phase: the bolt dropped into the thread), the rest pose, each touching contact with its
+normal force, the potential (mJ), the driver's torque (N m) and the unstable states passed
+on the way. Forces in N, stiffness in N m/rad, lateral stiffness in N/m, lengths in the
+spec's units, angles in degrees. For the thesis's fixed-pivot procedure see threadmate
+contact.
+
+{_DEFAULTS_NOTE}
+
+{SPEC_HELP}""")
+@_mechanics_options
+def settle_command(spec_text: str, roll: float, pitch: float, phase: float, force: float,
+                   stiffness_text: str, lateral_stiffness: float | None, friction: float,
+                   compliance_z: float, chord: float | None, condition: str,
+                   as_json: bool) -> None:
+    """One rest state (see the command's help)."""
+    spec, compliance = _setup(spec_text, roll, pitch, phase, force, stiffness_text,
+                              lateral_stiffness, friction, compliance_z, chord, condition)
+    rest = settle(spec, roll, pitch, phase, compliance=compliance, chord=chord)
+    if as_json:
+        emit_json(rest.to_dict())
+    else:
+        click.echo(_settle_text(spec, rest))
+
+
+@cli.command("search", help=f"""The counter-clockwise search simulated from a start.
+
+From the rest state at the held tilt ROLL, PITCH and the start PHASE, the driver turns the
+bolt the way that unscrews it (counter-clockwise for a right-hand thread) in steps of
+--step degrees, and the bolt follows its rest state (a quasi-static continuation,
+design/mechanics.md). Contact changes and jumps (the rest state ceases to exist and the
+bolt tips, rolls or drops) are located by bisection to 0.01 deg; the jump into the thread
+is the snap, and its drop of the compliance centre the click a sensor feels. Prints the
+start, the snap (phase, turn, drop) and the driver's work to it (mJ: total, against
+friction, against the potential) and the events. Exits 3 (after printing the result) when
+no snap comes within --turns. Forces in N, stiffness in N m/rad, lateral stiffness in
+N/m, lengths in the spec's units, angles in degrees, work in mJ.
+
+{_DEFAULTS_NOTE}
+
+{SPEC_HELP}""")
+@_mechanics_options
+@click.option("--turns", type=float, default=1.0, show_default=True,
+              help=f"How far to search, in turns of 360 degrees (> 0, at most {MAX_TURNS:g}).")
+@click.option("--step", type=float, default=2.0, show_default=True,
+              help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).")
+@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the snap signature (compliance centre height, tilt of the bolt "
+                   "axis, driver torque against phase, events marked) to this .png, .pdf "
+                   "or .svg file.")
+def search_command(spec_text: str, roll: float, pitch: float, phase: float, force: float,
+                   stiffness_text: str, lateral_stiffness: float | None, friction: float,
+                   compliance_z: float, chord: float | None, condition: str, as_json: bool,
+                   turns: float, step: float, plot: Path | None) -> None:
+    """The simulated search (see the command's help)."""
+    if not (math.isfinite(turns) and 0 < turns <= MAX_TURNS):
+        raise InputError(f"--turns {turns:g} is out of range: give turns within "
+                         f"(0, {MAX_TURNS:g}]")
+    if not (math.isfinite(step) and 0 < step <= MAX_STEP):
+        raise InputError(f"--step {step:g} is out of range: give degrees within "
+                         f"(0, {MAX_STEP:g}]")
+    figure = _figure_path(plot)
+    spec, compliance = _setup(spec_text, roll, pitch, phase, force, stiffness_text,
+                              lateral_stiffness, friction, compliance_z, chord, condition)
+    run = search(spec, roll, pitch, phase, compliance=compliance, turns=turns, step=step,
+                 phase_tolerance=min(PHASE_TOLERANCE, step), chord=chord)
+    if figure is not None:
+        plot_search(spec, run, figure)
+    if as_json:
+        emit_json(run.to_dict())
+    else:
+        click.echo(_search_text(spec, run, step))
+        if figure is not None:
+            click.echo(f"wrote {figure}")
+    if run.snap is None:
+        raise NoPathError(f"no snap within {turns:g} turn(s) from roll {roll:g}, pitch "
+                          f"{pitch:g}, phase {phase:g} deg")

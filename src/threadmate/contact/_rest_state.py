@@ -1,0 +1,310 @@
+"""Results of the mechanics: rest states, the states passed on the way, the search.
+
+Plain frozen objects with a JSON form. Lengths in the spec's units, angles in degrees,
+forces in N, torques in N m, potentials and work in mJ (design/mechanics.md).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..geometry import Pose
+
+__all__ = ["LoadedContact", "MechanicalState", "RestState", "SearchEvent", "SearchResult",
+           "REST_CLASSES"]
+
+#: Classes of a mechanical state (design/mechanics.md, "Classes of states").
+REST_CLASSES = ("stable", "quasi-stable", "unstable", "in-phase")
+
+Vec = tuple[float, float, float]
+
+
+def _vec(v: Any) -> Vec:
+    a = np.asarray(v, dtype=float).reshape(3)
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+@dataclass(frozen=True)
+class LoadedContact:
+    """One contact of a mechanical state.
+
+    Attributes
+    ----------
+    point : (x, y, z)
+        Location in F (spec units).
+    normal : (nx, ny, nz)
+        Unit common normal in F, from the nut into the bolt.
+    force : float
+        Normal force the nut exerts on the bolt there (N; 0 for a contact that touches
+        without load, NaN in a state that is not at rest).
+    gap : float
+        Vertical gap (spec units) at the state's pose; 0 when touching.
+    bolt_region, nut_region : str
+        Regions of the exact profiles (conventions.md names).
+    bolt_feature, nut_feature : str
+        ``rim``, ``cap``, ``corner`` or ``thread``.
+    """
+
+    point: Vec
+    normal: Vec
+    force: float
+    gap: float
+    bolt_region: str
+    nut_region: str
+    bolt_feature: str = ""
+    nut_feature: str = ""
+
+    @property
+    def regions(self) -> str:
+        """``bolt/nut`` region pair, e.g. ``base/surface``."""
+        return f"{self.bolt_region}/{self.nut_region}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain mapping for JSON."""
+        return {"point": list(self.point), "normal": list(self.normal), "force": self.force,
+                "gap": self.gap, "bolt_region": self.bolt_region,
+                "nut_region": self.nut_region, "bolt_feature": self.bolt_feature,
+                "nut_feature": self.nut_feature}
+
+
+@dataclass(frozen=True)
+class MechanicalState:
+    """The bolt at one pose: where it is, what it touches, what it costs.
+
+    Attributes
+    ----------
+    kind : str
+        What the state is on the way: ``first-contact``, ``new-contact``, ``rolling``
+        (a contact released: the pivot rolls), ``rest``, ``in-phase``.
+    classification : str
+        One of :data:`REST_CLASSES`.
+    phase : float
+        Spin of the bolt (degrees).
+    roll, pitch : float
+        Actual tilt of the bolt (degrees).
+    origin : (x, y, z)
+        Bolt origin (tip centre) in F.
+    rotation : 3 x 3 nested tuple
+        Bolt rotation matrix in F.
+    centre : (x, y, z)
+        Compliance centre in F.
+    contacts : tuple of LoadedContact
+        Touching contacts (gap 0) first, then near ones.
+    potential : float
+        ``F z_C + k/2 |tilt - held|^2 (+ k_t/2 |xy|^2)`` in mJ (``z_C`` from the nut's top).
+    driver_torque : float
+        Torque the driver applies about the bolt axis to keep turning counter-clockwise,
+        normal and friction forces together (N m; NaN away from rest).
+    friction_torque : float
+        The part of :attr:`driver_torque` that overcomes friction (N m).
+    turn : float
+        Tilt of the bolt axis since the previous state on the way (degrees).
+    """
+
+    kind: str
+    classification: str
+    phase: float
+    roll: float
+    pitch: float
+    origin: Vec
+    rotation: tuple[Vec, Vec, Vec]
+    centre: Vec
+    contacts: tuple[LoadedContact, ...]
+    potential: float
+    driver_torque: float = float("nan")
+    friction_torque: float = float("nan")
+    turn: float = 0.0
+
+    @property
+    def pose(self) -> Pose:
+        """The bolt pose."""
+        return Pose(np.array(self.rotation, dtype=float), np.array(self.origin, dtype=float))
+
+    @property
+    def touching(self) -> tuple[LoadedContact, ...]:
+        """The contacts with no gap."""
+        return tuple(c for c in self.contacts if c.gap == 0.0)
+
+    @property
+    def region_combination(self) -> str:
+        """``bolt/nut`` regions of the touching contacts joined by `` + ``."""
+        return " + ".join(c.regions for c in self.touching)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain mapping for JSON."""
+        return {"kind": self.kind, "classification": self.classification,
+                "phase": self.phase, "roll": self.roll, "pitch": self.pitch,
+                "origin": list(self.origin), "rotation": [list(r) for r in self.rotation],
+                "centre": list(self.centre), "potential": self.potential,
+                "driver_torque": self.driver_torque,
+                "friction_torque": self.friction_torque, "turn": self.turn,
+                "region_combination": self.region_combination,
+                "contacts": [c.to_dict() for c in self.contacts]}
+
+
+@dataclass(frozen=True)
+class RestState:
+    """A rest state of the compliance-held bolt and the states passed on the way to it.
+
+    Attributes
+    ----------
+    units : str
+        Length units.
+    held_roll, held_pitch : float
+        The tilt the tool holds (degrees).
+    phase : float
+        The phase the driver holds (degrees).
+    parameters : dict
+        The :class:`Compliance` used (``Compliance.to_dict``).
+    state : MechanicalState
+        The rest state (or the in-phase state the bolt dropped into).
+    path : tuple of MechanicalState
+        The unstable states passed through from first contact, in order.
+    balance : dict
+        ``force`` and ``moment`` residuals of the equilibrium, relative to the load
+        (``F`` and ``F`` times the bolt's major radius).
+    iterations, queries : int
+        Descent steps and python-fcl queries spent.
+    """
+
+    units: str
+    held_roll: float
+    held_pitch: float
+    phase: float
+    parameters: dict[str, Any]
+    state: MechanicalState
+    path: tuple[MechanicalState, ...] = ()
+    balance: dict[str, float] = field(default_factory=dict)
+    iterations: int = 0
+    queries: int = 0
+
+    @property
+    def classification(self) -> str:
+        """The rest state's class."""
+        return self.state.classification
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON document of ``threadmate settle --json``."""
+        s = self.state
+        return {
+            "units": {"length": self.units, "angle": "deg", "force": "N",
+                      "torque": "N m", "potential": "mJ"},
+            "held": {"roll": self.held_roll, "pitch": self.held_pitch},
+            "phase": self.phase,
+            "parameters": self.parameters,
+            "classification": s.classification,
+            "rest": {"origin": list(s.origin), "rotation": [list(r) for r in s.rotation],
+                     "roll": s.roll, "pitch": s.pitch, "centre": list(s.centre)},
+            "contacts": [c.to_dict() for c in s.touching],
+            "region_combination": s.region_combination,
+            "potential": s.potential,
+            "driver_torque": s.driver_torque,
+            "balance": dict(self.balance),
+            "path": [p.to_dict() for p in self.path],
+            "iterations": self.iterations,
+            "queries": self.queries,
+        }
+
+
+@dataclass(frozen=True)
+class SearchEvent:
+    """Something that happens during the search, located in phase.
+
+    Attributes
+    ----------
+    phase : float
+        Where (degrees), to the search's phase tolerance.
+    kind : str
+        ``contact-change`` (the touching contacts change smoothly), ``jump`` (the rest
+        state ceases to exist: the bolt tips, rolls or drops to another) or ``snap``
+        (the jump into the in-phase state).
+    before, after : str
+        Region combinations before and after.
+    drop : float
+        Fall of the compliance centre across the event (spec units; the click at a snap).
+    tilt_change : float
+        Angle between the bolt axes before and after (degrees).
+    """
+
+    phase: float
+    kind: str
+    before: str
+    after: str
+    drop: float = 0.0
+    tilt_change: float = 0.0
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain mapping for JSON."""
+        return {"phase": self.phase, "kind": self.kind, "before": self.before,
+                "after": self.after, "drop": self.drop, "tilt_change": self.tilt_change}
+
+
+@dataclass(frozen=True)
+class SearchResult:
+    """The counter-clockwise search simulated from one start.
+
+    Attributes
+    ----------
+    units : str
+    held_roll, held_pitch, start_phase : float
+        The start (degrees).
+    parameters : dict
+        The compliance used.
+    states : tuple of MechanicalState
+        The rest states along the turn (every continuation step, and both sides of each
+        event), in phase order; the last is in-phase after a snap.
+    events : tuple of SearchEvent
+    snap : SearchEvent or None
+        The snap, or None when none came within the turns asked.
+    turns : float
+        Turns searched (1 = 360 degrees).
+    work_friction, work_potential : float
+        Driver's work to the snap (or over the turns searched) against friction and
+        against the potential (mJ); their sum is :attr:`work`.
+    queries : int
+    """
+
+    units: str
+    held_roll: float
+    held_pitch: float
+    start_phase: float
+    parameters: dict[str, Any]
+    states: tuple[MechanicalState, ...]
+    events: tuple[SearchEvent, ...]
+    snap: SearchEvent | None
+    turns: float
+    work_friction: float
+    work_potential: float
+    queries: int = 0
+
+    @property
+    def work(self) -> float:
+        """Driver's total work (mJ)."""
+        return self.work_friction + self.work_potential
+
+    @property
+    def snap_turn(self) -> float | None:
+        """Turn from the start to the snap (degrees, in the unscrewing sense), None
+        without a snap."""
+        return None if self.snap is None else abs(self.snap.phase - self.start_phase)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON document of ``threadmate search --json``."""
+        return {
+            "units": {"length": self.units, "angle": "deg", "force": "N",
+                      "torque": "N m", "work": "mJ", "potential": "mJ"},
+            "parameters": self.parameters,
+            "start": {"roll": self.held_roll, "pitch": self.held_pitch,
+                      "phase": self.start_phase},
+            "turns": self.turns,
+            "snap": None if self.snap is None else {
+                "phase": self.snap.phase, "turn": self.snap_turn, "drop": self.snap.drop},
+            "work": {"total": self.work, "friction": self.work_friction,
+                     "potential": self.work_potential},
+            "events": [e.to_dict() for e in self.events],
+            "states": [s.to_dict() for s in self.states],
+            "queries": self.queries,
+        }

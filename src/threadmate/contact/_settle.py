@@ -1,0 +1,692 @@
+"""Rest states of the compliance-held bolt: an active-set descent of the potential.
+
+design/mechanics.md fixes the model. The bolt's free coordinates are the height ``z_C`` of
+the compliance centre C and the tilt ``(roll, pitch)`` (and ``x_C, y_C`` when the
+compliance has a lateral stiffness); the driver holds the phase. The potential is
+
+    U = F z_C + k_roll/2 (roll - roll0)^2 + k_pitch/2 (pitch - pitch0)^2 (+ k_t/2 |xy|^2)
+
+and a rest state is a local minimiser of U over the poses where bolt and nut do not
+interpenetrate.
+
+The descent. At the current pose the bolt touches the nut (it was lowered onto it); the
+contacts within a small depth ``near`` below it are known with their vertical gaps, exact
+for the meshes (:mod:`._vertical`), their points, and their normals and regions from the
+exact bodies (:mod:`._exact`). A contact ``i`` at ``p_i`` with normal ``n_i`` (nut into
+bolt) opens at the rate ``G_i . dq`` for a small motion ``dq`` of the coordinates, with
+``G_i = (n_z, X . (r_i x n_i), Y' . (r_i x n_i)[, n_x, n_y])``, ``r_i = p_i - C``, ``X``
+the roll axis and ``Y' = Rx(roll) Y`` the pitch axis. One step minimises the quadratic
+model of U plus a proximal term under the linearised contacts (:mod:`._lcp`); its
+multipliers are the contact forces. The bolt is then tilted by the step and lowered onto
+the nut again with python-fcl (so every accepted pose touches and nothing
+interpenetrates), and the step is kept when U fell by a fair part of what the model
+promised (else the proximal weight grows: a trust region). A contact released by the
+step is the thesis's rolling pivot; a contact that appears is its next contact. The
+descent stops when the contact forces balance the load and the spring (see
+:data:`BALANCE`).
+
+Lowering (:meth:`Mechanics.drop`): the bolt at a tilt is placed a little above where it
+is expected to touch, checked free with one yes/no query, and every triangle pair that
+intersects a little lower is enumerated with one more; the exact drop at which each pair
+first touches (:func:`vertical_touch`) gives the contact height without bisection, and
+the gaps of the other contacts within the depth ``near``.
+
+Classes (mechanics.md), from the forces and the minimum, never from the way there:
+
+- ``in-phase``: the whole tip face is below the nut's top face (the snap);
+- ``stable``: the touching contacts alone hold the load: the load's generalised force
+  ``(F, 0, 0)`` (and ``(0, 0)`` laterally when x, y are free) lies inside the cone of the
+  contact rows with a margin: each of it pushed by ``F/100`` in height or by ``F`` times
+  ``support_margin`` (pitch / 100) in moment is still balanced by non-negative forces.
+  The state is then a strict minimum of U with ``k_r = 0``;
+- ``quasi-stable``: a rest state that needs the compliance;
+- ``unstable``: a contact state that is not a rest state (the states on the way).
+
+Friction does not enter the equilibrium (mechanics.md): with C at the tip the sliding
+friction of the spin acts nearly through C; it enters the driver's torque.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import nnls
+from scipy.spatial import ConvexHull, QhullError
+
+from .._errors import InputError
+from .._units import METRES_PER_UNIT
+from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
+from ._analyzer import ContactAnalyzer, check_configuration
+from ._compliance import Compliance
+from ._exact import contact_normal, refine_on_edge, region_at
+from ._lcp import contact_step
+from ._rest_state import LoadedContact, MechanicalState, RestState
+from ._stages import first_contact
+from ._triangles import IntersectionSegments, cluster_segments
+from ._vertical import vertical_touch
+
+__all__ = ["Mechanics", "BALANCE", "mechanics", "settle"]
+
+#: Largest residual of the equilibrium at a rest state, relative to the load (force: F;
+#: moment: F times the bolt's major radius).
+BALANCE = 1e-6
+#: Descent steps before a rest state is given up as not converged.
+MAX_STEPS = 60
+
+
+@dataclass
+class _Drop:
+    """The bolt lowered onto the nut at one tilt."""
+
+    rotation: NDArray[np.float64]
+    xy: NDArray[np.float64]
+    zc: float  # height of the compliance centre when touching
+    gaps: NDArray[np.float64]  # vertical gap of each enumerated pair (>= 0)
+    points: NDArray[np.float64]  # where each pair touches (F)
+    queries: int
+
+
+@dataclass
+class _Near:
+    """A contact near the current pose, as the descent sees it."""
+
+    point: NDArray[np.float64]
+    normal: NDArray[np.float64]
+    gap: float  # vertical gap, spec units
+    bolt_region: str
+    nut_region: str
+    bolt_feature: str
+    nut_feature: str
+
+
+class Mechanics:
+    """Rest states and the counter-clockwise search of one thread pair and compliance.
+
+    Meshes and BVHs are built once (through a :class:`ContactAnalyzer`); one instance per
+    process (python-fcl objects neither pickle nor release the GIL).
+
+    Parameters
+    ----------
+    spec : ThreadSpec
+        The thread pair (lengths in ``spec.units``).
+    compliance : Compliance, optional
+        Load, stiffness and friction (default :class:`Compliance()`).
+    chord : float, optional
+        Chord tolerance of the generated meshes (spec units).
+    bolt_mesh, nut_mesh : path or trimesh.Trimesh, optional
+        Meshes from CAD, each in its own frame (see :class:`ContactAnalyzer`).
+    tolerance : float, optional
+        Length tolerance of the descent (spec units, default the contact stages' travel
+        tolerance, 1e-7 in): a rest state's tilt is converged when no bolt point would
+        move by more than it.
+    """
+
+    def __init__(self, spec: ThreadSpec, compliance: Compliance | None = None, *,
+                 chord: float | None = None, bolt_mesh: object = None,
+                 nut_mesh: object = None, tolerance: float | None = None,
+                 analyzer: ContactAnalyzer | None = None) -> None:
+        if compliance is None:
+            compliance = Compliance()
+        if not isinstance(compliance, Compliance):
+            raise InputError(f"compliance must be a Compliance, got {type(compliance).__name__}")
+        if not isinstance(spec, ThreadSpec):
+            raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
+        compliance.check_for(spec.pitch)
+        if analyzer is None:
+            analyzer = ContactAnalyzer(spec, chord=chord, compliance_z=compliance.compliance_z,
+                                       bolt_mesh=bolt_mesh, nut_mesh=nut_mesh)
+        elif analyzer.compliance_z != compliance.compliance_z or analyzer.spec != spec:
+            raise InputError("the analyzer's spec or compliance centre differs from the "
+                             "compliance's")
+        self.spec = spec
+        self.units = spec.units
+        self.compliance = compliance
+        self.analyzer = analyzer
+        self.engine = analyzer.engine
+        self.metres = METRES_PER_UNIT[spec.units]
+        travel = analyzer.search.travel
+        if tolerance is not None:
+            if isinstance(tolerance, bool) or not isinstance(tolerance, int | float) \
+                    or not math.isfinite(tolerance) or not 0 < tolerance <= spec.pitch / 100:
+                raise InputError(f"tolerance must be a length within (0, {spec.pitch / 100:g}]"
+                                 f" {spec.units}, got {tolerance!r}")
+            travel = float(tolerance)
+        self.tolerance = travel
+        #: Depth below the touching pose within which contacts are known to the descent.
+        self.near = spec.pitch / 5000
+        #: Gap below which a contact counts as touching (carries force at rest).
+        self.touching = 20 * travel
+        #: Margin of a stable state's support (see the module docstring).
+        self.support_margin = spec.pitch / 100
+        self.separation = spec.pitch / 4
+        self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
+        self._floor = -float(spec.nut.height) - 2 * float(spec.bolt.length) - spec.pitch
+        self._tip = analyzer._tip  # the bolt mesh's tip-face vertices (bolt frame)
+        #: The last descent's contact curvature (warm start of a continuation).
+        self._warm: NDArray[np.float64] | None = None
+
+    # -- poses ----------------------------------------------------------------------------
+    def _pose(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> Pose:
+        centre = np.array([xy[0], xy[1], zc])
+        return Pose(rotation, centre - rotation[:, 2] * self.compliance.compliance_z)
+
+    def _rotation(self, tilt: NDArray[np.float64], phase: float) -> NDArray[np.float64]:
+        return bolt_rotation(math.degrees(tilt[0]), math.degrees(tilt[1]), phase)
+
+    # -- lowering -------------------------------------------------------------------------
+    def drop(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float | None,
+             span: float | None = None) -> _Drop | None:
+        """Lower the bolt at ``rotation`` (compliance centre over ``xy``) onto the nut.
+
+        ``zc`` is where the compliance centre is expected to touch (None: unknown, the
+        bolt comes from above the nut). Returns None when the bolt passes the nut.
+        """
+        eng = self.engine
+        q0 = eng.queries
+        if zc is None:
+            if np.any(xy != 0):
+                start = -eng.lowest_bolt_z(rotation) + self.compliance.compliance_z \
+                    * rotation[2, 2] + self.tolerance
+                zc = start
+            else:
+                out = first_contact(eng, rotation, self.analyzer.search, self._floor)
+                if out is None:
+                    return None
+                zc = float(out.free.origin[2] + rotation[2, 2] * self.compliance.compliance_z)
+            span = self.tolerance
+        span = max(span or 0.0, self.tolerance)
+        top = zc + span
+        for _ in range(200):
+            # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
+            # longer cross a little lower, so one enumeration below cannot tell.
+            if eng.collides(self._pose(rotation, xy, top)):
+                top += span
+                span = min(2 * span, self.spec.pitch / 32)
+                continue
+            low = top - span - self.near
+            pairs = eng.pairs(self._pose(rotation, xy, low))
+            if len(pairs) == 0:
+                top = low
+                # Never a step that could carry a thread tooth through another unseen.
+                span = min(2 * span, self.spec.pitch / 32)
+                if top < self._floor:
+                    return None
+                continue
+            drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), pairs))
+            ok = np.isfinite(drop)
+            if not ok.any():
+                top = low
+                continue
+            first = float(drop[ok].min())
+            if first < 0.0:  # a pair crosses at ``top`` after all: start higher
+                top += span - first
+                continue
+            touch = top - first
+            if touch - low < self.near * (1 - 1e-9):
+                pairs = eng.pairs(self._pose(rotation, xy, touch - self.near))
+                drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top),
+                                                             pairs))
+                ok = np.isfinite(drop)
+            gaps = drop - first
+            keep = ok & (gaps <= self.near)
+            return _Drop(rotation, np.array(xy, dtype=float), touch, np.maximum(gaps[keep], 0.0),
+                         points[keep], eng.queries - q0)
+        raise RuntimeError("lowering the bolt did not settle on a bracket")
+
+    def in_phase(self, d: _Drop) -> bool:
+        """Whether the whole tip face is below the nut's top face (the snap)."""
+        pose = self._pose(d.rotation, d.xy, d.zc)
+        return bool(pose.origin[2] + float((self._tip @ d.rotation[2]).max())
+                    < -self.analyzer.feature_tolerance)
+
+    # -- contacts -------------------------------------------------------------------------
+    def _contact(self, d: _Drop, point: NDArray[np.float64], gap: float,
+                 refine: bool = True) -> _Near:
+        an = self.analyzer
+        pose = self._pose(d.rotation, d.xy, d.zc - gap)
+        if refine:
+            point = refine_on_edge(an.nut, an.bolt, pose, point, an.feature_tolerance,
+                                   self.separation / 4)
+        n, fn, fb = contact_normal(an.nut, an.bolt, pose, point, an.feature_tolerance)
+        return _Near(point, n, gap, str(region_at(an.bolt, pose.to_bolt(point), fb)),
+                     str(region_at(an.nut, point, fn)), fb.kind, fn.kind)
+
+    def contacts(self, d: _Drop) -> list[_Near]:
+        """The distinct contacts within :attr:`near` of the pose, touching ones first.
+
+        Pairs are grouped by single linkage of their touching points a quarter pitch
+        apart; a group touches where its least gap is. A group that touches over an area
+        or a line (a face flat on a face, a rim along a face) is represented by the
+        corners of the convex hull of the area (at most six), each a contact of its own.
+        """
+        if len(d.gaps) == 0:
+            return []
+        # Pairs a sixteenth of the linkage apart touch at nearly one place: the least gap
+        # of each such cell stands for it in the clustering.
+        cell = np.floor(d.points / (self.separation / 16)).astype(np.int64)
+        _, rep, inverse = np.unique(cell, axis=0, return_index=True, return_inverse=True)
+        pts = d.points[rep]
+        segs = IntersectionSegments(pts, pts, np.ones(len(pts), dtype=bool))
+        labels = cluster_segments(segs, self.separation)[inverse.reshape(-1)]
+        out: list[_Near] = []
+        for k in range(int(labels.max()) + 1):
+            idx = np.flatnonzero(labels == k)
+            gaps, pts = d.gaps[idx], d.points[idx]
+            j = int(np.argmin(gaps))
+            first = self._contact(d, pts[j], float(gaps[j]))
+            flat = gaps <= gaps[j] + self.tolerance
+            corners = _area_corners(pts[flat], first.normal, self.separation / 2)
+            if corners is None:
+                out.append(first)
+            else:
+                # The corners of a flat contact are where the mesh puts them.
+                out.extend(self._contact(d, pts[flat][c], float(gaps[flat][c]), refine=False)
+                           for c in corners)
+        out.sort(key=lambda c: c.gap)
+        return out
+
+    # -- mechanics ------------------------------------------------------------------------
+    def _rows(self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64]
+              ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Contact rows ``G`` (SI: per m and per rad) and normal gaps (m)."""
+        m = self.metres
+        pitch_axis = rot_x(math.degrees(tilt[0]))[:, 1]
+        rows, gaps = [], []
+        for c in near:
+            r = (c.point - centre) * m
+            moment = np.cross(r, c.normal)
+            row = [c.normal[2], moment[0], moment @ pitch_axis]
+            if not self.compliance.held_laterally:
+                row += [c.normal[0], c.normal[1]]
+            rows.append(row)
+            gaps.append(c.gap * m * max(c.normal[2], 0.05))
+        width = 3 if self.compliance.held_laterally else 5
+        return np.array(rows, dtype=float).reshape(-1, width), np.array(gaps, dtype=float)
+
+    def _gradient(self, tilt: NDArray[np.float64], xy: NDArray[np.float64],
+                  held: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Gradient of U in (z_C, roll, pitch[, x, y]) (SI)."""
+        comp = self.compliance
+        g = [comp.force, comp.roll_stiffness * (tilt[0] - held[0]),
+             comp.pitch_stiffness * (tilt[1] - held[1])]
+        if not comp.held_laterally:
+            g += list(comp.lateral_stiffness * xy * self.metres)
+        return np.array(g)
+
+    def _stiffness(self) -> NDArray[np.float64]:
+        comp = self.compliance
+        k = [0.0, comp.roll_stiffness, comp.pitch_stiffness]
+        if not comp.held_laterally:
+            k += [comp.lateral_stiffness] * 2
+        return np.array(k)
+
+    def potential(self, zc: float, tilt: NDArray[np.float64], xy: NDArray[np.float64],
+                  held: NDArray[np.float64]) -> float:
+        """U in J (``z_C`` in spec units from the nut's top, tilts in radians)."""
+        comp = self.compliance
+        u = comp.force * zc * self.metres
+        u += 0.5 * comp.roll_stiffness * (tilt[0] - held[0]) ** 2
+        u += 0.5 * comp.pitch_stiffness * (tilt[1] - held[1]) ** 2
+        if not comp.held_laterally:
+            u += 0.5 * comp.lateral_stiffness * float(xy @ xy) * self.metres ** 2
+        return float(u)
+
+    def forces(self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64],
+               xy: NDArray[np.float64], held: NDArray[np.float64]
+               ) -> tuple[NDArray[np.float64], float, float]:
+        """Non-negative normal forces (N) of the touching contacts that best balance the
+        load and the spring, and the force and moment residuals relative to the load."""
+        touching = [c for c in near if c.gap <= self.touching]
+        grad = self._gradient(tilt, xy, held)
+        f = self.compliance.force
+        scale = np.ones(len(grad))
+        scale[1:3] = 1.0 / (self.radius * self.metres)  # moments to forces
+        if not touching:
+            return np.zeros(len(near)), 1.0, float(np.abs(grad[1:3]).max() * scale[1] / f)
+        G, _ = self._rows(touching, centre, tilt)
+        lam, _ = nnls((G * scale).T, grad * scale)
+        resid = (G.T @ lam - grad) * scale / f
+        forces = np.zeros(len(near))
+        forces[[i for i, c in enumerate(near) if c.gap <= self.touching]] = lam
+        moment = float(np.abs(resid[1:]).max()) if len(resid) > 1 else 0.0
+        return forces, float(abs(resid[0])), moment
+
+    def holds_without_compliance(self, near: list[_Near], centre: NDArray[np.float64],
+                                 tilt: NDArray[np.float64]) -> bool:
+        """Whether the touching contacts alone hold the load with a margin (``stable``)."""
+        touching = [c for c in near if c.gap <= self.touching]
+        if len(touching) == 0:
+            return False
+        G, _ = self._rows(touching, centre, tilt)
+        f = self.compliance.force
+        scale = np.ones(G.shape[1])
+        scale[1:3] = 1.0 / (self.radius * self.metres)
+        A = (G * scale).T
+        target = np.zeros(G.shape[1])
+        target[0] = f
+        push = np.zeros(G.shape[1])
+        push[0] = f / 100
+        push[1:3] = f * self.support_margin / self.radius
+        push[3:] = f / 100
+        for j in range(G.shape[1]):
+            for sign in (1.0, -1.0):
+                t = target.copy()
+                t[j] += sign * push[j]
+                _, resid = nnls(A, t)
+                if resid > 1e-9 * f:
+                    return False
+        return True
+
+    def driver_torque(self, near: list[_Near], forces: NDArray[np.float64],
+                      rotation: NDArray[np.float64], centre: NDArray[np.float64]
+                      ) -> tuple[float, float]:
+        """Torque the driver applies about the bolt axis in the unscrewing sense (N m),
+        and its friction part.
+
+        Minus the axial moment about C of the contact forces: normal ``lambda_i n_i`` and
+        friction ``mu lambda_i`` against each contact's sliding under the spin.
+        """
+        # The search turns the way that unscrews: counter-clockwise for a right-hand
+        # thread, clockwise for a left-hand one.
+        axis = rotation[:, 2] * self.spec.handedness
+        mu = self.compliance.friction
+        normal = friction = 0.0
+        for c, lam in zip(near, forces, strict=True):
+            if lam <= 0:
+                continue
+            r = (c.point - centre) * self.metres
+            v = np.cross(axis, r)
+            v = v - (v @ c.normal) * c.normal
+            speed = float(np.linalg.norm(v))
+            normal -= float(axis @ np.cross(r, lam * c.normal))
+            if speed > 0:
+                friction -= float(axis @ np.cross(r, -mu * lam * v / speed))
+        return normal + friction, friction
+
+    # -- the descent ----------------------------------------------------------------------
+    def state(self, kind: str, cls: str, d: _Drop, near: list[_Near], phase: float,
+              held: NDArray[np.float64], tilt: NDArray[np.float64],
+              forces: NDArray[np.float64] | None = None, turn: float = 0.0
+              ) -> MechanicalState:
+        """A :class:`MechanicalState` of the pose ``d`` (forces None: not at rest)."""
+        pose = self._pose(d.rotation, d.xy, d.zc)
+        centre = np.array([d.xy[0], d.xy[1], d.zc])
+        torque = friction = math.nan
+        if forces is None:
+            forces = np.full(len(near), math.nan)
+        else:
+            torque, friction = self.driver_torque(near, forces, d.rotation, centre)
+        contacts = tuple(
+            LoadedContact(_vec(c.point), _vec(c.normal), float(f),
+                          0.0 if c.gap <= self.touching else float(c.gap), c.bolt_region,
+                          c.nut_region, c.bolt_feature, c.nut_feature)
+            for c, f in zip(near, forces, strict=True))
+        rot = tuple(_vec(r) for r in d.rotation)
+        return MechanicalState(kind, cls, float(phase), math.degrees(tilt[0]),
+                               math.degrees(tilt[1]), _vec(pose.origin), rot,  # type: ignore[arg-type]
+                               _vec(centre), contacts,
+                               1e3 * self.potential(d.zc, tilt, d.xy, held), torque, friction,
+                               turn)
+
+    def settle(self, roll: float, pitch: float, phase: float, *,
+               start: MechanicalState | None = None) -> RestState:
+        """The rest state of the bolt held at tilt ``(roll, pitch)`` and turned to
+        ``phase`` (degrees), reached from first contact (or from ``start``, a state at a
+        nearby phase: the continuation of the search).
+
+        Returns
+        -------
+        RestState
+            The rest (or in-phase) state, the unstable states passed on the way, the
+            equilibrium residuals.
+        """
+        roll, pitch, phase = check_configuration(roll, pitch, phase)
+        q0 = self.engine.queries
+        held = np.radians([roll, pitch])
+        if start is None:
+            tilt, xy, zc = held.copy(), np.zeros(2), None
+        else:
+            tilt = np.radians([start.roll, start.pitch])
+            xy = np.array(start.centre[:2])
+            zc = start.centre[2]
+        d = self.drop(self._rotation(tilt, phase), xy, zc)
+        if d is None:
+            raise InputError(f"the bolt passes the nut without touching at roll {roll:g}, "
+                             f"pitch {pitch:g}, phase {phase:g}")
+        path: list[MechanicalState] = []
+        near = self.contacts(d)
+        if start is None:
+            path.append(self.state("first-contact", "unstable", d, near, phase, held, tilt))
+        last_axis = d.rotation[:, 2].copy()
+        comp = self.compliance
+        f = comp.force
+        k = self._stiffness()
+        pitch_m = self.spec.pitch * self.metres
+        arm_m = self.radius * self.metres
+        prox0 = np.array([f / (pitch_m / 20), f * arm_m / math.radians(2.0),
+                          f * arm_m / math.radians(2.0)] + [f / (pitch_m / 20)] * 2)
+        prox = prox0[:len(k)].copy()
+        curvature = np.zeros((2, 2))
+        if start is not None and self._warm is not None:
+            # Continuation: the last rest state's model is a good start for the next.
+            curvature, prox = self._warm.copy(), prox * 1e-2
+        u = self.potential(d.zc, tilt, xy, held)
+        noise = 2.0 * f * max(self.analyzer.deviation, self.tolerance) * self.metres
+        snapped = self.in_phase(d)
+        ahead: list[_Near] = []  # contacts met by rejected steps (see below)
+        support: tuple[int, ...] = ()
+        steps = 0
+        converged = False
+        touching = {c.regions if hasattr(c, "regions") else None for c in ()}
+        touching = _signature(near, self.touching)
+        while steps < MAX_STEPS:
+            centre = np.array([d.xy[0], d.xy[1], d.zc])
+            G, gap = self._rows(near + ahead, centre, tilt)
+            grad = self._gradient(tilt, d.xy, held)
+            forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
+            if f_res <= BALANCE / 10 and m_res <= BALANCE / 10:
+                converged = True
+                break
+            metric = np.diag(k + prox)
+            metric[1:3, 1:3] += curvature
+            dq, lam = contact_step(metric, grad, G, gap, support)
+            if not np.all(np.isfinite(dq)):
+                break  # a degenerate contact problem: give up here, unconverged
+            support = tuple(int(i) for i in np.flatnonzero(lam > 0))
+            promised = -(grad @ dq + 0.5 * dq @ (k * dq))
+            dtilt = dq[1:3]
+            dxy = dq[3:5] / self.metres if len(dq) > 3 else np.zeros(2)
+            moved = float(np.abs(dtilt).max()) * (self.radius + self.spec.bolt.length) \
+                + float(np.abs(dxy).max(initial=0.0)) + abs(dq[0]) / self.metres
+            if moved <= self.tolerance and promised <= 1e-12 * f * pitch_m:
+                # Nothing left to gain at this tolerance: a rest state if it balances.
+                converged = f_res <= BALANCE and m_res <= BALANCE
+                break
+            steps += 1
+            new_tilt = tilt + dtilt
+            if not comp.held_laterally:
+                new_xy = d.xy + dxy
+            else:
+                new_xy = d.xy
+            trial = self.drop(self._rotation(new_tilt, phase), new_xy,
+                              d.zc + dq[0] / self.metres,
+                              span=max(4 * self.tolerance, 0.25 * moved))
+            if trial is None:
+                prox *= 4
+                continue
+            step_q = np.concatenate([[(trial.zc - d.zc) * self.metres], dq[1:]])
+            u_new = self.potential(trial.zc, new_tilt, new_xy, held)
+            # Mesh heights carry the chord error: below it, the exact contact geometry of the
+            # model decides (the step stays feasible: it was lowered onto the nut).
+            if (u - u_new >= 0.1 * promised and u_new < u) or (
+                    promised <= noise and u_new <= u + noise):
+                if self.in_phase(trial) and not snapped:
+                    snapped = True
+                    path.append(self.state("in-phase", "unstable", trial, self.contacts(trial),
+                                           phase, held, new_tilt))
+                old_rows, old_sig = G[:len(near), 1:3], _signature(near, self.touching)
+                d, tilt, u = trial, new_tilt, u_new
+                near = self.contacts(d)
+                ahead = []
+                if _signature(near, self.touching) == old_sig and len(near) == len(old_rows):
+                    # The contacts' moment changes with the tilt as their points slide (a
+                    # rim's lowest point turns with the tilt's direction): its rate, the
+                    # contacts' geometric stiffness, is learnt by damped BFGS.
+                    new_rows = self._rows(near, np.array([*d.xy, d.zc]), tilt)[0][:, 1:3]
+                    _bfgs(curvature, dtilt, -(new_rows - old_rows).T @ lam[:len(old_rows)])
+                now = _signature(near, self.touching)
+                # Same contacts: the model is good, trust it more.
+                prox = np.maximum(prox / (10 if now == touching else 3), prox0[:len(k)] * 1e-8)
+                if now != touching and not self.in_phase(d) and not snapped:
+                    kind = "new-contact" if len(now) >= len(touching) else "rolling"
+                    axis = d.rotation[:, 2]
+                    turn = math.degrees(math.acos(min(1.0, float(axis @ last_axis))))
+                    path.append(self.state(kind, "unstable", d, near, phase, held, tilt,
+                                           turn=turn))
+                    last_axis = axis.copy()
+                    touching = now
+            else:
+                prox *= 4
+                if prox[1] > prox0[1] * 1e12:
+                    break
+                # What stopped the step: the contacts touching at the trial pose, carried
+                # back to this pose by their linearisation (a cutting plane), so that the
+                # next step knows them.
+                ahead = []
+                for c in self.contacts(trial):
+                    if c.gap > self.touching:
+                        continue
+                    row, _ = self._rows([c], centre, tilt)
+                    opening = -float(row[0] @ step_q)
+                    if opening > 0:
+                        ahead.append(_Near(c.point, c.normal,
+                                           opening / (self.metres * max(c.normal[2], 0.05)),
+                                           c.bolt_region, c.nut_region, c.bolt_feature,
+                                           c.nut_feature))
+        self._warm = curvature
+        centre = np.array([d.xy[0], d.xy[1], d.zc])
+        forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
+        axis = d.rotation[:, 2]
+        turn = math.degrees(math.acos(min(1.0, float(axis @ last_axis))))
+        if self.in_phase(d):
+            cls, kind = "in-phase", "in-phase"
+        elif self.holds_without_compliance(near, centre, tilt):
+            cls, kind = "stable", "rest"
+        else:
+            cls, kind = "quasi-stable", "rest"
+        if not converged and cls != "in-phase":
+            cls = "unstable"
+        final = self.state(kind, cls, d, near, phase, held, tilt, forces, turn)
+        # The first state is a rest state already when the descent did not move.
+        if path and path[0].kind == "first-contact" and steps == 0:
+            path = []
+        return RestState(self.units, float(roll), float(pitch), float(phase),
+                         comp.to_dict(), final, tuple(path),
+                         {"force": f_res, "moment": m_res, "converged": float(converged)},
+                         steps, self.engine.queries - q0)
+
+
+def _bfgs(b: NDArray[np.float64], s: NDArray[np.float64], y: NDArray[np.float64]) -> None:
+    """Powell-damped BFGS update of the 2 x 2 curvature ``b`` in place (kept positive
+    semi-definite; a curvature the steps cannot see is left alone)."""
+    ss = float(s @ s)
+    if ss == 0.0:
+        return
+    bs = b @ s
+    sbs = float(s @ bs)
+    sy = float(s @ y)
+    if sbs <= 1e-12 * ss * max(np.abs(b).max(), 1e-300) and sy <= 0:
+        return
+    if sbs <= 0:  # first update: the secant alone
+        if sy > 0:
+            b += np.outer(y, y) / sy
+        return
+    theta = 1.0 if sy >= 0.2 * sbs else 0.8 * sbs / (sbs - sy)
+    r = theta * y + (1 - theta) * bs
+    b += np.outer(r, r) / float(s @ r) - np.outer(bs, bs) / sbs
+
+
+def _signature(near: list[_Near], touching: float) -> tuple[str, ...]:
+    return tuple(sorted(f"{c.bolt_region}/{c.nut_region}" for c in near if c.gap <= touching))
+
+
+def _vec(v: NDArray[np.float64]) -> tuple[float, float, float]:
+    a = np.asarray(v, dtype=float).reshape(3)
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+def _area_corners(points: NDArray[np.float64], normal: NDArray[np.float64],
+                  extent: float) -> list[int] | None:
+    """Indices of up to six corners of the convex hull of ``points`` seen along
+    ``normal`` (None when the points span less than ``extent``: a point contact)."""
+    if len(points) < 2 or float(np.ptp(points, axis=0).max()) < extent:
+        return None
+    n = normal / np.linalg.norm(normal)
+    a = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+    a /= np.linalg.norm(a)
+    b = np.cross(n, a)
+    flat = np.column_stack([points @ a, points @ b])
+    try:
+        vertices = list(ConvexHull(flat).vertices)
+    except (QhullError, ValueError):
+        # Collinear: a line contact; its two ends.
+        axis = flat - flat.mean(0)
+        u, s, vt = np.linalg.svd(axis, full_matrices=False)
+        t = axis @ vt[0]
+        return [int(np.argmin(t)), int(np.argmax(t))]
+    if len(vertices) <= 6:
+        return [int(v) for v in vertices]
+    chosen = [vertices[0]]
+    while len(chosen) < 6:
+        dist = np.min(np.linalg.norm(flat[vertices][:, None] - flat[chosen][None], axis=-1),
+                      axis=1)
+        chosen.append(vertices[int(np.argmax(dist))])
+    return [int(v) for v in chosen]
+
+
+@functools.lru_cache(maxsize=4)
+def _cached(spec: ThreadSpec, compliance: Compliance, chord: float | None) -> Mechanics:
+    return Mechanics(spec, compliance, chord=chord)
+
+
+def mechanics(target: Mechanics | ThreadSpec, compliance: Compliance | None = None,
+              chord: float | None = None) -> Mechanics:
+    """``target`` itself when it is a :class:`Mechanics`, else a cached one for the spec."""
+    if isinstance(target, Mechanics):
+        if compliance is not None and compliance != target.compliance:
+            raise InputError("give the compliance to Mechanics, not again with it")
+        return target
+    if not isinstance(target, ThreadSpec):
+        raise InputError(f"expected a ThreadSpec or Mechanics, got {type(target).__name__}")
+    return _cached(target, compliance if compliance is not None else Compliance(), chord)
+
+
+def settle(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: float, *,
+           compliance: Compliance | None = None, chord: float | None = None) -> RestState:
+    """The rest state of a bolt held at ``(roll, pitch)`` and turned to ``phase`` (degrees).
+
+    Parameters
+    ----------
+    target : ThreadSpec or Mechanics
+        The thread pair (a :class:`Mechanics` is built and cached for it) or a ready
+        :class:`Mechanics`.
+    roll, pitch : float
+        Held tilt (degrees).
+    phase : float
+        Phase (degrees).
+    compliance : Compliance, optional
+        Load, stiffness, friction (default :class:`Compliance()`).
+
+    Examples
+    --------
+    >>> from threadmate.geometry import spec_from_designation
+    >>> from threadmate.contact import Compliance, settle
+    >>> rest = settle(spec_from_designation("1/4-20 UNC-2A/2B"), 4, 0, 185,
+    ...               compliance=Compliance(force=10, stiffness=1))     # doctest: +SKIP
+    >>> rest.classification, [c.force for c in rest.state.touching]     # doctest: +SKIP
+    """
+    return mechanics(target, compliance, chord).settle(roll, pitch, phase)
