@@ -1,87 +1,41 @@
-"""The small contact problem of one descent step: a convex QP solved through its LCP.
+"""The small contact problem of one descent step: a convex QP by a primal active set.
 
-A step ``x`` of the bolt's free coordinates minimises ``1/2 x'Hx + c'x`` subject to the
-linearised non-penetration ``G x + gap >= 0`` (one row per contact). Its multipliers are
-the contact forces ``lambda >= 0``; with ``Q = G H^-1 G'`` and ``b = gap - G H^-1 c`` they
-solve the linear complementarity problem ``w = Q lambda + b >= 0``, ``lambda >= 0``,
-``lambda' w = 0`` (``w`` is each contact's gap after the step). ``Q`` is positive
-semi-definite, so any solution of the LCP is optimal. With a handful of contacts the
-supports are enumerated (smallest first, the previous step's first); many contacts (a
-flat face resting on a face) fall back to projected Gauss-Seidel.
+A step ``x`` of the bolt's free coordinates (three, or five with lateral freedom)
+minimises ``1/2 x'Hx + c'x`` subject to the linearised non-penetration
+``G x + gap >= 0`` (one row per contact, ``gap >= 0``). The multipliers of the rows are
+the contact forces. ``x = 0`` is feasible, so the primal active-set method (Nocedal and
+Wright, *Numerical Optimization*, algorithm 16.3) starts there: solve the equality
+problem on the working set, step until a row blocks, add it, drop the row whose
+multiplier turns negative. With at most five coordinates the working set holds at most
+five linearly independent rows; a flat face resting on a face gives many rows with
+dependent normals, which this handles where a dual pivoting (or Gauss-Seidel) solver
+stalls.
 """
 
 from __future__ import annotations
 
-import itertools
-import math
-
 import numpy as np
 from numpy.typing import NDArray
+from scipy.optimize import minimize, nnls
 
-__all__ = ["solve_lcp", "contact_step"]
+__all__ = ["contact_step"]
 
-#: Largest contact count whose supports are enumerated.
-ENUMERATE = 9
-
-
-def _check(Q: NDArray[np.float64], b: NDArray[np.float64], lam: NDArray[np.float64],
-           tol: float) -> bool:
-    w = Q @ lam + b
-    return bool(lam.min(initial=0.0) >= -tol and w.min(initial=0.0) >= -tol)
+_MAX_ITERATIONS = 200
 
 
-def solve_lcp(Q: NDArray[np.float64], b: NDArray[np.float64],
-              first: tuple[int, ...] = ()) -> NDArray[np.float64]:
-    """A solution ``lambda`` of the LCP ``(Q, b)`` (see the module docstring).
-
-    Parameters
-    ----------
-    Q : (n, n) array
-        Positive semi-definite.
-    b : (n,) array
-    first : tuple of int
-        A support to try before the others (the previous step's).
-    """
-    n = len(b)
-    lam = np.zeros(n)
-    if n == 0 or b.min() >= 0:
-        return lam
-    scale = max(float(np.abs(Q).max(initial=0.0)), 1e-300)
-    tol = 1e-9 * max(float(np.abs(b).max()), 1e-300)
-    if n <= ENUMERATE:
-        tried = [tuple(first)] if first else []
-        supports = itertools.chain(tried, (s for k in range(1, n + 1)
-                                           for s in itertools.combinations(range(n), k)))
-        for s in supports:
-            idx = list(s)
-            if not idx or max(idx) >= n:
-                continue
-            sub = Q[np.ix_(idx, idx)]
-            sol, *_ = np.linalg.lstsq(sub + 1e-14 * scale * np.eye(len(idx)), -b[idx],
-                                      rcond=None)
-            if sol.min() < -tol / scale * 1e3 and sol.min() < 0:
-                continue
-            trial = np.zeros(n)
-            trial[idx] = np.clip(sol, 0.0, None)
-            if _check(Q, b, trial, tol):
-                return trial
-    # Projected Gauss-Seidel (convergent for positive semi-definite Q with a solution).
-    diag = np.maximum(np.diag(Q), 1e-12 * scale)
-    for _ in range(20_000):
-        delta = 0.0
-        for i in range(n):
-            new = max(0.0, lam[i] - (Q[i] @ lam + b[i]) / diag[i])
-            delta = max(delta, abs(new - lam[i]))
-            lam[i] = new
-        if delta * scale <= tol or not math.isfinite(delta):
-            break
-    return lam
+def _independent(rows: NDArray[np.float64], candidate: NDArray[np.float64]) -> bool:
+    """Whether ``candidate`` is not (nearly) a combination of ``rows``."""
+    if len(rows) == 0:
+        return bool(np.linalg.norm(candidate) > 0)
+    stack = np.vstack([rows, candidate])
+    s = np.linalg.svd(stack, compute_uv=False)
+    return bool(s[-1] > 1e-6 * s[0])
 
 
 def contact_step(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64],
                  gap: NDArray[np.float64], first: tuple[int, ...] = ()
                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The step ``x`` and contact forces ``lambda`` of the QP.
+    """The step ``x`` and contact forces ``lambda`` of the QP (see the module docstring).
 
     Parameters
     ----------
@@ -93,11 +47,71 @@ def contact_step(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.f
         Rows: each contact's gap rate per unit of each coordinate.
     gap : (n,) array
         Each contact's gap now (>= 0).
+    first : tuple of int
+        Rows to try in the working set first (the previous step's active rows).
     """
-    hinv = np.diag(1.0 / H) if np.ndim(H) == 1 else np.linalg.inv(H)
-    if len(gap) == 0:
-        return -hinv @ c, np.zeros(0)
-    Q = G @ hinv @ G.T
-    b = gap - G @ (hinv @ c)
-    lam = solve_lcp(0.5 * (Q + Q.T), b, first)
-    return hinv @ (G.T @ lam - c), lam
+    H = np.diag(H) if np.ndim(H) == 1 else np.asarray(H, dtype=float)
+    m = len(c)
+    n = len(gap)
+    G = np.asarray(G, dtype=float).reshape(n, m)
+    gap = np.maximum(np.asarray(gap, dtype=float), 0.0)
+    x = np.zeros(m)
+    lam = np.zeros(n)
+    tol = 1e-12 * max(float(np.abs(gap).max(initial=0.0)), 1e-300)
+    working: list[int] = []
+    # Start with the touching rows of the previous support that are independent.
+    for i in list(first) + [i for i in range(n) if gap[i] <= tol]:
+        if i < n and gap[i] <= tol and i not in working and len(working) < m \
+                and _independent(G[working], G[i]):
+            working.append(i)
+    # A step is nil when it is this small against the unconstrained step.
+    small = 1e-11 * max(float(np.linalg.norm(np.linalg.solve(H, c))), 1e-300)
+    for _ in range(_MAX_ITERATIONS):
+        g = H @ x + c
+        k = len(working)
+        A = G[working]
+        kkt = np.zeros((m + k, m + k))
+        kkt[:m, :m] = H
+        kkt[:m, m:] = -A.T
+        kkt[m:, :m] = A
+        rhs = np.concatenate([-g, np.zeros(k)])
+        sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
+        p, mult = sol[:m], sol[m:]
+        if float(np.linalg.norm(p)) <= small:
+            if k == 0 or mult.min() >= -1e-12 * max(float(np.abs(mult).max()), 1e-300):
+                lam[:] = 0.0
+                lam[working] = np.maximum(mult, 0.0)
+                return x, lam
+            # Bland's rule against cycling at degenerate vertices (more touching rows than
+            # coordinates): drop the first row, by index, whose multiplier is negative.
+            negative = [r for r, v in zip(working, mult, strict=True)
+                        if v < -1e-12 * max(float(np.abs(mult).max()), 1e-300)]
+            working.remove(min(negative))
+            continue
+        # Step along p until a row outside the working set blocks.
+        rate = G @ p
+        slack = G @ x + gap
+        alpha, block = 1.0, -1
+        # A row whose rate is nil against its own size is parallel to the step (a
+        # duplicate of a working row, as the corners of a flat contact are): not blocking.
+        norms = np.linalg.norm(G, axis=1) * float(np.linalg.norm(p))
+        for i in np.flatnonzero(rate < -1e-7 * norms):
+            if i in working:
+                continue
+            a = max(float(slack[i]), 0.0) / float(-rate[i])
+            if a < alpha:  # ties keep the first row by index (Bland)
+                alpha, block = a, int(i)
+        x = x + alpha * p
+        if block >= 0:
+            working.append(block)
+    # Not settled within the iteration budget (it should not happen): a general solver.
+    res = minimize(lambda v: 0.5 * v @ H @ v + c @ v, np.zeros(m), jac=lambda v: H @ v + c,
+                   constraints=[{"type": "ineq", "fun": lambda v: G @ v + gap,
+                                 "jac": lambda v: G}], method="SLSQP",
+                   options={"ftol": 1e-15, "maxiter": 500})
+    x = res.x
+    active = np.flatnonzero(G @ x + gap <= 1e-9 * max(float(np.abs(gap).max(initial=0.0)), 1e-12))
+    lam[:] = 0.0
+    if len(active):
+        lam[active] = nnls(G[active].T, H @ x + c)[0]
+    return x, lam

@@ -477,6 +477,7 @@ class Mechanics:
         u = self.potential(d.zc, tilt, xy, held)
         noise = 2.0 * f * max(self.analyzer.deviation, self.tolerance) * self.metres
         snapped = self.in_phase(d)
+        last_step = np.zeros(2)
         ahead: list[_Near] = []  # contacts met by rejected steps (see below)
         support: tuple[int, ...] = ()
         steps = 0
@@ -502,7 +503,9 @@ class Mechanics:
             dxy = dq[3:5] / self.metres if len(dq) > 3 else np.zeros(2)
             moved = float(np.abs(dtilt).max()) * (self.radius + self.spec.bolt.length) \
                 + float(np.abs(dxy).max(initial=0.0)) + abs(dq[0]) / self.metres
-            if moved <= self.tolerance and promised <= 1e-12 * f * pitch_m:
+            # (The balance asks for tilts finer than the travel tolerance: 1e-6 F times the
+            # radius against a 1 N m/rad spring is 3e-8 rad, a few nanometres of travel.)
+            if moved <= self.tolerance / 100 and promised <= 1e-12 * f * pitch_m:
                 # Nothing left to gain at this tolerance: a rest state if it balances.
                 converged = f_res <= BALANCE and m_res <= BALANCE
                 break
@@ -539,8 +542,15 @@ class Mechanics:
                     new_rows = self._rows(near, np.array([*d.xy, d.zc]), tilt)[0][:, 1:3]
                     _bfgs(curvature, dtilt, -(new_rows - old_rows).T @ lam[:len(old_rows)])
                 now = _signature(near, self.touching)
-                # Same contacts: the model is good, trust it more.
-                prox = np.maximum(prox / (10 if now == touching else 3), prox0[:len(k)] * 1e-8)
+                if float(dq[1:3] @ last_step) < 0:
+                    # Turned back on the last step: the contact model flickers between two
+                    # poses (a contact at the touching threshold); damp to meet between.
+                    prox *= 4
+                else:
+                    # Same contacts: the model is good, trust it more.
+                    prox = np.maximum(prox / (10 if now == touching else 3),
+                                      prox0[:len(k)] * 1e-8)
+                last_step = dq[1:3].copy()
                 if now != touching and not self.in_phase(d) and not snapped:
                     kind = "new-contact" if len(now) >= len(touching) else "rolling"
                     axis = d.rotation[:, 2]
