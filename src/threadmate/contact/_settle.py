@@ -65,7 +65,6 @@ from ._compliance import Compliance
 from ._exact import contact_normal, refine_on_edge, region_at
 from ._lcp import contact_step
 from ._rest_state import LoadedContact, MechanicalState, RestState
-from ._stages import first_contact
 from ._triangles import IntersectionSegments, cluster_segments
 from ._vertical import vertical_touch
 
@@ -187,43 +186,43 @@ class Mechanics:
         """
         eng = self.engine
         q0 = eng.queries
+        known_free = False
         if zc is None:
-            if np.any(xy != 0):
-                start = -eng.lowest_bolt_z(rotation) + self.compliance.compliance_z \
-                    * rotation[2, 2] + self.tolerance
-                zc = start
-            else:
-                out = first_contact(eng, rotation, self.analyzer.search, self._floor)
-                if out is None:
-                    return None
-                zc = float(out.free.origin[2] + rotation[2, 2] * self.compliance.compliance_z)
-            span = self.tolerance
+            # From where the lowest bolt point is just above the nut's top face: free.
+            zc = -eng.lowest_bolt_z(rotation) + self.compliance.compliance_z \
+                * rotation[2, 2] + self.tolerance
+            span = self.spec.pitch / 64
+            known_free = True
         span = max(span or 0.0, self.tolerance)
-        top = zc + span
+        top = zc if known_free else zc + span
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
             # longer cross a little lower, so one enumeration below cannot tell.
-            if eng.collides(self._pose(rotation, xy, top)):
-                top += span
-                span = min(2 * span, self.spec.pitch / 32)
-                continue
+            if not known_free:
+                if eng.collides(self._pose(rotation, xy, top)):
+                    top += span
+                    span = min(2 * span, self.spec.pitch / 16)
+                    continue
+                known_free = True
             low = top - span - self.near
             pairs = eng.pairs(self._pose(rotation, xy, low))
             if len(pairs) == 0:
                 top = low
-                # Never a step that could carry a thread tooth through another unseen.
-                span = min(2 * span, self.spec.pitch / 32)
+                # Never a step that could carry a thread tooth through another unseen (the
+                # teeth of bolt and nut overlap over at least an eighth of the pitch).
+                span = min(2 * span, self.spec.pitch / 16)
                 if top < self._floor:
                     return None
                 continue
             drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), pairs))
             ok = np.isfinite(drop)
-            if not ok.any():
-                top = low
+            if not ok.any():  # only pairs seen edge-on from above: a shallower bracket
+                span /= 2
                 continue
             first = float(drop[ok].min())
             if first < 0.0:  # a pair crosses at ``top`` after all: start higher
                 top += span - first
+                known_free = False
                 continue
             touch = top - first
             if touch - low < self.near * (1 - 1e-9):
