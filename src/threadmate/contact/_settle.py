@@ -187,12 +187,11 @@ class Mechanics:
         eng = self.engine
         q0 = eng.queries
         known_free = False
-        if zc is None:
-            # From where the lowest bolt point is just above the nut's top face: free.
-            zc = -eng.lowest_bolt_z(rotation) + self.compliance.compliance_z \
-                * rotation[2, 2] + self.tolerance
-            span = self.spec.pitch / 64
-            known_free = True
+        # Where the lowest bolt point is just above the nut's top face: free for sure.
+        above = -eng.lowest_bolt_z(rotation) + self.compliance.compliance_z * rotation[2, 2] \
+            + self.tolerance
+        if zc is None or zc + (span or 0.0) >= above:
+            zc, span, known_free = above, self.spec.pitch / 64, True
         span = max(span or 0.0, self.tolerance)
         top = zc if known_free else zc + span
         for _ in range(200):
@@ -509,6 +508,11 @@ class Mechanics:
                 converged = f_res <= BALANCE and m_res <= BALANCE
                 break
             steps += 1
+            if float(np.abs(dtilt).max()) > math.radians(5.0) or \
+                    abs(dq[0]) / self.metres > self.spec.pitch:
+                # Far beyond what the linearised contacts can tell: a shorter step.
+                prox *= 4
+                continue
             new_tilt = tilt + dtilt
             if not comp.held_laterally:
                 new_xy = d.xy + dxy
@@ -539,7 +543,8 @@ class Mechanics:
                     # rim's lowest point turns with the tilt's direction): its rate, the
                     # contacts' geometric stiffness, is learnt by damped BFGS.
                     new_rows = self._rows(near, np.array([*d.xy, d.zc]), tilt)[0][:, 1:3]
-                    _bfgs(curvature, dtilt, -(new_rows - old_rows).T @ lam[:len(old_rows)])
+                    _bfgs(curvature, dtilt, -(new_rows - old_rows).T @ lam[:len(old_rows)],
+                          1e3 * f * arm_m)
                 now = _signature(near, self.touching)
                 if float(dq[1:3] @ last_step) < 0:
                     # Turned back on the last step: the contact model flickers between two
@@ -599,24 +604,25 @@ class Mechanics:
                          steps, self.engine.queries - q0)
 
 
-def _bfgs(b: NDArray[np.float64], s: NDArray[np.float64], y: NDArray[np.float64]) -> None:
-    """Powell-damped BFGS update of the 2 x 2 curvature ``b`` in place (kept positive
-    semi-definite; a curvature the steps cannot see is left alone)."""
+def _bfgs(b: NDArray[np.float64], s: NDArray[np.float64], y: NDArray[np.float64],
+          bound: float) -> None:
+    """Powell-damped BFGS update of the 2 x 2 curvature ``b`` in place, kept symmetric
+    with eigenvalues in ``[0, bound]`` (a step too short to measure leaves it alone)."""
     ss = float(s @ s)
-    if ss == 0.0:
+    if ss <= 1e-18:  # below a nanoradian the secant is rounding noise
         return
     bs = b @ s
     sbs = float(s @ bs)
     sy = float(s @ y)
-    if sbs <= 1e-12 * ss * max(np.abs(b).max(), 1e-300) and sy <= 0:
-        return
-    if sbs <= 0:  # first update: the secant alone
-        if sy > 0:
+    if sbs <= 1e-12 * ss * max(float(np.abs(b).max()), 1e-300):
+        if sy > 1e-12 * ss:  # first update: the secant alone
             b += np.outer(y, y) / sy
-        return
-    theta = 1.0 if sy >= 0.2 * sbs else 0.8 * sbs / (sbs - sy)
-    r = theta * y + (1 - theta) * bs
-    b += np.outer(r, r) / float(s @ r) - np.outer(bs, bs) / sbs
+    else:
+        theta = 1.0 if sy >= 0.2 * sbs else 0.8 * sbs / (sbs - sy)
+        r = theta * y + (1 - theta) * bs
+        b += np.outer(r, r) / float(s @ r) - np.outer(bs, bs) / sbs
+    w, v = np.linalg.eigh(0.5 * (b + b.T))
+    b[:] = (v * np.clip(w, 0.0, bound)) @ v.T
 
 
 def _signature(near: list[_Near], touching: float) -> tuple[str, ...]:
