@@ -41,7 +41,7 @@ from numpy.typing import NDArray
 from ..geometry import Pose, ThreadBody
 
 __all__ = ["Feature", "feature_at", "contact_normal", "region_at", "turn_axis_tangent",
-           "refine_on_edge"]
+           "refine_on_edge", "edge_crossing", "lowest_on_rim"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -220,9 +220,25 @@ def turn_axis_tangent(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
 
 
 def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Signed distance (negative inside the material) of points in the body's frame."""
-    d = body.surface_distance(points_b)
-    return np.where(body.contains(points_b), -d, d)
+    """Signed distance (negative inside the material) of points in the body's frame.
+
+    Beyond the end face that meets the other body (above the nut's top face, below the
+    bolt's tip) the thread surface does not continue: there the distance is to the face's
+    outline, radially, combined with the height off its plane.
+    """
+    p = np.asarray(points_b, dtype=float).reshape(-1, 3)
+    d = body.surface_distance(p)
+    d = np.where(body.contains(p), -d, d)
+    off = p[:, 2] - body.cap_z
+    beyond = off > 0 if body.kind == "nut" else off < 0
+    if beyond.any():
+        q = p[beyond]
+        r = np.hypot(q[:, 0], q[:, 1])
+        outline = body.section_radius(np.arctan2(q[:, 1], q[:, 0]), body.cap_z)
+        radial = np.maximum(outline - r, 0.0) if body.kind == "nut" else \
+            np.maximum(r - outline, 0.0)
+        d[beyond] = np.hypot(off[beyond], radial)
+    return d
 
 
 def _edge_points(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64],
@@ -259,7 +275,7 @@ def refine_on_edge(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
     fn = feature_at(nut, p, tol)
     fb = feature_at(bolt, pose.to_bolt(p), tol)
     if fn.is_edge and fb.is_edge:
-        return _edge_crossing(nut, fn, bolt, fb, pose, p, window)
+        return _edge_crossing(nut, fn, bolt, fb, pose, p, window)[0]
     if fn.is_edge == fb.is_edge:
         return p
     if fn.is_edge:
@@ -296,11 +312,12 @@ def refine_on_edge(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
 
 
 def _edge_crossing(nut: ThreadBody, fn: Feature, bolt: ThreadBody, fb: Feature, pose: Pose,
-                   point_f: NDArray[np.float64], window: float) -> NDArray[np.float64]:
+                   point_f: NDArray[np.float64], window: float
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
     """Where two exact edges cross, seen along Z (an edge-on-edge contact under a vertical
-    approach): Gauss-Newton on the two edges' polar angles from the mesh's point. The
-    point returned is the nut edge's (fixed frame); ``point_f`` when it does not
-    converge within ``window``."""
+    approach): Gauss-Newton on the two edges' polar angles from the mesh's point. Returns
+    the nut edge's point and the bolt edge's above or below it (fixed frame);
+    ``(point_f, None)`` when it does not converge within ``window``."""
     anchor_b = pose.to_bolt(point_f)
     a0 = math.atan2(point_f[1], point_f[0])
     b0 = math.atan2(anchor_b[1], anchor_b[0])
@@ -318,11 +335,43 @@ def _edge_crossing(nut: ThreadBody, fn: Feature, bolt: ThreadBody, fb: Feature, 
         try:
             dx = np.linalg.solve(jac, -g)
         except np.linalg.LinAlgError:
-            return point_f
+            return point_f, None
         x = x + dx
         if float(np.abs(dx).max()) < 1e-12:
             break
     q = _edge_points(nut, fn, point_f, x[:1])[0]
+    b = pose.to_fixed(_edge_points(bolt, fb, anchor_b, x[1:])[0])
     if not np.all(np.isfinite(q)) or float(np.linalg.norm(q - point_f)) > window:
-        return point_f
-    return q
+        return point_f, None
+    return q, b
+
+
+def edge_crossing(nut: ThreadBody, bolt: ThreadBody, pose: Pose, nut_point: NDArray[np.float64],
+                  bolt_point_f: NDArray[np.float64], tol: float, window: float
+                  ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+    """Where the nut's edge through ``nut_point`` and the bolt's edge through
+    ``bolt_point_f`` (both fixed frame) cross, seen along Z: the nut's point and the
+    bolt's point above it (the latter None: not two edges, or no crossing within
+    ``window``)."""
+    fn = feature_at(nut, nut_point, tol)
+    fb = feature_at(bolt, pose.to_bolt(bolt_point_f), tol)
+    if not (fn.is_edge and fb.is_edge):
+        return nut_point, None
+    return _edge_crossing(nut, fn, bolt, fb, pose, nut_point, window)
+
+
+def lowest_on_rim(bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64],
+                  window: float) -> NDArray[np.float64]:
+    """The lowest point (fixed frame) of the bolt's exact tip rim within ``window`` (arc
+    length) of ``point_f``."""
+    anchor = pose.to_bolt(point_f)
+    rim = Feature("rim", None, None, np.zeros(3))
+    theta0 = math.atan2(anchor[1], anchor[0])
+    half = window / max(math.hypot(anchor[0], anchor[1]), 1e-300)
+    best = theta0
+    for _ in range(3):
+        angles = best + np.linspace(-half, half, 17)
+        heights = pose.to_fixed(_edge_points(bolt, rim, anchor, angles))[:, 2]
+        best = float(angles[int(np.argmin(heights))])
+        half /= 8
+    return pose.to_fixed(_edge_points(bolt, rim, anchor, np.array([best])))[0]

@@ -62,7 +62,7 @@ from .._units import METRES_PER_UNIT
 from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
 from ._analyzer import ContactAnalyzer, check_configuration
 from ._compliance import Compliance
-from ._exact import contact_normal, refine_on_edge, region_at
+from ._exact import contact_normal, edge_crossing, lowest_on_rim, refine_on_edge, region_at
 from ._lcp import contact_step
 from ._rest_state import LoadedContact, MechanicalState, RestState
 from ._triangles import IntersectionSegments, cluster_segments
@@ -253,6 +253,40 @@ class Mechanics:
         return _Near(point, n, gap, str(region_at(an.bolt, pose.to_bolt(point), fb)),
                      str(region_at(an.nut, point, fn)), fb.kind, fn.kind)
 
+    def _rim_modes(self, d: _Drop, c: _Near) -> list[_Near]:
+        """The tip rim touching the nut's top face at its bore edge: both supports.
+
+        Where the rim's lowest point reaches the bore edge, the rim rests either on the
+        face (normal +Z) or on the edge (the edges' common normal), and a rest state can
+        sit on that kink with the force anywhere between the two normals. Both are given
+        to the descent, each with its own gap, so that it can meet the kink.
+        """
+        if c.bolt_feature != "rim" or c.nut_feature not in ("cap", "rim"):
+            return [c]
+        an = self.analyzer
+        theta = math.atan2(c.point[1], c.point[0])
+        edge = float(an.nut.section_radius(theta, 0.0))
+        if abs(math.hypot(c.point[0], c.point[1]) - edge) > self.separation / 8:
+            return [c]
+        pose = self._pose(d.rotation, d.xy, d.zc)
+        tol = an.feature_tolerance
+        window = self.separation / 4
+        if c.nut_feature == "cap":
+            anchor = np.array([edge * math.cos(theta), edge * math.sin(theta), 0.0])
+            point, above = edge_crossing(an.nut, an.bolt, pose, anchor, c.point, tol, window)
+            if above is None:
+                return [c]
+            other = self._contact(d, point, max(float(above[2] - point[2]), 0.0),
+                                  refine=False)
+        else:
+            point = lowest_on_rim(an.bolt, pose, c.point, window)
+            r = math.hypot(point[0], point[1])
+            if r < float(an.nut.section_radius(math.atan2(point[1], point[0]), 0.0)):
+                return [c]  # the lowest point is over the bore: the edge alone holds
+            other = _Near(np.array([point[0], point[1], 0.0]), np.array([0.0, 0.0, 1.0]),
+                          max(float(point[2]), 0.0), c.bolt_region, "surface", "rim", "cap")
+        return [c, other]
+
     def contacts(self, d: _Drop) -> list[_Near]:
         """The distinct contacts within :attr:`near` of the pose, touching ones first.
 
@@ -279,7 +313,7 @@ class Mechanics:
             flat = gaps <= gaps[j] + self.tolerance
             corners = _area_corners(pts[flat], first.normal, self.separation / 2)
             if corners is None:
-                out.append(first)
+                out.extend(self._rim_modes(d, first))
             else:
                 # The corners of a flat contact are where the mesh puts them.
                 out.extend(self._contact(d, pts[flat][c], float(gaps[flat][c]), refine=False)
