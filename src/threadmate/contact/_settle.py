@@ -165,6 +165,11 @@ class Mechanics:
         self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
         self._floor = -float(spec.nut.height) - 2 * float(spec.bolt.length) - spec.pitch
         self._tip = analyzer._tip  # the bolt mesh's tip-face vertices (bolt frame)
+        # Vertices that can pass whole into the other body: the nut's in its top pitch,
+        # the bolt's in its first (the thread's run-outs on the end faces are wedges).
+        nv, bv = self.engine.nut_vertices, self.engine.bolt_vertices
+        self._nut_top = nv[nv[:, 2] >= -spec.pitch]
+        self._bolt_tip = bv[bv[:, 2] <= spec.pitch]
         #: The last descent's contact curvature (warm start of a continuation).
         self._warm: NDArray[np.float64] | None = None
 
@@ -194,22 +199,21 @@ class Mechanics:
             zc, span, known_free = above, self.spec.pitch / 64, True
         span = max(span or 0.0, self.tolerance)
         top = zc if known_free else zc + span
+        start, cap = top, self.spec.pitch / 16
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
             # longer cross a little lower, so one enumeration below cannot tell.
             if not known_free:
                 if eng.collides(self._pose(rotation, xy, top)):
                     top += span
-                    span = min(2 * span, self.spec.pitch / 16)
+                    span = min(2 * span, cap)
                     continue
                 known_free = True
             low = top - span - self.near
             pairs = eng.pairs(self._pose(rotation, xy, low))
             if len(pairs) == 0:
                 top = low
-                # Never a step that could carry a thread tooth through another unseen (the
-                # teeth of bolt and nut overlap over at least an eighth of the pitch).
-                span = min(2 * span, self.spec.pitch / 16)
+                span = min(2 * span, cap)
                 if top < self._floor:
                     return None
                 continue
@@ -229,11 +233,31 @@ class Mechanics:
                 drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top),
                                                              pairs))
                 ok = np.isfinite(drop)
+            if start - touch > 2 * self.near and self._embedded(rotation, xy, touch):
+                # A thin wedge of one body (where a thread runs out on an end face) passed
+                # whole into the other within a step: python-fcl sees crossing triangles,
+                # never containment. Again from the start, in steps a quarter as long.
+                top, known_free, cap = start, False, cap / 4
+                span = min(span, cap)
+                if cap < self.tolerance:
+                    raise RuntimeError("lowering the bolt keeps passing into the nut")
+                continue
             gaps = drop - first
             keep = ok & (gaps <= self.near)
             return _Drop(rotation, np.array(xy, dtype=float), touch, np.maximum(gaps[keep], 0.0),
                          points[keep], eng.queries - q0)
         raise RuntimeError("lowering the bolt did not settle on a bracket")
+
+    def _embedded(self, rotation: NDArray[np.float64], xy: NDArray[np.float64],
+                  zc: float) -> bool:
+        """Whether a vertex of one mesh lies inside the other exact body, deeper than the
+        meshes' deviation, at the pose where the bolt's centre is at ``zc``."""
+        pose = self._pose(rotation, xy, zc)
+        an = self.analyzer
+        depth = 2 * an.deviation + self.tolerance
+        if float(an.bolt.depth(pose.to_bolt(self._nut_top)).max(initial=0.0)) > depth:
+            return True
+        return float(an.nut.depth(pose.to_fixed(self._bolt_tip)).max(initial=0.0)) > depth
 
     def in_phase(self, d: _Drop) -> bool:
         """Whether the whole tip face is below the nut's top face (the snap)."""
