@@ -54,6 +54,19 @@ def contact_step(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.f
     m = len(c)
     n = len(gap)
     G = np.asarray(G, dtype=float).reshape(n, m)
+    # The coordinates differ in scale by many orders (metres against radians, a proximal
+    # weight of 1e5 N/m against a stiffness of 1 N m/rad): solve in y = D x, D^2 = diag H.
+    d = np.sqrt(np.maximum(np.diag(H), 1e-300))
+    y, lam = _solve(H / np.outer(d, d), np.asarray(c, dtype=float) / d, G / d,
+                    np.asarray(gap, dtype=float), first)
+    return y / d, lam
+
+
+def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64],
+           gap: NDArray[np.float64], first: tuple[int, ...]
+           ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`contact_step` on a well-scaled problem."""
+    m, n = len(c), len(gap)
     gap = np.maximum(np.asarray(gap, dtype=float), 0.0)
     x = np.zeros(m)
     lam = np.zeros(n)
@@ -64,8 +77,6 @@ def contact_step(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.f
         if i < n and gap[i] <= tol and i not in working and len(working) < m \
                 and _independent(G[working], G[i]):
             working.append(i)
-    # A step is nil when it is this small against the unconstrained step.
-    small = 1e-11 * max(float(np.linalg.norm(np.linalg.solve(H, c))), 1e-300)
     for _ in range(_MAX_ITERATIONS):
         g = H @ x + c
         k = len(working)
@@ -77,7 +88,8 @@ def contact_step(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.f
         rhs = np.concatenate([-g, np.zeros(k)])
         sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
         p, mult = sol[:m], sol[m:]
-        if float(np.linalg.norm(p)) <= small:
+        # Nil when its force, H p, is rounding against the forces acting, g.
+        if float(np.abs(H @ p).max()) <= 1e-12 * max(float(np.abs(g).max()), 1e-300):
             if k == 0 or mult.min() >= -1e-12 * max(float(np.abs(mult).max()), 1e-300):
                 lam[:] = 0.0
                 lam[working] = np.maximum(mult, 0.0)
@@ -104,13 +116,17 @@ def contact_step(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.f
         x = x + alpha * p
         if block >= 0:
             working.append(block)
-    # Not settled within the iteration budget (it should not happen): a general solver.
-    res = minimize(lambda v: 0.5 * v @ H @ v + c @ v, np.zeros(m), jac=lambda v: H @ v + c,
+    # Cycling at a degenerate vertex (a flat face on a face: more touching rows than
+    # coordinates): a general solver on the scaled problem, the forces by non-negative
+    # least squares on the rows it leaves touching.
+    res = minimize(lambda v: 0.5 * v @ H @ v + c @ v, x, jac=lambda v: H @ v + c,
                    constraints=[{"type": "ineq", "fun": lambda v: G @ v + gap,
                                  "jac": lambda v: G}], method="SLSQP",
-                   options={"ftol": 1e-15, "maxiter": 500})
+                   options={"ftol": 1e-16, "maxiter": 1000})
     x = res.x
-    active = np.flatnonzero(G @ x + gap <= 1e-9 * max(float(np.abs(gap).max(initial=0.0)), 1e-12))
+    slack = G @ x + gap
+    active = np.flatnonzero(slack <= 1e-9 * (float(np.abs(G @ x).max(initial=0.0))
+                                             + float(gap.max(initial=0.0))) + 1e-15)
     lam[:] = 0.0
     if len(active):
         lam[active] = nnls(G[active].T, H @ x + c)[0]

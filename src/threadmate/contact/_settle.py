@@ -196,7 +196,10 @@ class Mechanics:
         above = -eng.lowest_bolt_z(rotation) + self.compliance.compliance_z * rotation[2, 2] \
             + self.tolerance
         if zc is None or zc + (span or 0.0) >= above:
-            zc, span, known_free = above, self.spec.pitch / 64, True
+            # Short first steps, doubling: a thin wedge of material where a thread runs out
+            # on the nut's face (a few 1e-5 in at the edge of the in-phase window) is met
+            # by a step no longer than it before one can pass it unseen.
+            zc, span, known_free = above, self.spec.pitch / 4096, True
         span = max(span or 0.0, self.tolerance)
         top = zc if known_free else zc + span
         start, cap = top, self.spec.pitch / 16
@@ -559,9 +562,10 @@ class Mechanics:
             dxy = dq[3:5] / self.metres if len(dq) > 3 else np.zeros(2)
             moved = float(np.abs(dtilt).max()) * (self.radius + self.spec.bolt.length) \
                 + float(np.abs(dxy).max(initial=0.0)) + abs(dq[0]) / self.metres
-            # (The balance asks for tilts finer than the travel tolerance: 1e-6 F times the
-            # radius against a 1 N m/rad spring is 3e-8 rad, a few nanometres of travel.)
-            if moved <= self.tolerance / 100 and promised <= 1e-12 * f * pitch_m:
+            # (The balance asks for tilts far finer than the travel tolerance: 1e-6 F times
+            # the radius against a 1 N m/rad spring is 3e-8 rad, against 1e4 N m/rad
+            # 3e-12 rad. Steps that small are still Newton steps of the same model.)
+            if moved <= 1e-6 * self.tolerance and promised <= 1e-12 * f * pitch_m:
                 # Nothing left to gain at this tolerance: a rest state if it balances.
                 converged = f_res <= BALANCE and m_res <= BALANCE
                 break
