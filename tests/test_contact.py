@@ -6,8 +6,9 @@ References:
   in the in-phase window the drop until flank meets flank, c/2 - s, c the axial clearance,
   s = lead * phase / 360);
 - first-contact height, tilted: a dense parametric search over the EXACT bolt surface (tip
-  face and thread) for the highest point of nut material under each bolt point, written
-  here from the profile formula (no mesh involved);
+  face and thread) for the highest point of nut material under each bolt point, and over
+  the nut's edges for the lowest bolt material above them, written from the profile
+  formula in tests/_exact_geometry.py (no mesh involved);
 - contact points on both exact surfaces, interference of stable poses, proper rotations,
   the record schema of docs/architecture.md.
 """
@@ -20,6 +21,8 @@ import numpy as np
 import pyarrow as pa
 import pytest
 
+from _exact_geometry import exact_first_height
+from _exact_geometry import rot as _rot
 from threadmate._errors import InputError
 from threadmate.contact import (
     CLASSIFICATIONS,
@@ -133,80 +136,8 @@ def test_sector_queries_agree_with_the_whole_nut(analyzer):
     assert seen == {True, False}
 
 
-# -- exact reference ----------------------------------------------------------------------
-
-def _rot(roll, pitch, phase):
-    """Rx(roll) Ry(pitch) Rz(phase), written out here (conventions.md)."""
-    a, b, c = np.radians([roll, pitch, phase])
-    rx = np.array([[1, 0, 0], [0, math.cos(a), -math.sin(a)], [0, math.sin(a), math.cos(a)]])
-    ry = np.array([[math.cos(b), 0, math.sin(b)], [0, 1, 0], [-math.sin(b), 0, math.cos(b)]])
-    rz = np.array([[math.cos(c), -math.sin(c), 0], [math.sin(c), math.cos(c), 0], [0, 0, 1]])
-    return rx @ ry @ rz
-
-
-def _sharp_radius(t, p, pd, major, minor):
-    """conventions.md's sharp profile R(t) = pd/2 + sqrt3 (p/4 - |t|), clamped."""
-    u = np.abs(t - p * np.floor(t / p + 0.5))
-    return np.clip(pd / 2 + math.sqrt(3) * (p / 4 - u), minor / 2, major / 2)
-
-
-def _nut_top(spec, x, y):
-    """Highest z <= 0 of the (sharp) nut's material on the vertical line through (x, y).
-
-    Material where R_n(t) <= r with t = z - lead theta / 2 pi: |t| >= u_r, the flank
-    solution of R_n(u_r) = r. Coming down from z = 0, t falls from t0 and first reaches
-    -u_r at z = -(t0 + u_r).
-    """
-    n, p = spec.nut, spec.pitch
-    r, th = np.hypot(x, y), np.arctan2(y, x)
-    t0 = -spec.lead * th / (2 * math.pi)
-    t0 = t0 - p * np.floor(t0 / p + 0.5)
-    u_r = np.clip(p / 4 + (n.pitch_diameter / 2 - r) / math.sqrt(3), 0, p / 2)
-    z = np.where(np.abs(t0) >= u_r, 0.0, -(t0 + u_r))
-    return np.where((r < n.minor / 2) | (r > n.outer_radius), -np.inf, z)
-
-
-def exact_first_height(spec, roll, pitch, phase, n_theta=2400, n_v=80):
-    """Origin height at which the exact bolt first touches the exact nut.
-
-    max over bolt points q (tip face and thread surface, bolt at h = 0) of
-    nut_top(q_x, q_y) - q_z: a dense grid, then a shrinking local grid around the best
-    candidates.
-    """
-    bolt = bolt_body(spec)  # R_b(t) with its root fillet, from the profile
-    R = _rot(roll, pitch, phase)
-    length = spec.bolt.length
-
-    def lateral(th, zb):
-        r = bolt.section_radius(th, zb)
-        q = np.stack([r * np.cos(th), r * np.sin(th), zb], -1) @ R.T
-        return _nut_top(spec, q[..., 0], q[..., 1]) - q[..., 2]
-
-    def tip(th, s):
-        r = s * bolt.section_radius(th, 0.0)
-        q = np.stack([r * np.cos(th), r * np.sin(th), 0 * r], -1) @ R.T
-        return _nut_top(spec, q[..., 0], q[..., 1]) - q[..., 2]
-
-    best = -np.inf
-    for f, top in ((lateral, length), (tip, 1.0)):
-        th = np.linspace(-np.pi, np.pi, n_theta, endpoint=False)
-        v = np.linspace(0, top, n_v)
-        grid = f(*np.meshgrid(th, v, indexing="ij"))
-        for k in np.argsort(grid.ravel())[-6:]:
-            i, j = np.unravel_index(k, grid.shape)
-            t0, v0, h = th[i], v[j], grid[i, j]
-            wt, wv = 2 * np.pi / n_theta, top / n_v
-            for _ in range(12):
-                tt = t0 + np.linspace(-wt, wt, 21)
-                vv = np.clip(v0 + np.linspace(-wv, wv, 21), 0, top)
-                local = f(*np.meshgrid(tt, vv, indexing="ij"))
-                a, b = np.unravel_index(local.argmax(), local.shape)
-                if local[a, b] >= h:
-                    h, t0, v0 = local[a, b], tt[a], vv[b]
-                wt, wv = wt / 4, wv / 4
-            best = max(best, h)
-    return float(best)
-
+# The exact reference (tests/_exact_geometry.py): exact_first_height, and _rot, the frame
+# composition written out.
 
 # -- the analyser -------------------------------------------------------------------------
 

@@ -1,0 +1,656 @@
+"""The mechanics of the compliance-held bolt against facts computed without it.
+
+design/mechanics.md, "Independent checks worth having". Nothing here compares the code
+with its own earlier output:
+
+- KKT at rest states: python-fcl BVHs built here from the meshes (no collision at the pose,
+  a collision near each loaded contact after a tiny motion into the nut along its normal);
+  the forces' signs; the balance of load and spring recomputed from the reported contact
+  points and normals with the generalised forces of R = Rx(roll) Ry(pitch) Rz(phase);
+- perturbation: the potential re-evaluated with the exact bodies (``_exact_geometry``: the
+  profile formula, no mesh) at tilts around the rest tilt, each re-lowered to first touch;
+- closed forms: the planar analysis of an upright, stiffly held bolt (flat rest, the in-phase
+  window, the snap at its edge with a drop of the axial clearance), the infinitely stiff
+  compliance (the held tilt), the frictionless driver's work (the change of the potential);
+- symmetry: a left-hand thread gives the mirror image of a right-hand one;
+- the classes from the forces: cone membership by non-negative least squares, and for
+  quasi-stable states a descent direction of the load alone checked on the exact bodies.
+
+Units: the potential is U = F z_C + k_roll/2 (roll - roll0)^2 + k_pitch/2 (pitch - pitch0)^2
+with z_C in metres and angles in radians (J); states report it in mJ.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import fcl
+import numpy as np
+import pytest
+from scipy.optimize import nnls
+
+from _exact_geometry import exact_centre_height, rot
+from threadmate.contact import Compliance, Mechanics, search
+from threadmate.geometry import BoltSpec, NutSpec, ThreadSpec, thread_meshes
+
+#: Metres per length unit, written here (not taken from the package).
+METRES = {"in": 0.0254, "mm": 0.001}
+
+
+def inch(spec):
+    """One inch in the spec's length units."""
+    return 0.0254 / METRES[spec.units]
+
+
+# -- thread pairs and compliances ---------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def m6():
+    """M6x1-6g/6H at mean material, from the ISO 965-1/-2 limits for P = 1, d = 6.
+
+    Bolt (6g, es = -0.026): d 5.794-5.974, d2 5.212-5.324, d3 below 4.747 (root radius
+    0.125 P). Nut (6H): D1 4.917-5.153, D2 5.350-5.500, D min 6.000 (sharp corners).
+    """
+    return ThreadSpec(
+        units="mm",
+        pitch=1.0,
+        bolt=BoltSpec(major=5.884, pitch_diameter=5.268, minor=4.74, root_fillet=0.125),
+        nut=NutSpec(major=6.0, pitch_diameter=5.425, minor=5.035),
+    )
+
+
+def left_hand(spec):
+    """The same pair with a left-hand thread."""
+    return ThreadSpec(units=spec.units, pitch=spec.pitch, bolt=spec.bolt, nut=spec.nut,
+                      hand="left")
+
+
+DEFAULT = Compliance()
+#: Anisotropic, heavier, with the compliance centre 2 mm above the tip (an RCC projecting it).
+M6_COMPLIANCE = Compliance(force=20.0, stiffness=(0.5, 2.0), compliance_z=2.0)
+SOFT = Compliance(stiffness=0.01)
+STIFF = Compliance(stiffness=1e4)
+RIGID = Compliance(stiffness=1e6)
+FRICTIONLESS = Compliance(friction=0.0)
+
+
+@pytest.fixture(scope="module")
+def mech(quarter_20):
+    return Mechanics(quarter_20, DEFAULT)
+
+
+@pytest.fixture(scope="module")
+def mech_m6(m6):
+    return Mechanics(m6, M6_COMPLIANCE)
+
+
+@pytest.fixture(scope="module")
+def mech_soft(quarter_20):
+    return Mechanics(quarter_20, SOFT)
+
+
+@pytest.fixture(scope="module")
+def mech_stiff(quarter_20):
+    return Mechanics(quarter_20, STIFF)
+
+
+# Varied held tilts and phases, |roll|, |pitch| <= 4; the last two settle in-phase (the
+# bolt comes to rest in the thread: the same conditions hold there).
+Q20_CONFIGS = [(4, 0, 185), (4, 4, 235), (-4, 0, 131), (2, -3, 40), (-3, 2, 300),
+               (1, 0.5, 10), (0, 0, 90), (3, 3, 70), (-2, -4, 160), (0, 4, 250),
+               (-1, 2, 330), (3, 0, -10), (0, 0, 5), (1, 0, -5)]
+M6_CONFIGS = [(-2, 3, 110), (1, 1, 200), (-4, -2, 290), (0, 2.5, 160), (2, 0, 70),
+              (-1, -3, 330), (3, -1, 20)]
+# Starts at which a soft compliance lets the bolt settle on three points.
+SOFT_CANDIDATES = [(-3, 2, 300), (1, 0.5, 10), (0, 0, 200), (4, 4, 235)]
+
+
+@pytest.fixture(scope="module")
+def q20_rests(mech):
+    return {cfg: mech.settle(*cfg) for cfg in Q20_CONFIGS}
+
+
+@pytest.fixture(scope="module")
+def m6_rests(mech_m6):
+    return {cfg: mech_m6.settle(*cfg) for cfg in M6_CONFIGS}
+
+
+@pytest.fixture(scope="module")
+def soft_rests(mech_soft):
+    return {cfg: mech_soft.settle(*cfg) for cfg in SOFT_CANDIDATES}
+
+
+# -- independent collision checks -----------------------------------------------------------
+
+class Collider:
+    """python-fcl BVHs of the spec's generated meshes, built here, whole (no sectors)."""
+
+    def __init__(self, spec):
+        bolt, nut = thread_meshes(spec)
+        self.bolt = fcl.CollisionObject(self._bvh(bolt.mesh), fcl.Transform())
+        self.nut = fcl.CollisionObject(self._bvh(nut.mesh), fcl.Transform())
+
+    @staticmethod
+    def _bvh(mesh):
+        model = fcl.BVHModel()
+        model.beginModel(len(mesh.vertices), len(mesh.faces))
+        model.addSubModel(np.asarray(mesh.vertices, dtype=float),
+                          np.asarray(mesh.faces, dtype=np.int32))
+        model.endModel()
+        return model
+
+    def contacts(self, rotation, origin):
+        """Where the bolt at (rotation, origin) intersects the nut (empty: it does not)."""
+        self.bolt.setTransform(fcl.Transform(np.asarray(rotation, dtype=float),
+                                             np.asarray(origin, dtype=float)))
+        request = fcl.CollisionRequest(num_max_contacts=100000, enable_contact=True)
+        result = fcl.CollisionResult()
+        fcl.collide(self.bolt, self.nut, request, result)
+        return np.array([c.pos for c in result.contacts], dtype=float).reshape(-1, 3)
+
+
+@functools.lru_cache(maxsize=8)
+def collider(spec):
+    return Collider(spec)
+
+
+# -- the mechanics recomputed from a state ----------------------------------------------------
+
+def generalised_rows(spec, state):
+    """Rows (n_z, X . (r x n), Y' . (r x n)) of the touching contacts, r = p - C in metres,
+    X the roll axis, Y' = Rx(roll) Y the pitch axis; and their forces (N)."""
+    m = METRES[spec.units]
+    centre = np.array(state.centre)
+    x_axis = np.array([1.0, 0.0, 0.0])
+    pitch_axis = rot(state.roll, 0.0, 0.0)[:, 1]
+    rows, forces = [], []
+    for c in state.touching:
+        n = np.array(c.normal)
+        moment = np.cross((np.array(c.point) - centre) * m, n)
+        rows.append([n[2], x_axis @ moment, pitch_axis @ moment])
+        forces.append(c.force)
+    return np.array(rows, dtype=float).reshape(-1, 3), np.array(forces, dtype=float)
+
+
+def spring(comp, rest):
+    """Generalised force of the load and the spring: (F, k_r (roll - roll0), k_p ...)."""
+    s = rest.state
+    return np.array([comp.force,
+                     comp.roll_stiffness * math.radians(s.roll - rest.held_roll),
+                     comp.pitch_stiffness * math.radians(s.pitch - rest.held_pitch)])
+
+
+def radius_m(spec):
+    return 0.5 * spec.bolt.major * METRES[spec.units]
+
+
+def tip_face_top(spec, state):
+    """Height in F of the highest point of the tip face (its rim taken at the major).
+
+    It is above the nut's bottom face in every state: at a fixed phase the bolt cannot get
+    past the nut's thread. On a cylinder r = r0 between the nut's minor and the bolt's
+    major radius the nut (one pitch tall or more) has material at every angle in a band of
+    heights within [-height, 0], and the bolt, one pitch long, a band of its own; moving
+    without turning, the bolt's band at an angle can pass the nut's only by overlapping it.
+    A tip face wholly below the nut: the lowering tunnelled through the nut's thread.
+    """
+    R = np.array(state.rotation)
+    th = np.linspace(0, 2 * np.pi, 721)
+    rim = 0.5 * spec.bolt.major * np.stack([np.cos(th), np.sin(th), 0 * th], -1)
+    return float((rim @ R.T)[:, 2].max() + state.origin[2])
+
+
+def check_kkt(spec, comp, rest):
+    """design/mechanics.md's KKT conditions at a rest state, each recomputed here."""
+    s = rest.state
+    label = (rest.held_roll, rest.held_pitch, rest.phase, s.classification)
+    assert s.classification in ("stable", "quasi-stable", "in-phase"), label
+    R, origin = np.array(s.rotation), np.array(s.origin)
+    np.testing.assert_allclose(R, rot(s.roll, s.pitch, rest.phase), atol=1e-12)
+    # The compliance centre is on the bolt axis at compliance_z, held at x = y = 0.
+    np.testing.assert_allclose(s.centre, origin + R[:, 2] * comp.compliance_z, atol=1e-12)
+    np.testing.assert_allclose(s.centre[:2], (0.0, 0.0), atol=1e-12)
+    # Whatever the state, the bolt has not passed the nut without turning (tip_face_top).
+    assert tip_face_top(spec, s) > -spec.nut.height, label
+    col = collider(spec)
+    up = np.array([0.0, 0.0, 1.0])
+    # (a) No interpenetration: fcl reports the exact touch itself as a collision, so the
+    # pose is raised by 1e-8 in (a hundredth of the descent's length tolerance); and the
+    # bolt does rest on the nut: 1e-6 in lower it collides.
+    assert len(col.contacts(R, origin + 1e-8 * inch(spec) * up)) == 0, label
+    assert len(col.contacts(R, origin - 1e-6 * inch(spec) * up)) > 0, label
+    # (c) Forces: finite, non-negative, zero where a contact is not touching.
+    touching = s.touching
+    assert touching, label
+    for c in s.contacts:
+        assert math.isfinite(c.force) and c.force >= 0.0, (label, c)
+        if c.gap > 0:
+            assert c.force == 0.0, (label, c)
+        assert np.linalg.norm(c.normal) == pytest.approx(1.0, abs=1e-9)
+    # (b) Every loaded contact is real: 2e-5 in into the nut along -normal collides there.
+    for c in touching:
+        if c.force <= 0:
+            continue
+        hits = col.contacts(R, origin - 2e-5 * inch(spec) * np.array(c.normal))
+        assert len(hits) > 0, (label, c)
+        nearest = float(np.linalg.norm(hits - np.array(c.point), axis=1).min())
+        assert nearest <= spec.pitch / 20, (label, c.regions, nearest)
+    # (d) Balance of the load and the spring, recomputed from points and normals.
+    rows, forces = generalised_rows(spec, s)
+    resid = rows.T @ forces - spring(comp, rest)
+    f = comp.force
+    assert abs(resid[0]) <= 1e-6 * f, (label, resid)
+    assert np.abs(resid[1:]).max() <= 1e-6 * f * radius_m(spec), (label, resid)
+
+
+@pytest.mark.parametrize("cfg", Q20_CONFIGS)
+def test_kkt_at_rest_states(q20_rests, quarter_20, cfg):
+    """KKT at rest states of 1/4-20 held by the default compliance: no collision at the pose
+    (own fcl BVHs), a collision near each loaded contact after 2e-5 in along -normal, every
+    force >= 0, and sum F_i n_iz = F, sum F_i a.(r_i x n_i) = k (angle - held) about the
+    roll axis X and the pitch axis Rx(roll) Y to 1e-6 of F (and of F times the radius)."""
+    check_kkt(quarter_20, DEFAULT, q20_rests[cfg])
+
+
+@pytest.mark.parametrize("cfg", M6_CONFIGS)
+def test_kkt_at_rest_states_metric_offset_centre(m6_rests, m6, cfg):
+    """The same KKT conditions on an M6x1 pair (mm) with an anisotropic compliance of 20 N
+    whose centre is 2 mm above the tip (so the tip is not at x = y = 0 when tilted)."""
+    check_kkt(m6, M6_COMPLIANCE, m6_rests[cfg])
+
+
+@pytest.mark.parametrize("cfg", SOFT_CANDIDATES)
+def test_kkt_at_rest_states_soft_compliance(soft_rests, quarter_20, cfg):
+    """The same KKT conditions with a soft compliance (0.01 N m/rad), where the contacts
+    carry nearly all of the load's moment."""
+    check_kkt(quarter_20, SOFT, soft_rests[cfg])
+
+
+@pytest.mark.parametrize("cfg", [(-4, 0, 131), (3, 3, 70), (-2, -4, 160)])
+def test_settle_reaches_a_rest_state_soft_compliance(mech_soft, quarter_20, cfg):
+    """settle returns a rest (or in-phase) state satisfying the KKT conditions at these
+    soft-compliance starts too (U is bounded below over the free poses near the nut top,
+    so a local minimiser is there to be found)."""
+    check_kkt(quarter_20, SOFT, mech_soft.settle(*cfg))
+
+
+FIRST_TOUCH_MISSED = ("the first lowering from above passes a thin wedge of nut (where its "
+                      "thread runs out on the top face) within one step: python-fcl sees "
+                      "crossing triangles at the step's ends, never a wedge passed whole, so "
+                      "the first contact is found about 1.3e-3 mm below the exact first touch "
+                      "(an fcl sweep in fine steps agrees with the exact reference)")
+# Held tilts at which, with the M6 compliance (centre 2 mm above the tip), the code's first
+# contact is found below the exact (and a fine fcl sweep's) height.
+M6_MISSED = [(-1.6, -2.28, 342.7), (2.22, 3.67, 321.46)]
+
+
+@pytest.mark.parametrize("which, cfg", [("q20", c) for c in Q20_CONFIGS]
+                         + [("m6", c) for c in M6_CONFIGS if c not in M6_MISSED]
+                         + [pytest.param("m6", c, marks=pytest.mark.xfail(
+                             strict=False, reason=FIRST_TOUCH_MISSED)) for c in M6_MISSED])
+def test_first_contact_is_the_exact_first_touch(which, cfg, q20_rests, m6_rests, mech_m6,
+                                                quarter_20, m6):
+    """settle starts where the bolt, at the held tilt with its compliance centre over
+    x = y = 0, first touches the nut lowered from above: its first state's z_C is the exact
+    reference's within 5e-6 in (the meshes' first-contact accuracy)."""
+    if which == "q20":
+        spec, comp, rest = quarter_20, DEFAULT, q20_rests[cfg]
+    else:
+        spec, comp = m6, M6_COMPLIANCE
+        rest = m6_rests[cfg] if cfg in m6_rests else mech_m6.settle(*cfg)
+    first = rest.path[0] if rest.path else rest.state  # no path: the descent did not move
+    assert not rest.path or first.kind == "first-contact"
+    assert first.roll == pytest.approx(cfg[0], abs=1e-9)
+    assert first.pitch == pytest.approx(cfg[1], abs=1e-9)
+    h = exact_height(spec, float(cfg[0]), float(cfg[1]), float(cfg[2]), comp.compliance_z)
+    assert first.centre[2] == pytest.approx(h, abs=5e-6 * inch(spec))
+
+
+def test_rest_heights_are_the_exact_first_touch(q20_rests, m6_rests, soft_rests, quarter_20,
+                                                m6):
+    """A rest state that has not dropped into the thread rests on the nut as the bolt,
+    lowered from above at the rest tilt, would first touch it: z_C is the exact reference's
+    height at the rest tilt within 5e-6 in."""
+    checked = 0
+    for spec, comp, rest in all_rests(q20_rests, m6_rests, soft_rests, quarter_20, m6):
+        s = rest.state
+        if s.classification not in ("stable", "quasi-stable"):
+            continue
+        h = exact_height(spec, s.roll, s.pitch, rest.phase, comp.compliance_z)
+        assert s.centre[2] == pytest.approx(h, abs=5e-6 * inch(spec)), (
+            spec.units, rest.held_roll, rest.held_pitch, rest.phase, (s.centre[2] - h))
+        checked += 1
+    assert checked >= 15
+
+
+# -- perturbation with the exact bodies -------------------------------------------------------
+
+@functools.lru_cache(maxsize=4096)
+def exact_height(spec, roll, pitch, phase, compliance_z):
+    """Exact height of the compliance centre lowered onto the nut at this tilt (cached)."""
+    return exact_centre_height(spec, rot(roll, pitch, phase), compliance_z)
+
+
+def exact_potential(spec, comp, rest, roll, pitch, stiffness=None):
+    """U (J) with the exact lowering height at (roll, pitch) and the rest state's phase."""
+    kr, kp = (comp.roll_stiffness, comp.pitch_stiffness) if stiffness is None else stiffness
+    h = exact_height(spec, float(roll), float(pitch), float(rest.phase), comp.compliance_z)
+    return (comp.force * h * METRES[spec.units]
+            + 0.5 * kr * math.radians(roll - rest.held_roll) ** 2
+            + 0.5 * kp * math.radians(pitch - rest.held_pitch) ** 2)
+
+
+PERTURBATIONS = [(d * math.cos(math.radians(a)), d * math.sin(math.radians(a)))
+                 for d in (0.05, 0.2) for a in range(0, 360, 45)]
+
+
+def perturbation_drops(spec, comp, rest, stiffness=None):
+    """U(perturbed) - U(rest) (J) over the tilts of :data:`PERTURBATIONS`, exact bodies."""
+    s = rest.state
+    u0 = exact_potential(spec, comp, rest, s.roll, s.pitch, stiffness)
+    return {d: exact_potential(spec, comp, rest, s.roll + d[0], s.pitch + d[1], stiffness) - u0
+            for d in PERTURBATIONS}
+
+
+def u_tolerance(spec, comp):
+    """F x 5e-6 in, in J: the first-contact accuracy of the meshes."""
+    return comp.force * 5e-6 * 0.0254
+
+
+PERTURBED_Q20 = [(4, 0, 185), (1, 0.5, 10), (0, 0, 90), (3, 3, 70), (-3, 2, 300)]
+PERTURBED_M6 = [(-2, 3, 110), (-4, -2, 290)]
+
+
+@pytest.mark.parametrize("which, cfg", [("q20", c) for c in PERTURBED_Q20]
+                         + [("m6", c) for c in PERTURBED_M6])
+def test_exact_perturbation_never_lowers_the_potential(which, cfg, q20_rests, m6_rests,
+                                                       quarter_20, m6):
+    """The rest state is a local minimum of U on the EXACT bodies: at tilts 0.05 and 0.2
+    degrees away (rolls, pitches and diagonals), each re-lowered to first touch by the exact
+    reference, U does not fall by more than F x 5e-6 in; and the reported height of the
+    compliance centre is the exact one at the rest tilt within 5e-6 in."""
+    spec, comp, rest = ((quarter_20, DEFAULT, q20_rests[cfg]) if which == "q20"
+                        else (m6, M6_COMPLIANCE, m6_rests[cfg]))
+    s = rest.state
+    assert s.classification != "in-phase"  # (KKT tests judge the class)
+    h = exact_height(spec, s.roll, s.pitch, rest.phase, comp.compliance_z)
+    assert s.centre[2] == pytest.approx(h, abs=5e-6 * inch(spec))
+    tol = u_tolerance(spec, comp)
+    drops = perturbation_drops(spec, comp, rest)
+    worst = min(drops, key=drops.get)
+    assert drops[worst] >= -tol, (cfg, worst, drops[worst] / tol)
+
+
+@pytest.fixture(scope="module")
+def stable_states(soft_rests, q20_rests):
+    """Stable states found among a few starts (soft compliance; and the default one)."""
+    found = [(SOFT, r) for r in soft_rests.values() if r.classification == "stable"]
+    found += [(DEFAULT, r) for r in q20_rests.values() if r.classification == "stable"]
+    return found
+
+
+def test_stable_states_exist(stable_states):
+    """Three-point states that the contacts hold by themselves are found at all."""
+    assert len(stable_states) >= 2
+
+
+def test_stable_states_hold_without_the_compliance(stable_states, quarter_20):
+    """A stable state is a minimum of U with k = 0 (U = F z_C alone): at the exact bodies'
+    perturbed tilts the compliance centre does not come lower than F x 5e-6 in allows."""
+    tol = u_tolerance(quarter_20, DEFAULT)
+    assert stable_states
+    for comp, rest in stable_states:
+        drops = perturbation_drops(quarter_20, comp, rest, stiffness=(0.0, 0.0))
+        worst = min(drops, key=drops.get)
+        assert drops[worst] >= -comp.force / DEFAULT.force * tol, (
+            rest.held_roll, rest.held_pitch, rest.phase, worst, drops[worst])
+
+
+# -- classes from the forces ------------------------------------------------------------------
+
+def held_by_contacts(spec, comp, state, margin):
+    """Whether non-negative contact forces alone balance (F, 0, 0) and every target pushed
+    by ``margin`` (F/100 in force, F x margin in moment, margin a length in metres)."""
+    rows, _ = generalised_rows(spec, state)
+    if len(rows) == 0:
+        return False
+    scale = np.array([1.0, 1.0 / radius_m(spec), 1.0 / radius_m(spec)])
+    A = (rows * scale).T
+    f = comp.force
+    target = np.array([f, 0.0, 0.0])
+    push = np.array([f / 100, f * margin / radius_m(spec), f * margin / radius_m(spec)])
+    for j in range(3):
+        for sign in (1.0, -1.0):
+            t = target.copy()
+            t[j] += sign * push[j]
+            if nnls(A, t)[1] > 1e-9 * f:
+                return False
+    return True
+
+
+def all_rests(q20_rests, m6_rests, soft_rests, quarter_20, m6):
+    out = [(quarter_20, DEFAULT, r) for r in q20_rests.values()]
+    out += [(m6, M6_COMPLIANCE, r) for r in m6_rests.values()]
+    out += [(quarter_20, SOFT, r) for r in soft_rests.values()]
+    return out
+
+
+def test_classes_follow_from_the_forces(q20_rests, m6_rests, soft_rests, quarter_20, m6):
+    """stable => the touching contacts alone balance (F, 0, 0) with non-negative forces
+    (nnls residual <= 1e-6 F), strictly: still so with the target pushed by F x pitch/1000
+    in moment; quasi-stable => they do not, robustly: pushed by F x pitch/20 some target
+    fails (the load needs the spring, or its line lies on or outside the support)."""
+    checked = {"stable": 0, "quasi-stable": 0}
+    for spec, comp, rest in all_rests(q20_rests, m6_rests, soft_rests, quarter_20, m6):
+        s = rest.state
+        label = (spec.units, rest.held_roll, rest.held_pitch, rest.phase, s.classification)
+        m = METRES[spec.units]
+        if s.classification == "stable":
+            rows, _ = generalised_rows(spec, s)
+            scale = np.array([1.0, 1.0 / radius_m(spec), 1.0 / radius_m(spec)])
+            lam, resid = nnls((rows * scale).T, np.array([comp.force, 0.0, 0.0]))
+            assert resid <= 1e-6 * comp.force, label
+            assert held_by_contacts(spec, comp, s, spec.pitch / 1000 * m), label
+        elif s.classification == "quasi-stable":
+            assert not held_by_contacts(spec, comp, s, spec.pitch / 20 * m), label
+        else:
+            continue
+        checked[s.classification] += 1
+    assert checked["stable"] >= 1 and checked["quasi-stable"] >= 5, checked
+
+
+@pytest.mark.parametrize("cfg", [(4, 0, 185), (2, -3, 40), (0, 0, 90), (3, 3, 70)])
+def test_quasi_stable_states_need_the_compliance(q20_rests, quarter_20, cfg):
+    """Without the spring a quasi-stable state is not a minimum: the Farkas direction of the
+    contacts' cone (the nnls residual w: every contact opens or stays along -w while the
+    load's work falls) tilts the EXACT bolt, re-lowered, to a lower compliance centre."""
+    rest = q20_rests[cfg]
+    s = rest.state
+    assert s.classification == "quasi-stable"
+    spec, comp = quarter_20, DEFAULT
+    rows, _ = generalised_rows(spec, s)
+    rho = radius_m(spec)
+    scale = np.array([1.0, 1.0 / rho, 1.0 / rho])
+    A = (rows * scale).T
+    b = np.array([comp.force, 0.0, 0.0])
+    lam, _ = nnls(A, b)
+    w = b - A @ lam
+    assert w[0] > 1e-3 * comp.force, "the contacts alone hold the load"
+    assert np.all((rows * scale) @ w <= 1e-9 * comp.force)  # -w opens every contact
+    # Tilt by 0.1 degree along -w (its moment part, scaled by 1/rho, is rho times the angle).
+    tilt = 0.1 * -w[1:] / np.linalg.norm(w[1:])
+    before = exact_height(spec, s.roll, s.pitch, rest.phase, 0.0)
+    after = exact_height(spec, s.roll + tilt[0], s.pitch + tilt[1], rest.phase, 0.0)
+    assert comp.force * (after - before) * METRES[spec.units] < -u_tolerance(spec, comp), (
+        before, after)
+
+
+# -- closed forms -----------------------------------------------------------------------------
+
+def window_shift(spec, phase):
+    """s = lead * phase / 360 wrapped into [-lead/2, lead/2)."""
+    return spec.lead * (((phase + 180.0) % 360.0) - 180.0) / 360.0
+
+
+# 1/4-20's in-phase window is |phase| <= 180 c / lead = 11.22 degrees (asserted below).
+UPRIGHT_IN = [0.0, 6.0, -8.0, 10.5, -10.5]
+UPRIGHT_OUT = [11.5, -11.5, 15.0, 45.0, 90.0, 135.0, 200.0, 270.0, 330.0]
+UPRIGHT_PHASES = UPRIGHT_IN + UPRIGHT_OUT
+
+
+@pytest.fixture(scope="module")
+def upright_rests(mech_stiff):
+    return {phase: mech_stiff.settle(0, 0, phase) for phase in UPRIGHT_PHASES}
+
+
+@pytest.mark.parametrize("phase", UPRIGHT_PHASES)
+def test_upright_stiff_bolt_follows_the_planar_analysis(upright_rests, quarter_20, phase):
+    """Upright, stiffly held (1e4 N m/rad): in the in-phase window |s| <= c/2 (s = lead
+    phase / 360 wrapped, c the axial clearance) the bolt drops to flank on flank,
+    z_C = -(c/2 - s); outside it the tip face lies flat on the nut's top face, z_C = 0;
+    either way the tilt stays within 0.01 degree of upright (5e-6 in in height)."""
+    c = quarter_20.axial_clearance
+    s_ = window_shift(quarter_20, phase)
+    assert (abs(s_) <= c / 2) == (phase in UPRIGHT_IN)
+    s = upright_rests[phase].state
+    assert abs(s.roll) <= 0.01 and abs(s.pitch) <= 0.01, (s.roll, s.pitch)
+    if abs(s_) <= c / 2:
+        assert s.centre[2] == pytest.approx(-(c / 2 - s_), abs=5e-6)
+        assert s.classification == "in-phase"
+    else:
+        assert s.centre[2] == pytest.approx(0.0, abs=5e-6)
+        assert s.touching
+        assert all(c.regions == "base/surface" for c in s.touching), s.region_combination
+
+
+@pytest.mark.parametrize("phase", UPRIGHT_OUT)
+def test_upright_stiff_bolt_rests_flat_outside_the_window(upright_rests, quarter_20, phase):
+    """Outside the window the flat bolt is a rest state (on the top face, the spring holding
+    what tilt the load's offset from the support would give): settle classifies it stable
+    or quasi-stable, not unstable, and its contact forces balance the load."""
+    rest = upright_rests[phase]
+    assert rest.state.classification in ("stable", "quasi-stable"), (
+        rest.state.classification, rest.balance)
+    check_kkt(quarter_20, STIFF, rest)
+
+
+def test_search_snaps_at_the_window_edge_by_the_axial_clearance(sharp_quarter_20):
+    """Upright and stiff, sharp flanks: turning counter-clockwise from a flat start the bolt
+    stays flat and snaps where it enters the window, s = -c/2 (phase -180 c / lead mod 360),
+    within the phase tolerance plus the meshes' height error as phase; the click (drop of
+    the compliance centre) is the axial clearance c = (nut PD - bolt PD) / sqrt(3)."""
+    spec = sharp_quarter_20
+    c = (spec.nut.pitch_diameter - spec.bolt.pitch_diameter) / math.sqrt(3)
+    edge = (-180.0 * c / spec.lead) % 360.0
+    bolt, nut = thread_meshes(spec)
+    # A flank's vertical error is the surfaces' error over its normal's z (sqrt(3)/2).
+    height_error = (bolt.max_deviation + nut.max_deviation) / (math.sqrt(3) / 2)
+    phase_error = 360.0 * height_error / spec.lead
+    start = 340.0
+    run = search(Mechanics(spec, STIFF), 0, 0, start, turns=15 / 360, step=2.0,
+                 phase_tolerance=0.01)
+    assert run.snap is not None
+    assert run.snap.phase == pytest.approx(edge, abs=0.01 + phase_error)
+    assert run.snap_turn == pytest.approx(edge - start, abs=0.01 + phase_error)
+    assert run.snap.drop == pytest.approx(c, abs=1e-5)
+    assert run.states[-1].classification == "in-phase"
+    for s in run.states[:-1]:
+        assert s.classification != "in-phase"
+        assert abs(s.roll) <= 0.01 and abs(s.pitch) <= 0.01
+        assert s.centre[2] == pytest.approx(0.0, abs=5e-6)
+
+
+@pytest.mark.parametrize("cfg", [(4, 0, 185), (2, -3, 40)])
+def test_infinitely_stiff_compliance_keeps_the_held_tilt(quarter_20, cfg):
+    """k -> infinity (1e6 N m/rad): the rest tilt is the held one within 1e-3 degree, and the
+    bolt is simply lowered onto the nut at it: z_C is the exact first-touch height."""
+    rest = Mechanics(quarter_20, RIGID).settle(*cfg)
+    s = rest.state
+    assert abs(s.roll - cfg[0]) <= 1e-3 and abs(s.pitch - cfg[1]) <= 1e-3
+    h = exact_height(quarter_20, float(cfg[0]), float(cfg[1]), float(cfg[2]), 0.0)
+    assert s.centre[2] == pytest.approx(h, abs=5e-6)
+
+
+# -- energy bookkeeping -------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def mech_frictionless(quarter_20):
+    return Mechanics(quarter_20, FRICTIONLESS)
+
+
+def axial_torque(spec, state):
+    """-sum lambda_i a . (r_i x n_i) about the bolt axis a through C (N m): the driver's
+    torque without friction, recomputed from the contacts."""
+    a = np.array(state.rotation)[:, 2] * spec.handedness
+    centre = np.array(state.centre)
+    m = METRES[spec.units]
+    return -sum(c.force * float(a @ np.cross((np.array(c.point) - centre) * m, c.normal))
+                for c in state.touching)
+
+
+@pytest.mark.parametrize("cfg, events", [((2, -3, 40), False), ((0, 4, 250), False),
+                                         ((3, 3, 70), True)])
+def test_frictionless_work_equals_the_change_of_potential(mech_frictionless, quarter_20,
+                                                          cfg, events):
+    """Without friction and away from jumps the driver's work is the change of U (the
+    envelope theorem: dU*/dphase = -sum lambda_i a.(r_i x n_i), the driver's torque): over a
+    10-degree turn work_potential = U(last) - U(first) within 2 %, work_friction = 0; the
+    torques recomputed from the contacts match the reported ones. Without events, and
+    across a smooth change of contacts (no jump, no snap)."""
+    run = search(mech_frictionless, *cfg, turns=10 / 360, step=2.0)
+    kinds = {e.kind for e in run.events}
+    if events:
+        assert kinds <= {"contact-change"}, run.events
+    else:
+        assert not run.events
+    assert run.work_friction == 0.0
+    du = run.states[-1].potential - run.states[0].potential  # mJ
+    f = FRICTIONLESS.force
+    assert run.work_potential == pytest.approx(du, rel=0.02, abs=f * 1e-6 * 0.0254 * 1e3)
+    for s in run.states:
+        assert s.friction_torque == 0.0
+        assert s.driver_torque == pytest.approx(axial_torque(quarter_20, s),
+                                                abs=1e-6 * f * radius_m(quarter_20))
+    # The trapezoidal integral of the recomputed torques agrees too.
+    phases = np.radians([s.phase for s in run.states])
+    torques = np.array([axial_torque(quarter_20, s) for s in run.states])
+    work = 1e3 * float(np.sum(0.5 * (torques[1:] + torques[:-1]) * np.diff(phases)))
+    assert work == pytest.approx(du, rel=0.02, abs=f * 1e-6 * 0.0254 * 1e3)
+
+
+# -- mirror symmetry ----------------------------------------------------------------------------
+
+MIRRORED = [(4, 0, 185), (2, -3, 40), (-3, 2, 300), (1, 0.5, 10), (3, 3, 70), (0, 0, 5)]
+
+
+@pytest.fixture(scope="module")
+def mech_left(quarter_20):
+    return Mechanics(left_hand(quarter_20), DEFAULT)
+
+
+@pytest.mark.parametrize("cfg", MIRRORED)
+def test_left_hand_thread_mirrors_the_right_hand_one(mech_left, q20_rests, cfg):
+    """M = diag(1, -1, 1) maps the right-hand bodies onto the left-hand ones and
+    Rx(r) Ry(p) Rz(f) onto Rx(-r) Ry(p) Rz(-f), and leaves U alone: settle(left, -roll,
+    pitch, -phase) is the mirror image of settle(right, roll, pitch, phase): roll -> -roll,
+    the same pitch (1e-3 degree), z_C (5e-6 in), class, regions and forces (1e-3 F), and
+    contact points mirrored y -> -y (1e-4 in: the meshes are tessellated on their own)."""
+    right = q20_rests[cfg].state
+    left = mech_left.settle(-cfg[0], cfg[1], -cfg[2]).state
+    assert left.classification == right.classification
+    assert left.roll == pytest.approx(-right.roll, abs=1e-3)
+    assert left.pitch == pytest.approx(right.pitch, abs=1e-3)
+    assert left.centre[2] == pytest.approx(right.centre[2], abs=5e-6)
+    assert left.potential == pytest.approx(right.potential, abs=DEFAULT.force * 5e-6 * 25.4)
+    mirror = np.array([1.0, -1.0, 1.0])
+    assert len(left.touching) == len(right.touching)
+    unmatched = list(left.touching)
+    for c in right.touching:
+        p = np.array(c.point) * mirror
+        k = int(np.argmin([np.linalg.norm(np.array(d.point) - p) for d in unmatched]))
+        d = unmatched.pop(k)
+        assert np.linalg.norm(np.array(d.point) - p) <= 1e-4, (c, d)
+        np.testing.assert_allclose(d.normal, np.array(c.normal) * mirror, atol=1e-3)
+        assert d.regions == c.regions
+        assert d.force == pytest.approx(c.force, abs=1e-3 * DEFAULT.force)
