@@ -14,7 +14,8 @@ import numpy as np
 from .._errors import InputError
 from ..geometry import ThreadSpec, load_spec
 
-__all__ = ["resolve_spec", "emit_json", "to_jsonable", "SPEC_HELP", "check_angle"]
+__all__ = ["resolve_spec", "emit_json", "to_jsonable", "SPEC_HELP", "check_angle",
+           "check_configuration_options"]
 
 SPEC_HELP = (
     "DESIGNATION|SPEC is a thread designation such as '1/4-20 UNC-2A/2B', '#10-24 UNC', "
@@ -70,3 +71,19 @@ def check_angle(name: str, value: float, limit: float = 90.0) -> float:
 def echo_err(message: str) -> None:
     """One line on stderr."""
     click.echo(message, err=True)
+
+
+def check_configuration_options(roll: float, pitch: float, phase: float,
+                                chord: float | None) -> None:
+    """Refuse a tilt beyond the contact stages' range, a non-finite phase or a chord that
+    is not a positive length (before anything is built)."""
+    from ..contact import MAX_TILT
+
+    for name, value in (("roll", roll), ("pitch", pitch)):
+        if not math.isfinite(value) or abs(value) > MAX_TILT:
+            raise InputError(f"--{name} {value:g} is out of range: give degrees within "
+                             f"+/-{MAX_TILT:g}")
+    if not math.isfinite(phase):
+        raise InputError(f"--phase {phase:g} is not a finite angle")
+    if chord is not None and not (math.isfinite(chord) and chord > 0):
+        raise InputError(f"--chord {chord:g} must be a positive length")

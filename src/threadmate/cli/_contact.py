@@ -12,7 +12,7 @@ import click
 
 from .._errors import InputError
 from ..contact import MAX_TILT, ContactAnalyzer, ContactResult
-from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._main import cli
 
 __all__ = ["contact"]
@@ -102,14 +102,7 @@ spec's units.
 def contact(spec_text: str, roll: float, pitch: float, phase: float, chord: float | None,
             compliance_z: float, condition: str, as_json: bool) -> None:
     """Run the three contact stages for one configuration."""
-    for name, value in (("roll", roll), ("pitch", pitch)):
-        if not math.isfinite(value) or abs(value) > MAX_TILT:
-            raise InputError(f"--{name} {value:g} is out of range: give degrees within "
-                             f"+/-{MAX_TILT:g}")
-    if not math.isfinite(phase):
-        raise InputError(f"--phase {phase:g} is not a finite angle")
-    if chord is not None and not (math.isfinite(chord) and chord > 0):
-        raise InputError(f"--chord {chord:g} must be a positive length")
+    check_configuration_options(roll, pitch, phase, chord)
     if not math.isfinite(compliance_z):
         raise InputError(f"--compliance-z {compliance_z:g} must be a finite length")
     spec = resolve_spec(spec_text, condition)

@@ -20,7 +20,7 @@ import numpy as np
 from .._errors import InputError, NoPathError
 from ..contact import MAX_TILT, Compliance, RestState, SearchResult, search, settle
 from ..geometry import ThreadSpec
-from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._main import cli
 
 __all__ = ["search_command", "settle_command", "plot_search"]
@@ -110,14 +110,7 @@ def _setup(spec_text: str, roll: float, pitch: float, phase: float, force: float
 
     Every check runs before the meshes are built and before anything is written.
     """
-    for name, value in (("roll", roll), ("pitch", pitch)):
-        if not math.isfinite(value) or abs(value) > MAX_TILT:
-            raise InputError(f"--{name} {value:g} is out of range: give degrees within "
-                             f"+/-{MAX_TILT:g}")
-    if not math.isfinite(phase):
-        raise InputError(f"--phase {phase:g} is not a finite angle")
-    if chord is not None and not (math.isfinite(chord) and chord > 0):
-        raise InputError(f"--chord {chord:g} must be a positive length")
+    check_configuration_options(roll, pitch, phase, chord)
     # The Compliance refuses non-finite or out-of-range values with a message naming them.
     compliance = Compliance(force=force, stiffness=_stiffness(stiffness_text),
                             lateral_stiffness=lateral_stiffness, compliance_z=compliance_z,

@@ -12,20 +12,13 @@ from typing import Any
 import numpy as np
 
 from ..geometry import Pose
+from ._result import Vec
 
 __all__ = ["LoadedContact", "MechanicalState", "RestState", "SearchEvent", "SearchResult",
            "REST_CLASSES"]
 
 #: Classes of a mechanical state (design/mechanics.md, "Classes of states").
 REST_CLASSES = ("stable", "quasi-stable", "unstable", "in-phase")
-
-Vec = tuple[float, float, float]
-
-
-def _vec(v: Any) -> Vec:
-    a = np.asarray(v, dtype=float).reshape(3)
-    return (float(a[0]), float(a[1]), float(a[2]))
-
 
 @dataclass(frozen=True)
 class LoadedContact:

@@ -65,6 +65,7 @@ from ._compliance import Compliance
 from ._exact import contact_normal, edge_crossing, lowest_on_rim, refine_on_edge, region_at
 from ._lcp import contact_step
 from ._rest_state import LoadedContact, MechanicalState, RestState
+from ._result import _vec
 from ._triangles import IntersectionSegments, cluster_segments
 from ._vertical import vertical_touch
 
@@ -689,11 +690,6 @@ def _bfgs(b: NDArray[np.float64], s: NDArray[np.float64], y: NDArray[np.float64]
 
 def _signature(near: list[_Near], touching: float) -> tuple[str, ...]:
     return tuple(sorted(f"{c.bolt_region}/{c.nut_region}" for c in near if c.gap <= touching))
-
-
-def _vec(v: NDArray[np.float64]) -> tuple[float, float, float]:
-    a = np.asarray(v, dtype=float).reshape(3)
-    return (float(a[0]), float(a[1]), float(a[2]))
 
 
 def _area_corners(points: NDArray[np.float64], normal: NDArray[np.float64],
