@@ -561,6 +561,21 @@ def test_search_snaps_at_the_window_edge_by_the_axial_clearance(sharp_quarter_20
         assert s.centre[2] == pytest.approx(0.0, abs=5e-6)
 
 
+@pytest.mark.parametrize("cfg", [(4, 0, 170), (-1, 2, 330)])
+def test_rest_state_is_a_consequence_of_load_and_spring_not_of_the_search(quarter_20, cfg):
+    """A rest state with a finite stiffness is where load and spring balance: halving the
+    descent's tolerance moves no bolt point by more than the tolerance (the farthest bolt
+    point lies within the bolt's radius plus its length of the compliance centre)."""
+    tolerance = 1e-7
+    coarse = Mechanics(quarter_20, DEFAULT, tolerance=tolerance)
+    fine = Mechanics(quarter_20, DEFAULT, tolerance=tolerance / 2, analyzer=coarse.analyzer)
+    a, b = coarse.settle(*cfg).state, fine.settle(*cfg).state
+    assert a.classification == b.classification != "unstable"
+    reach = quarter_20.bolt.major / 2 + quarter_20.bolt.length
+    turned = math.radians(max(abs(a.roll - b.roll), abs(a.pitch - b.pitch)))
+    assert turned * reach + abs(a.centre[2] - b.centre[2]) <= tolerance
+
+
 @pytest.mark.parametrize("cfg", [(4, 0, 185), (2, -3, 40)])
 def test_infinitely_stiff_compliance_keeps_the_held_tilt(quarter_20, cfg):
     """k -> infinity (1e6 N m/rad): the rest tilt is the held one within 1e-3 degree, and the
