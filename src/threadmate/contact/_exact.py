@@ -227,9 +227,14 @@ def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray
     outline, radially, combined with the height off its plane.
     """
     p = np.asarray(points_b, dtype=float).reshape(-1, 3)
-    d = body.surface_distance(p)
-    d = np.where(body.contains(p), -d, d)
+    # Within the slab: the thread surface's radial offset along its normal (first-order
+    # exact, exact on the surface), intersected with the end face's half-space.
+    r = np.hypot(p[:, 0], p[:, 1])
+    t = body.t_of(np.arctan2(p[:, 1], p[:, 0]), p[:, 2])
+    radial = (r - body.profile.radius(t)) / np.hypot(1.0, body.profile.slope(t))
+    thread = radial if body.kind == "bolt" else -radial
     off = p[:, 2] - body.cap_z
+    d = np.maximum(thread, off if body.kind == "nut" else -off)
     beyond = off > 0 if body.kind == "nut" else off < 0
     if beyond.any():
         q = p[beyond]

@@ -259,9 +259,12 @@ class Mechanics:
         pose = self._pose(rotation, xy, zc)
         an = self.analyzer
         depth = 2 * an.deviation + self.tolerance
-        if float(an.bolt.depth(pose.to_bolt(self._nut_top)).max(initial=0.0)) > depth:
-            return True
-        return float(an.nut.depth(pose.to_fixed(self._bolt_tip)).max(initial=0.0)) > depth
+        for body, points in ((an.bolt, pose.to_bolt(self._nut_top)),
+                             (an.nut, pose.to_fixed(self._bolt_tip))):
+            inside = points[body.contains(points)]  # cheap; the distance only for these
+            if len(inside) and float(body.surface_distance(inside).max()) > depth:
+                return True
+        return False
 
     def in_phase(self, d: _Drop) -> bool:
         """Whether the whole tip face is below the nut's top face (the snap)."""
