@@ -530,8 +530,8 @@ class Mechanics:
         k = self._stiffness()
         pitch_m = self.spec.pitch * self.metres
         arm_m = self.radius * self.metres
-        prox0 = np.array([f / (pitch_m / 20), f * arm_m / math.radians(2.0),
-                          f * arm_m / math.radians(2.0)] + [f / (pitch_m / 20)] * 2)
+        prox0 = np.array([f / (pitch_m / 20), f * arm_m / math.radians(8.0),
+                          f * arm_m / math.radians(8.0)] + [f / (pitch_m / 20)] * 2)
         prox = prox0[:len(k)].copy()
         curvature = np.zeros((2, 2))
         if start is not None and self._warm is not None:
