@@ -30,7 +30,7 @@ from .._errors import InputError
 from ..geometry import ThreadSpec
 from ._compliance import Compliance
 from ._rest_state import MechanicalState, SearchEvent, SearchResult
-from ._settle import Mechanics, mechanics
+from ._settle import Mechanics, axis_turn, mechanics
 
 __all__ = ["search"]
 
@@ -39,9 +39,7 @@ JUMP_TILT = 0.5
 
 
 def _tilt_between(a: MechanicalState, b: MechanicalState) -> float:
-    ua = np.array(a.rotation)[:, 2]
-    ub = np.array(b.rotation)[:, 2]
-    return math.degrees(math.acos(min(1.0, float(ua @ ub))))
+    return axis_turn(np.array(a.rotation)[:, 2], np.array(b.rotation)[:, 2])
 
 
 def _signature(s: MechanicalState, floor: float) -> tuple[str, ...]:

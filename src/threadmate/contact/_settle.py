@@ -545,7 +545,6 @@ class Mechanics:
         support: tuple[int, ...] = ()
         steps = 0
         converged = False
-        touching = {c.regions if hasattr(c, "regions") else None for c in ()}
         touching = _signature(near, self.touching)
         while steps < MAX_STEPS:
             centre = np.array([d.xy[0], d.xy[1], d.zc])
@@ -624,7 +623,7 @@ class Mechanics:
                 if now != touching and not self.in_phase(d) and not snapped:
                     kind = "new-contact" if len(now) >= len(touching) else "rolling"
                     axis = d.rotation[:, 2]
-                    turn = math.degrees(math.acos(min(1.0, float(axis @ last_axis))))
+                    turn = axis_turn(axis, last_axis)
                     path.append(self.state(kind, "unstable", d, near, phase, held, tilt,
                                            turn=turn))
                     last_axis = axis.copy()
@@ -651,7 +650,7 @@ class Mechanics:
         centre = np.array([d.xy[0], d.xy[1], d.zc])
         forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
         axis = d.rotation[:, 2]
-        turn = math.degrees(math.acos(min(1.0, float(axis @ last_axis))))
+        turn = axis_turn(axis, last_axis)
         if self.in_phase(d):
             cls, kind = "in-phase", "in-phase"
         elif self.holds_without_compliance(near, centre, tilt):
@@ -668,6 +667,11 @@ class Mechanics:
                          comp.to_dict(), final, tuple(path),
                          {"force": f_res, "moment": m_res, "converged": float(converged)},
                          steps, self.engine.queries - q0)
+
+
+def axis_turn(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
+    """Angle between two unit bolt axes (degrees)."""
+    return math.degrees(math.acos(min(1.0, float(a @ b))))
 
 
 def _bfgs(b: NDArray[np.float64], s: NDArray[np.float64], y: NDArray[np.float64],
