@@ -483,11 +483,17 @@ class Mechanics:
             forces = np.full(len(near), math.nan)
         else:
             torque, friction = self.driver_torque(near, forces, d.rotation, centre)
+        # A support given twice (the tip rim at the bore edge, as face and as edge) is
+        # reported once: the one that carries the force.
+        idle = forces <= BALANCE / 10 * self.compliance.force
+        twin = [bool(idle[i]) and any(
+            j != i and not idle[j] and np.linalg.norm(o.point - c.point) < self.separation / 4
+            for j, o in enumerate(near)) for i, c in enumerate(near)]
         contacts = tuple(
             LoadedContact(_vec(c.point), _vec(c.normal), float(f),
                           0.0 if c.gap <= self.touching else float(c.gap), c.bolt_region,
                           c.nut_region, c.bolt_feature, c.nut_feature)
-            for c, f in zip(near, forces, strict=True))
+            for c, f, t in zip(near, forces, twin, strict=True) if not t)
         rot = tuple(_vec(r) for r in d.rotation)
         return MechanicalState(kind, cls, float(phase), math.degrees(tilt[0]),
                                math.degrees(tilt[1]), _vec(pose.origin), rot,  # type: ignore[arg-type]
