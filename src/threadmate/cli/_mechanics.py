@@ -18,6 +18,7 @@ import click
 import numpy as np
 
 from .._errors import InputError, NoPathError
+from .._figures import new_figure, save_figure
 from ..contact import MAX_TILT, Compliance, RestState, SearchResult, search, settle
 from ..geometry import ThreadSpec
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
@@ -233,7 +234,6 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
 
     Written atomically as PNG, PDF or SVG by the file's suffix.
     """
-    from ..planar._plots import _new_figure, _save
 
     path = Path(path)
     states = run.states
@@ -245,7 +245,7 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
     tilt = np.degrees(np.arccos(np.clip(np.cos(roll) * np.cos(pitch), -1.0, 1.0)))
     torque = np.array([s.driver_torque for s in states])
 
-    fig = _new_figure((8.0, 8.0))
+    fig = new_figure((8.0, 8.0))
     axes = fig.subplots(3, 1, sharex=True)
     series = ((height, f"compliance centre height [{run.units}]"),
               (tilt, "tilt of the bolt axis [deg]"), (torque, "driver torque [N m]"))
@@ -277,7 +277,7 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
                  f"{run.held_pitch:g}, phase {run.start_phase:g} deg - {outcome}\n"
                  f"F {p['force']:g} N, k {k['roll']:g}/{k['pitch']:g} N m/rad, "
                  f"mu {p['friction']:g}, work {run.work:.4g} mJ", fontsize="medium")
-    return _save(fig, path, _FIGURE_FORMATS[path.suffix.lower()])
+    return save_figure(fig, path, _FIGURE_FORMATS[path.suffix.lower()])
 
 
 # -- commands --------------------------------------------------------------------------------

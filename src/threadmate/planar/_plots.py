@@ -16,13 +16,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib import colormaps
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Wedge
 
 from .._errors import InputError
-from .._io import atomic_path
+from .._figures import new_figure, save_figure
 from ..geometry import BOLT_REGIONS, NUT_REGIONS, nut_body
 from ._analysis import critical_phases, in_phase_window, phase_sweep
 
@@ -59,22 +57,6 @@ def figure_format(path: str | os.PathLike[str]) -> str:
             f"{' or '.join(FIGURE_SUFFIXES)} (got {suffix or 'no suffix'!r})"
         )
     return FIGURE_SUFFIXES[suffix]
-
-
-def _new_figure(size: tuple[float, float]) -> Figure:
-    fig = Figure(figsize=size, layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig
-
-
-def _save(fig: Figure, path: str | os.PathLike[str], fmt: str) -> Path:
-    try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, format=fmt, dpi=150)
-    except OSError as exc:
-        raise InputError(f"cannot write figure {os.fspath(path)!r}: "
-                         f"{exc.strerror or exc}") from None
-    return Path(path)
 
 
 def _spec_name(spec: ThreadSpec) -> str:
@@ -138,7 +120,7 @@ def plot_region_disk(spec: ThreadSpec, path: str | os.PathLike[str], step: float
     if not (math.isfinite(step) and 0.0 < step <= 90.0):
         raise InputError(f"region-disk step must be within (0, 90] degrees, got {step!r}")
     runs = _runs(spec, step)
-    fig = _new_figure((10.0, 7.0))
+    fig = new_figure((10.0, 7.0))
     ax = fig.add_subplot()
     # ring (outer radius, width) per (body, contact): nut outside, bolt inside.
     rings = {("nut", 0): (1.00, 0.15), ("nut", 1): (0.85, 0.15),
@@ -182,7 +164,7 @@ def plot_region_disk(spec: ThreadSpec, path: str | os.PathLike[str], step: float
     fig.suptitle(f"Contact-region combination disk: {_spec_name(spec)}", fontsize=11)
     ax.set_title(f"bolt flush on nut; phase in degrees from +X, counter-clockwise seen from "
                  f"+Z (lengths in {spec.units})", fontsize=8.5)
-    return _save(fig, path, fmt)
+    return save_figure(fig, path, fmt)
 
 
 def plot_pivot_axes(spec: ThreadSpec, path: str | os.PathLike[str],
@@ -211,7 +193,7 @@ def plot_pivot_axes(spec: ThreadSpec, path: str | os.PathLike[str],
     fmt = figure_format(path)
     phases = [float(p) for p in phases]
     states = phase_sweep(spec, phases)
-    fig = _new_figure((8.0, 8.0))
+    fig = new_figure((8.0, 8.0))
     ax = fig.add_subplot()
     theta = np.linspace(0.0, 2.0 * math.pi, 3601)
     r = nut_body(spec).section_radius(theta, 0.0)
@@ -253,5 +235,5 @@ def plot_pivot_axes(spec: ThreadSpec, path: str | os.PathLike[str],
     fig.suptitle(f"Pivot axis vs phase: {_spec_name(spec)}", fontsize=11)
     ax.set_title("bolt flush on nut, frame F; angles from +X counter-clockwise seen from +Z",
                  fontsize=8.5)
-    return _save(fig, path, fmt)
+    return save_figure(fig, path, fmt)
 
