@@ -22,6 +22,7 @@ from .._figures import new_figure, save_figure
 from ..contact import MAX_TILT, Compliance, RestState, SearchResult, search, settle
 from ..geometry import ThreadSpec
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
+from ._library import _progress_bar
 from ._main import cli
 
 __all__ = ["search_command", "settle_command", "plot_search"]
@@ -352,8 +353,10 @@ def search_command(spec_text: str, roll: float, pitch: float, phase: float, forc
     figure = _figure_path(plot)
     spec, compliance = _setup(spec_text, roll, pitch, phase, force, stiffness_text,
                               lateral_stiffness, friction, compliance_z, chord, condition)
-    run = search(spec, roll, pitch, phase, compliance=compliance, turns=turns, step=step,
-                 phase_tolerance=min(PHASE_TOLERANCE, step), chord=chord)
+    with _progress_bar("search (deg)") as callback:
+        run = search(spec, roll, pitch, phase, compliance=compliance, turns=turns, step=step,
+                     phase_tolerance=min(PHASE_TOLERANCE, step), chord=chord,
+                     progress=callback)
     if figure is not None:
         plot_search(spec, run, figure)
     if as_json:

@@ -51,7 +51,8 @@ def _signature(s: MechanicalState, floor: float) -> tuple[str, ...]:
 
 def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: float, *,
            compliance: Compliance | None = None, turns: float = 1.0, step: float = 2.0,
-           phase_tolerance: float = 0.01, chord: float | None = None) -> SearchResult:
+           phase_tolerance: float = 0.01, chord: float | None = None,
+           progress: Callable[[int, int], None] | None = None) -> SearchResult:
     """Simulate the counter-clockwise search from a start (see the module docstring).
 
     The bolt turns the way that unscrews its thread: counter-clockwise (increasing phase)
@@ -73,6 +74,8 @@ def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: flo
         Continuation step (degrees, within (0, 10]).
     phase_tolerance : float
         How closely events are located in phase (degrees, within (0, step]).
+    progress : callable, optional
+        Called as ``progress(done, total)`` with the whole degrees turned and to turn.
 
     Returns
     -------
@@ -140,6 +143,8 @@ def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: flo
     prev = start
     at = 0.0
     while snap is None and at < end - 1e-12:
+        if progress is not None:
+            progress(int(at), int(math.ceil(end)))
         nxt = min(at + step, end)
         cur = settle(nxt, prev)
         if continuous(prev, cur):
@@ -173,6 +178,8 @@ def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: flo
             snap = event
             break
         prev, at = s_hi, hi
+    if progress is not None:
+        progress(int(math.ceil(end)), int(math.ceil(end)))
     return SearchResult(mech.units, float(roll), float(pitch), float(phase),
                         mech.compliance.to_dict(), tuple(states), tuple(events), snap,
                         float(turns), work_f, work_p, mech.engine.queries - q0)
