@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from ..geometry import Pose
-from ._result import Vec
+from ._result import RegionPair, Vec
 
 __all__ = ["LoadedContact", "MechanicalState", "RestState", "SearchEvent", "SearchResult",
            "REST_CLASSES"]
@@ -21,7 +21,7 @@ __all__ = ["LoadedContact", "MechanicalState", "RestState", "SearchEvent", "Sear
 REST_CLASSES = ("stable", "quasi-stable", "unstable", "in-phase")
 
 @dataclass(frozen=True)
-class LoadedContact:
+class LoadedContact(RegionPair):
     """One contact of a mechanical state.
 
     Attributes
@@ -50,17 +50,6 @@ class LoadedContact:
     bolt_feature: str = ""
     nut_feature: str = ""
 
-    @property
-    def regions(self) -> str:
-        """``bolt/nut`` region pair, e.g. ``base/surface``."""
-        return f"{self.bolt_region}/{self.nut_region}"
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain mapping for JSON."""
-        return {"point": list(self.point), "normal": list(self.normal), "force": self.force,
-                "gap": self.gap, "bolt_region": self.bolt_region,
-                "nut_region": self.nut_region, "bolt_feature": self.bolt_feature,
-                "nut_feature": self.nut_feature}
 
 
 @dataclass(frozen=True)

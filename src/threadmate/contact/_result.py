@@ -7,7 +7,7 @@ docs/architecture.md, with the types of :func:`record_schema`; missing values ar
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -34,8 +34,27 @@ def _vec(v: Any) -> Vec:
     return (float(a[0]), float(a[1]), float(a[2]))
 
 
+class RegionPair:
+    """What every contact record shares: its regions and its JSON form (its fields in
+    order, vectors as lists)."""
+
+    bolt_region: str
+    nut_region: str
+
+    @property
+    def regions(self) -> str:
+        """``bolt/nut`` region pair, e.g. ``base/surface``."""
+        return f"{self.bolt_region}/{self.nut_region}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain mapping for JSON."""
+        return {f.name: list(v) if isinstance(v, tuple) else v
+                for f in fields(self)  # type: ignore[arg-type]
+                for v in [getattr(self, f.name)]}
+
+
 @dataclass(frozen=True)
-class Contact:
+class Contact(RegionPair):
     """One distinct contact between the bolt and the nut.
 
     Attributes
@@ -60,22 +79,6 @@ class Contact:
     bolt_feature: str = ""
     nut_feature: str = ""
 
-    @property
-    def regions(self) -> str:
-        """``bolt/nut`` region pair, e.g. ``base/surface``."""
-        return f"{self.bolt_region}/{self.nut_region}"
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain mapping for JSON."""
-        return {
-            "point": list(self.point),
-            "normal": list(self.normal),
-            "pairs": self.pairs,
-            "bolt_region": self.bolt_region,
-            "nut_region": self.nut_region,
-            "bolt_feature": self.bolt_feature,
-            "nut_feature": self.nut_feature,
-        }
 
 
 @dataclass(frozen=True)
