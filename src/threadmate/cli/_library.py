@@ -14,8 +14,11 @@ from typing import Any
 import click
 
 from .._errors import InputError
+from ..contact import ROLES
 from ..library import (
     CLASS_ORDER,
+    METADATA_FILE,
+    MODELS,
     SweepInterrupted,
     info,
     query,
@@ -25,6 +28,7 @@ from ..library import (
 )
 from ._common import SPEC_HELP, emit_json, resolve_spec
 from ._main import cli
+from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_options
 
 __all__ = ["sweep_command", "library_group"]
 
@@ -75,28 +79,104 @@ def _progress_bar(label: str) -> Iterator[Any]:
 
 
 def _counts_line(counts: dict[str, int]) -> str:
-    return ", ".join(f"{c} {counts.get(c, 0)}" for c in CLASS_ORDER if counts.get(c, 0)) \
-        or "none yet"
+    known = [c for c in CLASS_ORDER if counts.get(c, 0)]
+    others = [c for c in counts if c not in CLASS_ORDER and counts[c]]
+    return ", ".join(f"{c} {counts[c]}" for c in known + others) or "none yet"
+
+
+def _roles_line(counts: dict[str, int]) -> str:
+    return ", ".join(f"{r} {counts[r]}" for r in ROLES if counts.get(r, 0)) or "none"
+
+
+#: Largest ``--step`` of the continuation (degrees; the API's limit).
+MAX_STEP = 10.0
+#: The mechanics-only options, with the words that name them in a refusal.
+_MECHANICS_ONLY = (("force", "--force"), ("stiffness_text", "--stiffness"),
+                   ("lateral_stiffness", "--lateral-stiffness"), ("friction", "--friction"),
+                   ("step", "--step"), ("phase_tolerance", "--phase-tolerance"))
+
+
+def _units(model: str, length: str) -> dict[str, str]:
+    """The units of a library's JSON documents."""
+    if model == "mechanics":
+        return {"length": length, "angle": "deg", "force": "N", "torque": "N m",
+                "potential": "mJ", "work": "mJ"}
+    return {"length": length, "angle": "deg"}
+
+
+def _given(ctx: click.Context, name: str) -> bool:
+    """Whether the user gave option ``name`` (not its default)."""
+    source = ctx.get_parameter_source(name)
+    return source is not None and source != click.core.ParameterSource.DEFAULT
+
+
+def _check_sweep_options(ctx: click.Context, model: str, workers: int | None,
+                         chunk_size: int | None, step: float, phase_tolerance: float) -> None:
+    """Refuse bad or misplaced sweep options (one message, before anything is built)."""
+    if workers is not None and workers < 1:
+        raise InputError(f"--workers {workers} must be at least 1")
+    if chunk_size is not None and chunk_size < 1:
+        raise InputError(f"--chunk-size {chunk_size} must be at least 1")
+    if model == "thesis":
+        given = [flag for name, flag in _MECHANICS_ONLY if _given(ctx, name)]
+        if given:
+            raise InputError(f"{given[0]} applies to --model mechanics only (the thesis's "
+                             "model uses the compliance centre, --compliance-z, alone)")
+        return
+    if chunk_size is not None:
+        raise InputError("--chunk-size applies to --model thesis only (a mechanics chunk is "
+                         "one held tilt with all its phases)")
+    if not (math.isfinite(step) and 0 < step <= MAX_STEP):
+        raise InputError(f"--step {step:g} is out of range: give degrees within "
+                         f"(0, {MAX_STEP:g}]")
+    if not (math.isfinite(phase_tolerance) and 0 < phase_tolerance <= step):
+        raise InputError(f"--phase-tolerance {phase_tolerance:g} is out of range: give "
+                         f"degrees within (0, --step {step:g}]")
 
 
 @cli.command("sweep", help=f"""Build the contact-state library of a thread pair over a grid.
 
-Runs the contact stages (see `threadmate contact`) for every roll x pitch x phase of the
-grid (default the thesis's: roll and pitch -4..4 by 1, phase 0..355 by 5; 5,832
-configurations) and writes the rows in chunks to LIBRARY, a Parquet dataset directory
-with its metadata. Running the same command on an interrupted LIBRARY resumes it; a
-LIBRARY of another spec, grid or setting is refused. Progress goes to stderr.
+Every roll x pitch x phase of the grid (default the thesis's: roll and pitch -4..4 by 1,
+phase 0..355 by 5; 5,832 configurations) is a start: the held tilt of the tool and the
+phase at which the bolt is dropped. With --model mechanics (the default; see `threadmate
+settle` and `threadmate search`) the library holds, for each start, the rest state the
+bolt reaches under the axial force and the compliance, the unstable states passed on the
+way, and the counter-clockwise search continued from it grid phase by grid phase, with
+the jumps and the snap located between grid phases; each state with its passive
+transition (settling, turning, jump or snap) and the driver's work along it (mJ). With
+--model thesis it holds the thesis's fixed-pivot stages per configuration (see
+`threadmate contact`), with the thesis's classes. The compliance and continuation
+settings are stored in the library.
+
+Rows are written in chunks to LIBRARY, a Parquet dataset directory with its metadata.
+Running the same command on an interrupted LIBRARY resumes it (saying how many
+configurations were already done); a LIBRARY of another spec, grid, model or setting is
+refused. Progress goes to stderr. Forces in N, stiffness in N m/rad, lateral stiffness in
+N/m, lengths in the spec's units, angles in degrees.
+
+{DEFAULTS_NOTE}
 
 {SPEC_HELP}""")
 @click.argument("spec_text", metavar="DESIGNATION|SPEC")
 @click.option("--roll", "roll", default=None, metavar="RANGE",
-              help=f"Roll values: {_RANGE_HELP} (default -4:4:1).")
+              help=f"Held roll values: {_RANGE_HELP} (default -4:4:1).")
 @click.option("--pitch", "pitch", default=None, metavar="RANGE",
-              help=f"Pitch values: {_RANGE_HELP} (default -4:4:1).")
+              help=f"Held pitch values: {_RANGE_HELP} (default -4:4:1).")
 @click.option("--phase", "phase", default=None, metavar="RANGE",
               help=f"Phase values, modulo 360: {_RANGE_HELP} (default 0:355:5).")
 @click.option("-o", "--out", "out", required=True, type=click.Path(path_type=Path),
               help="Library directory (created, or resumed if it holds this sweep).")
+@click.option("--model", type=click.Choice(list(MODELS)), default="mechanics",
+              show_default=True,
+              help="mechanics: rest states, settling and the simulated search; thesis: the "
+                   "thesis's fixed-pivot stages.")
+@compliance_options
+@click.option("--step", type=float, default=2.0, show_default=True,
+              help=f"Mechanics: continuation step in degrees of phase (> 0, at most "
+                   f"{MAX_STEP:g}).")
+@click.option("--phase-tolerance", type=float, default=0.01, show_default=True,
+              help="Mechanics: how closely jumps and the snap are located in phase "
+                   "(degrees, > 0, at most --step).")
 @click.option("--workers", type=int, default=None,
               help="Worker processes (default: the CPUs available; 1 runs in-process).")
 @click.option("--scheduler", default=None, metavar="ADDRESS|local|pool",
@@ -106,30 +186,42 @@ LIBRARY of another spec, grid or setting is refused. Progress goes to stderr.
 @click.option("--chord", type=float, default=None,
               help="Chord tolerance of the meshes in the spec's units "
                    "(default 5e-6 in, 1.27e-4 mm).")
-@click.option("--compliance-z", type=float, default=0.0, show_default=True,
-              help="Compliance centre on the bolt axis, bolt frame (0: the tip centre).")
 @click.option("--chunk-size", type=int, default=None,
-              help="Configurations per chunk, i.e. per Parquet part (default: automatic).")
+              help="Thesis model: configurations per chunk, i.e. per Parquet part (default: "
+                   "automatic). A mechanics chunk is one held tilt.")
 @click.option("--condition", type=click.Choice(["mean", "max", "min"]), default="mean",
               show_default=True, help="Material condition at which a designation expands.")
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON document on stdout instead of text.")
-def sweep_command(spec_text: str, roll: str | None, pitch: str | None, phase: str | None,
-                  out: Path, workers: int | None, scheduler: str | None, chord: float | None,
-                  compliance_z: float, chunk_size: int | None, condition: str,
-                  as_json: bool) -> None:
+@click.pass_context
+def sweep_command(ctx: click.Context, spec_text: str, roll: str | None, pitch: str | None,
+                  phase: str | None, out: Path, model: str, force: float,
+                  stiffness_text: str, lateral_stiffness: float | None, friction: float,
+                  compliance_z: float, step: float, phase_tolerance: float,
+                  workers: int | None, scheduler: str | None, chord: float | None,
+                  chunk_size: int | None, condition: str, as_json: bool) -> None:
     """Sweep the grid into a library."""
-    if workers is not None and workers < 1:
-        raise InputError(f"--workers {workers} must be at least 1")
-    if chunk_size is not None and chunk_size < 1:
-        raise InputError(f"--chunk-size {chunk_size} must be at least 1")
+    _check_sweep_options(ctx, model, workers, chunk_size, step, phase_tolerance)
+    compliance = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
+                                         compliance_z)
     spec = resolve_spec(spec_text, condition)
+    existed = (out / METADATA_FILE).is_file()
+    resumed: dict[str, int] = {}
     start = time.perf_counter()
     try:
-        with _progress_bar("sweep") as callback:
+        with _progress_bar("sweep") as bar:
+            def callback(done: int, total: int) -> None:
+                if not resumed:
+                    # The first report comes once the library is opened and checked.
+                    resumed.update(done=done, total=total)
+                    if existed or done:
+                        click.echo(f"threadmate: resuming {out}: {done} of {total} "
+                                   "configurations were already done", err=True)
+                bar(done, total)
+
             sweep(spec, roll, pitch, phase, out=out, workers=workers, scheduler=scheduler,
-                  chunk_size=chunk_size, chord=chord, compliance_z=compliance_z,
-                  progress=callback)
+                  chunk_size=chunk_size, chord=chord, model=model, compliance=compliance,
+                  step=step, phase_tolerance=phase_tolerance, progress=callback)
     except SweepInterrupted as exc:
         raise click.ClickException(str(exc)) from None
     except KeyboardInterrupt:
@@ -142,23 +234,35 @@ def sweep_command(spec_text: str, roll: str | None, pitch: str | None, phase: st
         raise
     wall = time.perf_counter() - start
     doc = info(out)
+    meta = doc["metadata"]
     report = {
         "library": str(out),
-        "units": doc["units"],
+        "model": doc["model"],
+        "units": _units(doc["model"], doc["units"]),
         "grid": doc["grid"],
         "configurations": doc["configurations"],
+        "resumed": existed or bool(resumed.get("done")),
+        "done_before": int(resumed.get("done", 0)),
         "done": doc["done"],
         "complete": doc["complete"],
         "parts": doc["parts"],
         "wall_s": wall,
         "classifications": doc["classifications"],
     }
+    if doc["model"] == "mechanics":
+        report["compliance"] = meta["compliance"]
+        report["continuation"] = meta["continuation"]
+        report["states"] = doc["states"]
     if as_json:
         emit_json(report)
         return
-    click.echo(f"Library {out}: {doc['grid']}")
+    click.echo(f"Library {out} ({doc['model']} model): {doc['grid']}")
+    what = "rest states reached" if doc["model"] == "mechanics" else "states"
     click.echo(f"  {doc['done']} of {doc['configurations']} done in {wall:.1f} s; "
-               f"{_counts_line(doc['classifications'])}")
+               f"{what}: {_counts_line(doc['classifications'])}")
+    if doc["states"]:
+        click.echo(f"  {doc['states']['total']} contact states: "
+                   f"{_roles_line(doc['states']['by_role'])}")
 
 
 @cli.group("library")
@@ -170,34 +274,63 @@ def _library_arg() -> Any:
     return click.argument("library", metavar="LIBRARY", type=click.Path(path_type=Path))
 
 
+def _with_units(doc: dict[str, Any]) -> dict[str, Any]:
+    """A reader's document with ``units`` as a mapping of quantity to unit."""
+    return {**doc, "units": _units(doc["model"], doc["units"])}
+
+
+def _compliance_line(c: dict[str, Any], units: str) -> str:
+    k = c["stiffness"]
+    stiff = (f"{k['roll']:g} N m/rad" if k["roll"] == k["pitch"]
+             else f"{k['roll']:g} (roll), {k['pitch']:g} (pitch) N m/rad")
+    lateral = ("held at x = y = 0" if c.get("lateral_stiffness") is None
+               else f"{c['lateral_stiffness']:g} N/m")
+    return (f"force {c['force']:g} N, stiffness {stiff}, lateral {lateral}, centre z "
+            f"{c['compliance_z']:g} {units}, friction {c['friction']:g}")
+
+
 @library_group.command("info")
 @_library_arg()
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON document on stdout instead of text.")
 def info_command(library: Path, as_json: bool) -> None:
-    """What a library holds: spec, grid, settings, progress and counts."""
+    """What a library holds: spec, grid, model, settings, progress and counts."""
     doc = info(library)
     if as_json:
-        emit_json(doc)
+        emit_json(_with_units(doc))
         return
     meta = doc["metadata"]
     spec = meta["spec"]
     mesh, contact = meta["mesh"], meta["contact"]
     name = spec.get("designation") or "custom spec"
-    click.echo(f"Library {doc['path']} (threadmate {meta['threadmate_version']})")
-    click.echo(f"  spec: {name}, pitch {spec['pitch']:g} {doc['units']}, "
+    u = doc["units"]
+    click.echo(f"Library {doc['path']} ({doc['model']} model; threadmate "
+               f"{meta['threadmate_version']})")
+    click.echo(f"  spec: {name}, pitch {spec['pitch']:g} {u}, "
                f"{spec.get('hand', 'right')} hand, bolt PD {spec['bolt']['pitch_diameter']:g},"
                f" nut PD {spec['nut']['pitch_diameter']:g}")
     click.echo(f"  grid: {doc['grid']}")
     dev = mesh.get("max_deviation")
-    click.echo(f"  mesh: chord {mesh['chord']:g} {doc['units']}"
-               + (f", max deviation {dev:.3g} {doc['units']}" if dev is not None else ""))
-    click.echo(f"  contact: compliance_z {contact['compliance_z']:g} {doc['units']}, "
-               f"analyser {contact.get('analyzer', '?')}")
+    click.echo(f"  mesh: chord {mesh['chord']:g} {u}"
+               + (f", max deviation {dev:.3g} {u}" if dev is not None else ""))
+    if doc["model"] == "mechanics":
+        click.echo(f"  compliance: {_compliance_line(meta['compliance'], u)}")
+        cont = meta.get("continuation", {})
+        click.echo(f"  continuation: step {cont.get('step', float('nan')):g} deg, events "
+                   f"located to {cont.get('phase_tolerance', float('nan')):g} deg")
+    else:
+        click.echo(f"  contact: compliance_z {contact['compliance_z']:g} {u}, "
+                   f"analyser {contact.get('analyzer', '?')}")
     state = "complete" if doc["complete"] else "incomplete: run the same sweep to resume"
     click.echo(f"  done: {doc['done']} of {doc['configurations']} in {doc['parts']} parts "
                f"({state})")
-    click.echo(f"  states: {_counts_line(doc['classifications'])}")
+    what = "rest states reached" if doc["model"] == "mechanics" else "states"
+    click.echo(f"  {what}: {_counts_line(doc['classifications'])}")
+    if doc["states"]:
+        st = doc["states"]
+        click.echo(f"  all {st['total']} contact states by role: "
+                   f"{_roles_line(st['by_role'])}")
+        click.echo(f"  by class: {_counts_line(st['by_class'])}")
 
 
 def _fmt(v: Any) -> str:
@@ -206,32 +339,70 @@ def _fmt(v: Any) -> str:
 
 @library_group.command("query")
 @_library_arg()
-@click.option("--roll", type=float, required=True, help="Roll in degrees.")
-@click.option("--pitch", type=float, required=True, help="Pitch in degrees.")
+@click.option("--roll", type=float, required=True, help="(Held) roll in degrees.")
+@click.option("--pitch", type=float, required=True, help="(Held) pitch in degrees.")
 @click.option("--phase", type=float, required=True, help="Phase in degrees (modulo 360).")
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON document on stdout instead of text.")
 def query_command(library: Path, roll: float, pitch: float, phase: float,
                   as_json: bool) -> None:
-    """The stored contact state nearest a configuration (snapped to the grid)."""
+    """The stored contact state nearest a configuration (snapped to the grid): the
+    thesis's stages, or the rest state the mechanics' drop reaches."""
+    for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
+        if not math.isfinite(value):
+            raise InputError(f"--{name} {value:g} is not a finite angle")
     doc = query(library, roll, pitch, phase)
     if as_json:
-        emit_json(doc)
+        emit_json(_with_units(doc))
         return
     g = doc["grid"]
     snap = " (snapped to the nearest grid state)" if doc["snapped"] else ""
-    click.echo(f"ROLL = {g['roll']:g}   PITCH = {g['pitch']:g}   PHASE = {g['phase']:g}"
-               f"   config_id {doc['config_id']}{snap}")
+    held = "HELD " if doc["model"] == "mechanics" else ""
+    click.echo(f"{held}ROLL = {g['roll']:g}   {held}PITCH = {g['pitch']:g}   PHASE = "
+               f"{g['phase']:g}   config_id {doc['config_id']}{snap}")
     rec = doc["record"]
     if rec is None:
         click.echo("Not computed yet: the library's sweep is unfinished (run it again to "
                    "resume).")
         return
+    if doc["model"] == "mechanics":
+        _echo_state(rec, doc["units"])
+    else:
+        _echo_thesis(rec, doc["units"])
+
+
+def _echo_state(rec: dict[str, Any], u: str) -> None:
+    """The rest state a mechanics drop reaches, its contacts and its passive transition."""
+    click.echo(f"Rest state: {rec['classification']}   ({rec['n_contacts']} contact(s); "
+               f"regions {rec['region_combination'] or '-'})   state {rec['state_id']}")
+    if rec["error"]:
+        click.echo(f"Error: {rec['error']}")
+        return
+    click.echo(f"Bolt tilt: roll {rec['roll']:.4f}  pitch {rec['pitch']:.4f} deg;  "
+               f"compliance centre height {_fmt(rec['centre_z'])} {u}")
+    points, normals = rec["contact_points"] or [], rec["contact_normals"] or []
+    for i, (regions, force) in enumerate(zip(rec["contact_regions"] or [],
+                                             rec["contact_forces"] or [], strict=False)):
+        p = " ".join(_fmt(v) for v in points[3 * i:3 * i + 3])
+        n = " ".join(f"{v:8.5f}" for v in normals[3 * i:3 * i + 3])
+        click.echo(f"  contact {i + 1}: {p}  normal {n}  force {force:.4f} N  {regions}")
+    click.echo(f"Potential {rec['potential']:.6g} mJ;  driver torque "
+               f"{rec['driver_torque']:.6g} N m (friction {rec['friction_torque']:.6g} N m)")
+    if rec["next_id"]:
+        work = rec["work_friction"] + rec["work_potential"]
+        click.echo(f"Next: {rec['transition']} ({rec['transition_label']}) to "
+                   f"{rec['next_id']} after {rec['transition_turn']:.4f} deg, work "
+                   f"{work:.6g} mJ, drop {_fmt(rec['drop'])} {u}")
+    else:
+        click.echo("Next: none (the search ends here)")
+
+
+def _echo_thesis(rec: dict[str, Any], u: str) -> None:
+    """The thesis's stages of one configuration."""
     click.echo(f"Classification: {rec['classification']}   ({rec['n_contacts']} contact(s); "
                f"regions {rec['region_combination'] or '-'})")
     if rec["error"]:
         click.echo(f"Error: {rec['error']}")
-    u = doc["units"]
     for s in ("first", "second", "third"):
         if not rec[f"{s}_found"]:
             click.echo(f"{s}: none found")
@@ -259,30 +430,41 @@ def query_command(library: Path, roll: float, pitch: float, phase: float,
               help="Print one JSON document on stdout instead of text.")
 def summary_command(library: Path, phase: float | None, figdir: Path | None,
                     as_json: bool) -> None:
-    """Counts of unstable, quasi-stable and stable states, region combinations, figures."""
+    """Counts of the classes over the configurations (the mechanics: of the rest state
+    each drop reaches, and of all states by role), region combinations, figures."""
     if phase is not None and not math.isfinite(phase):
         raise InputError(f"--phase {phase:g} is not a finite angle")
-    from ..library import load
-
-    rows = load(library, columns=["roll", "pitch", "phase", "classification", "n_contacts",
-                                  "region_combination"])
-    doc = summary(rows, phase=phase if phase is not None else rows.attrs["threadmate"]
-                  ["grid"]["phase"][0])
+    doc = summary(library, phase=phase)
     if figdir is not None:
-        doc["figures"] = {k: str(v) for k, v in write_figures(rows, figdir, phase).items()}
+        doc["figures"] = {k: str(v) for k, v in write_figures(library, figdir, phase).items()}
+    doc["units"] = _units(doc["model"], doc["units"])
     if as_json:
         emit_json(doc)
         return
     done = doc["done"]
-    click.echo(f"{doc['library']}: {doc['grid']}; {done} done")
-    for c in CLASS_ORDER:
-        n = doc["counts"][c]
+    mech = doc["model"] == "mechanics"
+    click.echo(f"{doc['library']} ({doc['model']} model): {doc['grid']}; {done} done")
+    if mech:
+        click.echo("Rest state reached by the drop at each start:")
+    for c, n in doc["counts"].items():
         click.echo(f"  {c:<13}{n:>8}  {100 * doc['fractions'][c]:5.1f} %")
     if done:
-        click.echo(f"  most common of the three states: {doc['most_common']}; least common: "
+        among = "the rest classes" if mech else "the three states"
+        click.echo(f"  most common of {among}: {doc['most_common']}; least common: "
                    f"{doc['least_common']}")
     at = doc["at_phase"]
     click.echo(f"At phase {at['phase']:g} deg: {_counts_line(at['counts'])}")
+    if mech and doc.get("states"):
+        st = doc["states"]
+        click.echo(f"All {st['total']} contact states (role: classes):")
+        for role in [r for r in ROLES if r in st["by_role_and_class"]]:
+            click.echo(f"  {role:<14}{st['by_role'][role]:>8}  "
+                       f"{_counts_line(st['by_role_and_class'][role])}")
+        moves = st.get("transitions", {})
+        if moves:
+            click.echo("Passive transitions (kind: labels): " + "; ".join(
+                f"{k} {', '.join(f'{lab} {n}' for lab, n in v.items())}"
+                for k, v in moves.items()))
     click.echo("Contact-region combinations (bolt/nut per contact):")
     for combo, n in list(doc["region_combinations"].items())[:15]:
         click.echo(f"  {n:>8}  {combo}")

@@ -24,11 +24,10 @@ from ..geometry import ThreadSpec
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._library import _progress_bar
 from ._main import cli
+from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_option_list
 
 __all__ = ["search_command", "settle_command", "plot_search"]
 
-#: The defaults of the options are those of :class:`Compliance`.
-_D = Compliance()
 #: File suffixes ``--plot`` writes, and their matplotlib formats.
 _FIGURE_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 #: Largest ``--turns`` (the API's limit).
@@ -37,14 +36,6 @@ MAX_TURNS = 10.0
 MAX_STEP = 10.0
 #: How closely the search locates its events in phase (degrees; the API's default).
 PHASE_TOLERANCE = 0.01
-
-_DEFAULTS_NOTE = (
-    "Defaults (threadmate.contact.Compliance): 10 N is a light hand or float-spring push "
-    "on a small screw; 1 N m/rad is the soft end of remote-centre compliances for small "
-    "parts (Whitney's k_r = k_t l^2 with about 1.6 N/mm projected 25 mm); the centre is "
-    "held laterally at x = y = 0 and sits at the bolt's tip; friction 0.15 is steel on "
-    "steel in a thread (VDI 2230's 0.08 to 0.20)."
-)
 
 
 # -- options ---------------------------------------------------------------------------------
@@ -59,24 +50,7 @@ def _mechanics_options(func: Callable[..., Any]) -> Callable[..., Any]:
         click.option("--phase", type=float, required=True,
                      help="Spin of the bolt about its axis in degrees (counter-clockwise "
                           "seen from above)."),
-        click.option("--force", type=float, default=_D.force, show_default=True,
-                     help="Axial force pressing the bolt down through the compliance "
-                          "centre, in N (1 lbf = 4.448 N)."),
-        click.option("--stiffness", "stiffness_text", default=f"{_D.roll_stiffness:g}",
-                     show_default=True, metavar="K|ROLL,PITCH",
-                     help="Rotational stiffness of the compliance about X and Y through "
-                          "its centre, in N m/rad: one number, or two as ROLL,PITCH for an "
-                          "anisotropic compliance (0 is a free tilt)."),
-        click.option("--lateral-stiffness", type=float, default=None,
-                     help="Lateral stiffness of the compliance centre in N/m (default: the "
-                          "centre is held at x = y = 0)."),
-        click.option("--friction", type=float, default=_D.friction, show_default=True,
-                     help="Coulomb friction coefficient of the thread contacts (enters the "
-                          "driver's torque and work, not the rest pose)."),
-        click.option("--compliance-z", type=float, default=_D.compliance_z,
-                     show_default=True,
-                     help="Compliance centre on the bolt axis, bolt frame, in the spec's "
-                          "length units (0: the tip centre)."),
+        *compliance_option_list(),
         click.option("--chord", type=float, default=None,
                      help="Chord tolerance of the meshes in the spec's length units "
                           "(default 5e-6 in, 1.27e-4 mm)."),
@@ -91,19 +65,6 @@ def _mechanics_options(func: Callable[..., Any]) -> Callable[..., Any]:
     return func
 
 
-def _stiffness(text: str) -> float | tuple[float, float]:
-    """``K`` or ``ROLL,PITCH`` as numbers (their range is the Compliance's to check)."""
-    parts = [p.strip() for p in text.split(",")]
-    try:
-        values = [float(p) for p in parts]
-    except ValueError:
-        values = []
-    if len(values) not in (1, 2):
-        raise InputError(f"--stiffness {text!r}: give one number or two as ROLL,PITCH "
-                         "(N m/rad), e.g. 1 or 0.5,2")
-    return values[0] if len(values) == 1 else (values[0], values[1])
-
-
 def _setup(spec_text: str, roll: float, pitch: float, phase: float, force: float,
            stiffness_text: str, lateral_stiffness: float | None, friction: float,
            compliance_z: float, chord: float | None, condition: str
@@ -114,9 +75,8 @@ def _setup(spec_text: str, roll: float, pitch: float, phase: float, force: float
     """
     check_configuration_options(roll, pitch, phase, chord)
     # The Compliance refuses non-finite or out-of-range values with a message naming them.
-    compliance = Compliance(force=force, stiffness=_stiffness(stiffness_text),
-                            lateral_stiffness=lateral_stiffness, compliance_z=compliance_z,
-                            friction=friction)
+    compliance = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
+                                         compliance_z)
     spec = resolve_spec(spec_text, condition)
     if chord is not None and chord > spec.pitch / 10:
         raise InputError(f"--chord {chord:g} is too coarse for pitch {spec.pitch:g} "
@@ -296,7 +256,7 @@ on the way. Forces in N, stiffness in N m/rad, lateral stiffness in N/m, lengths
 spec's units, angles in degrees. For the thesis's fixed-pivot procedure see threadmate
 contact.
 
-{_DEFAULTS_NOTE}
+{DEFAULTS_NOTE}
 
 {SPEC_HELP}""")
 @_mechanics_options
@@ -327,7 +287,7 @@ friction, against the potential) and the events. Exits 3 (after printing the res
 no snap comes within --turns. Forces in N, stiffness in N m/rad, lateral stiffness in
 N/m, lengths in the spec's units, angles in degrees, work in mJ.
 
-{_DEFAULTS_NOTE}
+{DEFAULTS_NOTE}
 
 {SPEC_HELP}""")
 @_mechanics_options

@@ -1,11 +1,9 @@
 """``threadmate network``, ``threadmate path`` and ``threadmate recommend``: the graph stage
-over a contact-state library."""
+over a mechanics library."""
 
 from __future__ import annotations
 
-import math
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -13,15 +11,14 @@ import click
 
 from .._errors import InputError
 from ..network import (
-    ResistanceParams,
+    MAX_K,
+    WEIGHT_FORMULA,
     format_recommendation,
     from_library,
     k_best_paths,
-    least_resistance_path,
     plot_recommendation,
-    recommend_pitch,
-    snap_targets,
-    unsafe_starts,
+    recommend,
+    start_outcomes,
     write_graphml,
     write_node_link,
     write_recommendation,
@@ -34,33 +31,6 @@ __all__ = ["network_command", "path_command", "recommend_command"]
 _FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 
 
-def _cost_options(func: Callable[..., Any]) -> Callable[..., Any]:
-    """The resistance parameters as options (defaults those of ResistanceParams)."""
-    d = ResistanceParams()
-    options = [
-        click.option("--force", type=float, default=d.axial_force, show_default=True,
-                     help="Axial load on the bolt through the compliance centre [N] "
-                          "(1 lbf = 4.448 N)."),
-        click.option("--stiffness", type=float, default=d.rotational_stiffness,
-                     show_default=True,
-                     help="Rotational stiffness of the compliance [N m/rad]."),
-        click.option("--friction", type=float, default=d.friction, show_default=True,
-                     help="Friction coefficient between the threads."),
-        click.option("--penalty", type=float, default=None,
-                     help="Penalty for entering an unstable state [mJ] (default: force x "
-                          "thread pitch)."),
-    ]
-    for option in reversed(options):
-        func = option(func)
-    return func
-
-
-def _params(force: float, stiffness: float, friction: float, penalty: float | None
-            ) -> ResistanceParams:
-    return ResistanceParams(axial_force=force, rotational_stiffness=stiffness,
-                            friction=friction, unstable_penalty=penalty)
-
-
 def _out_file(path: str, option: str, suffixes: tuple[str, ...] | None = None) -> Path:
     """Refuse an output path that is a folder or has a wrong suffix, before any work."""
     out = Path(path)
@@ -71,146 +41,187 @@ def _out_file(path: str, option: str, suffixes: tuple[str, ...] | None = None) -
     return out
 
 
+def _graph_options(func: Any) -> Any:
+    for option in reversed([
+        click.option("--active", is_flag=True,
+                     help="Add active moves: change the held tilt by one grid step (lift "
+                          "and re-drop), each at its stated cost."),
+        click.option("--jump-penalty", type=float, default=0.0, show_default=True,
+                     help="Weight of a jump [mJ] (a jump releases energy; 0 by default)."),
+        click.option("--move-penalty", type=float, default=None,
+                     help="Price of one active move [mJ] (default: force x thread pitch)."),
+    ]):
+        func = option(func)
+    return func
+
+
+def _summary(graph: Any) -> dict[str, Any]:
+    """Counts and the outcome of every start."""
+    kinds: dict[str, int] = {}
+    labels: dict[str, int] = {}
+    for _, _, d in graph.edges(data=True):
+        kinds[d["kind"]] = kinds.get(d["kind"], 0) + 1
+        labels[d["label"]] = labels.get(d["label"], 0) + 1
+    classes: dict[str, int] = {}
+    for _, d in graph.nodes(data=True):
+        classes[d["classification"]] = classes.get(d["classification"], 0) + 1
+    out = start_outcomes(graph)
+    ok = out[~out["failed"]]
+    snapped = ok[ok["snapped"]]
+    return {
+        "nodes": graph.number_of_nodes(), "edges": graph.number_of_edges(),
+        "node_classes": classes, "edge_kinds": kinds, "edge_labels": labels,
+        "starts": len(out), "failed_starts": out.loc[out["failed"], "node"].tolist(),
+        "snap_within_one_turn": len(snapped),
+        "never_snap": ok.loc[~ok["snapped"], "node"].tolist(),
+        "passes_unstable": ok.loc[ok["passes_unstable"], "node"].tolist(),
+        "cost_to_snap": {n: float(w) for n, w in zip(snapped["node"], snapped["work"],
+                                                     strict=True)},
+    }, out
+
+
 @cli.command("network")
 @click.argument("library", type=click.Path())
 @click.option("-o", "--output", required=True, type=click.Path(),
               help="GraphML file to write (.graphml).")
 @click.option("--json-graph", type=click.Path(), default=None,
               help="Also write the network as node-link JSON to this file.")
-@_cost_options
+@click.option("--starts-csv", type=click.Path(), default=None,
+              help="Also write every start's outcome (snaps within a turn, turn, work, "
+                   "click, peak torque, unstable passage) to this CSV file.")
+@_graph_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def network_command(library: str, output: str, json_graph: str | None, force: float,
-                    stiffness: float, friction: float, penalty: float | None,
-                    as_json: bool) -> None:
-    """Build the contact-state network of LIBRARY and write it as GraphML.
+def network_command(library: str, output: str, json_graph: str | None,
+                    starts_csv: str | None, active: bool, jump_penalty: float,
+                    move_penalty: float | None, as_json: bool) -> None:
+    """Build the contact-state network of LIBRARY (a mechanics library) and write it as
+    GraphML.
 
-    Nodes are the library's states (ids such as r+1.0_p-2.0_ph135.0); edges turn one
-    phase step counter-clockwise or settle one roll/pitch step toward the bolt's resting
-    orientation, labelled by the destination's stability and weighted by the resistance
-    (mJ): work against the axial load, elastic energy in the compliance, friction of
-    turning, penalty for entering an unstable state.
+    Nodes are the library's contact states; edges are the passive transitions (settling,
+    turning, jump, snap; labelled stable, quasi-stable or unstable; weighted by the
+    driver's work in mJ) and, with --active, the active tilt steps. Reports the cost to
+    the snap of every start, the starts that never snap within one turn and those whose
+    path passes an unstable transition.
     """
     out = _out_file(output, "-o", (".graphml", ".xml"))
     link = _out_file(json_graph, "--json-graph", (".json",)) if json_graph else None
-    params = _params(force, stiffness, friction, penalty)
+    csv = _out_file(starts_csv, "--starts-csv", (".csv",)) if starts_csv else None
     t0 = time.perf_counter()
-    graph = from_library(library, params)
+    graph = from_library(library, active=active, jump_penalty=jump_penalty,
+                         move_penalty=move_penalty)
+    doc, outcomes = _summary(graph)
     written = [write_graphml(graph, out)]
     if link is not None:
         written.append(write_node_link(graph, link))
-    kinds: dict[str, int] = {}
-    labels: dict[str, int] = {}
-    for _, _, d in graph.edges(data=True):
-        kinds[d["kind"]] = kinds.get(d["kind"], 0) + 1
-        labels[d["label"]] = labels.get(d["label"], 0) + 1
-    doc = {"library": library, "graphml": str(out),
-           "node_link": str(link) if link is not None else None,
-           "nodes": graph.number_of_nodes(), "edges": graph.number_of_edges(),
-           "edge_kinds": kinds, "edge_labels": labels,
-           "snap_targets": len(snap_targets(graph)),
-           "unsafe_starts": len(unsafe_starts(graph)),
-           "units": graph.graph["units"], "cost_units": graph.graph["cost_units"],
-           "parameters": params.to_dict(), "seconds": round(time.perf_counter() - t0, 3)}
+    if csv is not None:
+        from .._io import atomic_write_text
+
+        written.append(atomic_write_text(csv, outcomes.to_csv(index=False)))
+    doc.update(library=library, graphml=str(out),
+               node_link=str(link) if link is not None else None,
+               starts_csv=str(csv) if csv is not None else None,
+               units={"length": graph.graph["units"], "angle": "deg", "cost": "mJ"},
+               weight_formula=WEIGHT_FORMULA, active=active,
+               seconds=round(time.perf_counter() - t0, 3))
     if as_json:
         emit_json(doc)
         return
     click.echo(f"network of {library}: {doc['nodes']} states, {doc['edges']} edges "
-               f"({', '.join(f'{v} {k}' for k, v in sorted(kinds.items()))})")
-    click.echo(f"snap targets (in-phase states): {doc['snap_targets']}; states with no safe "
-               f"path to the snap: {doc['unsafe_starts']}")
+               f"({', '.join(f'{v} {k}' for k, v in sorted(doc['edge_kinds'].items()))})")
+    click.echo(f"starts: {doc['starts']}; snap within one turn: "
+               f"{doc['snap_within_one_turn']}; never within one turn: "
+               f"{len(doc['never_snap'])}; path passes an unstable transition: "
+               f"{len(doc['passes_unstable'])}; failed: {len(doc['failed_starts'])}")
     for path in written:
         click.echo(f"wrote {path}")
 
 
 @cli.command("path")
 @click.argument("library", type=click.Path())
-@click.option("--roll", type=float, required=True, help="Start roll [deg].")
-@click.option("--pitch", type=float, required=True, help="Start pitch [deg].")
+@click.option("--roll", type=float, required=True, help="Held roll of the start [deg].")
+@click.option("--pitch", type=float, required=True, help="Held pitch of the start [deg].")
 @click.option("--phase", type=float, required=True, help="Start phase [deg] (modulo 360).")
 @click.option("--k", "k", type=int, default=1, show_default=True,
-              help="Number of best paths to report (the least-resistance one first).")
-@_cost_options
+              help=f"Paths to report, the least-resistance one first (at most {MAX_K}; "
+                   "passively there is only one).")
+@click.option("--nearest", is_flag=True,
+              help="Take the nearest start of the grid when the one asked for is not on it.")
+@_graph_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def path_command(library: str, roll: float, pitch: float, phase: float, k: int, force: float,
-                 stiffness: float, friction: float, penalty: float | None,
-                 as_json: bool) -> None:
-    """The least-resistance path from a start state of LIBRARY to the in-phase snap.
+def path_command(library: str, roll: float, pitch: float, phase: float, k: int,
+                 nearest: bool, active: bool, jump_penalty: float,
+                 move_penalty: float | None, as_json: bool) -> None:
+    """The least-resistance path from a start of LIBRARY to the snap.
 
-    A start off the grid is moved to the nearest state (the output says so). Exit status
-    3 when no path reaches the snap.
+    Without --active it is the passive search from that start (as `threadmate search`
+    computes it). Exit status 3 when no path reaches the snap.
     """
     check_angle("roll", roll, 45.0)
     check_angle("pitch", pitch, 45.0)
-    if not math.isfinite(phase):
-        raise InputError(f"--phase {phase:g} is not a finite angle")
-    if k < 1:
-        raise InputError(f"--k {k}: give at least 1 path")
-    graph = from_library(library, _params(force, stiffness, friction, penalty))
-    if k == 1:
-        results = [least_resistance_path(graph, roll=roll, pitch=pitch, phase=phase)]
-    else:
-        results = k_best_paths(graph, k, roll=roll, pitch=pitch, phase=phase)
-    best = results[0]
+    check_angle("phase", phase, 1e6)
+    if isinstance(k, bool) or not 1 <= k <= MAX_K:
+        raise InputError(f"--k {k}: give a whole number from 1 to {MAX_K} (the cost of "
+                         "finding alternatives grows with k)")
+    graph = from_library(library, active=active, jump_penalty=jump_penalty,
+                         move_penalty=move_penalty)
+    best = k_best_paths(graph, k, roll, pitch, phase, active=active, nearest=nearest)
     if as_json:
-        doc = best.to_dict()
-        doc["cost_units"] = graph.graph["cost_units"]
-        doc["alternatives"] = [r.to_dict() for r in results[1:]]
-        emit_json(doc)
+        emit_json(best.to_dict())
         return
-    if best.snapped:
-        echo_err(f"threadmate: note: {best.message}")
-    units = graph.graph["cost_units"]
-    for rank, result in enumerate(results, 1):
+    if best.moved:
+        echo_err(f"threadmate: note: roll {roll:g}, pitch {pitch:g}, phase {phase:g} is off "
+                 f"the grid; starting from the nearest start, {best.start}")
+    for rank, result in enumerate([best, *best.alternatives], 1):
         title = "least-resistance path" if rank == 1 else f"alternative {rank}"
-        click.echo(f"{title}: {len(result.path) - 1} steps, cost {result.cost:.4g} {units}, "
-                   f"{'safe' if result.safe else 'passes an unstable state'}")
+        click.echo(f"{title}: {len(result.path) - 1} transitions, cost {result.cost:.4g} mJ, "
+                   f"turn {result.turn:.2f} deg, snap at phase {result.snap['phase']:.2f} "
+                   f"deg, click {result.snap['drop']:.4g} {graph.graph['units']}"
+                   + ("; passes an unstable transition" if result.passes_unstable else ""))
         click.echo(f"  {result.path[0]}  ({graph.nodes[result.path[0]]['classification']})")
         for node, kind, label, w in zip(result.path[1:], result.kinds, result.labels,
                                         result.weights, strict=True):
-            click.echo(f"  -> {node}  {kind:<8} {label:<12} {w:10.4g} {units}")
-    if len(results) < k:
-        click.echo(f"only {len(results)} distinct paths exist")
+            click.echo(f"  -> {node}  {kind:<9} {label:<12} {w:10.4g} mJ")
+    if len(best.alternatives) < k - 1:
+        click.echo(f"only {len(best.alternatives) + 1} distinct path(s) exist")
 
 
 @cli.command("recommend")
-@click.argument("library", type=click.Path())
+@click.argument("libraries", nargs=-1, required=True, type=click.Path())
 @click.option("--roll-spread", type=float, default=None,
-              help="Largest roll error expected [deg]: starts have |roll| <= spread "
+              help="Largest roll error expected [deg]: starts have |held roll| <= spread "
                    "(default: every roll of the grid).")
 @click.option("--plot", "plot", type=click.Path(), default=None,
-              help="Write the figure (cost and safe share vs pitch) to this .png/.pdf/.svg.")
+              help="Write the figure (snap share and mean turn vs held pitch) to this "
+                   ".png/.pdf/.svg.")
 @click.option("--output", "-o", "output", type=click.Path(), default=None,
               help="Also write the recommendation's JSON document to this file.")
-@_cost_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def recommend_command(library: str, roll_spread: float | None, plot: str | None,
-                      output: str | None, force: float, stiffness: float, friction: float,
-                      penalty: float | None, as_json: bool) -> None:
-    """Recommend the SRCC pitch setting for LIBRARY.
+def recommend_command(libraries: tuple[str, ...], roll_spread: float | None,
+                      plot: str | None, output: str | None, as_json: bool) -> None:
+    """Recommend the SRCC setting from one or more LIBRARIES (same thread and grid; give
+    several to compare compliances).
 
-    For each pitch of the grid, over rolls within the spread and every starting phase:
-    expected and worst least-resistance cost to the snap and the share of starts that
-    reach it without an unstable transition; the pick, its margin, and whether it changes
-    with friction, penalty or stiffness halved or doubled.
+    For each held pitch (the pre-tilt) and compliance, over the starts within the roll
+    spread at every start phase: the share that snap within one turn, the turn and work to
+    the snap, the click, the peak torque; ranked by snap share, then turn, then work; and
+    the pick that holds whatever the nut's thread-start azimuth.
     """
-    if roll_spread is not None and (not math.isfinite(roll_spread) or roll_spread < 0):
-        raise InputError(f"--roll-spread {roll_spread:g}: give a non-negative number of "
-                         "degrees")
     fig = _out_file(plot, "--plot", _FIGURE_SUFFIXES) if plot else None
     out = _out_file(output, "-o", (".json",)) if output else None
-    graph = from_library(library, _params(force, stiffness, friction, penalty))
-    rec = recommend_pitch(graph, roll_spread)
+    rec = recommend([from_library(lib) for lib in libraries], roll_spread)
     if out is not None:
         write_recommendation(rec, out)
     if fig is not None:
         plot_recommendation(rec, fig)
     if as_json:
         doc = rec.to_dict()
-        doc["library"] = library
+        doc["libraries"] = list(libraries)
         doc["figure"] = str(fig) if fig is not None else None
         emit_json(doc)
         return
     click.echo(format_recommendation(rec))
+    for note in rec.notes:
+        click.echo(f"note: {note}")
     for path in (out, fig):
         if path is not None:
             click.echo(f"wrote {path}")

@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 import click
 
-from .._errors import InputError
 from ..geometry import MATERIAL_CONDITIONS, ThreadSpec, load_spec, spec_from_designation
 from ..geometry import thread_limits as _thread_limits
-from ._common import SPEC_HELP, emit_json
+from ._common import SPEC_HELP, emit_json, is_spec_path
 from ._main import cli
 
 __all__ = ["thread", "thread_document"]
@@ -18,21 +16,13 @@ __all__ = ["thread", "thread_document"]
 _DIAMETERS = ("major", "pitch_diameter", "minor")
 
 
-def _is_spec_file(text: str) -> bool:
-    path = Path(text)
-    return path.suffix.lower() in (".json", ".toml") or path.exists()
-
-
 def thread_document(text: str, condition: str = "mean") -> dict[str, Any]:
     """The ``--json`` document of ``threadmate thread`` for a designation or spec file.
 
     For a spec file the limits are the spec's single values, ``[v, v]``.
     """
-    if _is_spec_file(text):
-        path = Path(text)
-        if not path.is_file():
-            raise InputError(f"spec file not found: {text}")
-        spec = load_spec(path)
+    if is_spec_path(text):
+        spec = load_spec(text)
         return {
             "units": spec.units,
             "pitch": spec.pitch,

@@ -23,6 +23,11 @@ within pitch/10 of the compliance centre, ``unstable`` when the third contact ne
 embedding deeper than the origin's drop (and than the mesh noise), ``stable`` otherwise;
 ``rolling`` marks a pivot contact whose triangle pairs grew during the third turn.
 
+The record contract (:mod:`._records`) declares once the columns of both kinds of row
+that leave this package: a *state record* of the mechanics (a contact state and the one
+passive transition that leaves it: settling, turning, jump or snap) and the thesis's
+configuration record.
+
 Both stand on python-fcl queries of the meshes (:mod:`._collision`), contact location
 from triangle pairs (:mod:`._triangles`, :mod:`._vertical`) and the exact bodies for
 regions, normals and edge contact points (:mod:`._exact`). Lengths are in the spec's
@@ -42,6 +47,18 @@ Example
 from ._analyzer import MAX_TILT, TRAVEL_TOLERANCE, ContactAnalyzer, analyze
 from ._compliance import LIMITS as COMPLIANCE_LIMITS
 from ._compliance import Compliance
+from ._records import (
+    ROLES,
+    STATE_COLUMNS,
+    TRANSITION_LABELS,
+    TRANSITIONS,
+    Column,
+    blank_row,
+    state_id,
+    state_row,
+    state_schema,
+    thesis_schema,
+)
 from ._rest_state import (
     REST_CLASSES,
     LoadedContact,
@@ -51,7 +68,7 @@ from ._rest_state import (
     SearchResult,
 )
 from ._result import CLASSIFICATIONS, STAGES, Contact, ContactResult, StageResult, record_schema
-from ._search import search
+from ._search import Continuation, Leg, check_continuation, search
 from ._settle import Mechanics, settle
 
 __all__ = [
@@ -67,6 +84,19 @@ __all__ = [
     "SearchResult",
     "search",
     "settle",
+    "Continuation",
+    "Leg",
+    "check_continuation",
+    "Column",
+    "ROLES",
+    "STATE_COLUMNS",
+    "TRANSITIONS",
+    "TRANSITION_LABELS",
+    "blank_row",
+    "state_id",
+    "state_row",
+    "state_schema",
+    "thesis_schema",
     "MAX_TILT",
     "STAGES",
     "TRAVEL_TOLERANCE",

@@ -33,6 +33,7 @@ material and into the nut's).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,9 +42,10 @@ from numpy.typing import NDArray
 from ..geometry import Pose, ThreadBody
 
 __all__ = ["Feature", "feature_at", "contact_normal", "region_at", "turn_axis_tangent",
-           "refine_on_edge", "edge_crossing", "lowest_on_rim"]
+           "refine_on_edge", "refined_contact", "edge_crossing", "lowest_on_rim"]
 
 TWO_PI = 2.0 * math.pi
+SQRT3 = math.sqrt(3.0)
 
 
 @dataclass(frozen=True)
@@ -73,6 +75,57 @@ class Feature:
         return self.kind in ("rim", "corner")
 
 
+def _t_of(body: ThreadBody, theta: float, z: float) -> float:
+    """:meth:`ThreadBody.t_of` of one point, in plain floats (the same operations: the
+    contact code asks one point at a time, where numpy's overhead is most of the cost)."""
+    t = z - body.hand * body.lead * theta / TWO_PI
+    pitch = body.profile.pitch
+    return t - pitch * math.floor(t / pitch + 0.5)
+
+
+def _wrap(t: NDArray[np.float64], pitch: float) -> NDArray[np.float64]:
+    """``geometry``'s ``wrap_t``: an axial coordinate wrapped into ``[-p/2, p/2)``."""
+    return t - pitch * np.floor(t / pitch + 0.5)
+
+
+def _radius(body: ThreadBody, t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``body.profile.radius(t)`` of an array: the same pieces and the same choice among
+    them, by a chain of ``where`` (``np.select`` costs several times more on the short
+    arrays of the contact code)."""
+    prof = body.profile
+    u = np.abs(_wrap(t, prof.pitch))
+    a1, a2, a3, a4 = prof.breakpoints
+    (hu, hr), (lu, lr) = prof.centre_hi, prof.centre_lo
+    rh, rl = prof.fillet_hi, prof.fillet_lo
+    out = np.where(u <= a4, lr - np.sqrt(np.maximum(rl * rl - (u - lu) ** 2, 0.0)), prof.r_lo)
+    out = np.where(u <= a3, prof.pitch_diameter / 2 + SQRT3 * (prof.pitch / 4 - u), out)
+    out = np.where(u <= a2, hr + np.sqrt(np.maximum(rh * rh - (u - hu) ** 2, 0.0)), out)
+    return np.where(u <= a1, prof.r_hi, out)
+
+
+def _slope(body: ThreadBody, t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``body.profile.slope(t)`` of an array (see :func:`_radius`)."""
+    prof = body.profile
+    t = _wrap(t, prof.pitch)
+    u = np.abs(t)
+    a1, a2, a3, a4 = prof.breakpoints
+    hu, lu = prof.centre_hi[0], prof.centre_lo[0]
+    rh, rl = prof.fillet_hi, prof.fillet_lo
+    out = np.where(u <= a4, (u - lu) / np.sqrt(np.maximum(rl * rl - (u - lu) ** 2, 1e-300)),
+                   0.0)
+    out = np.where(u <= a3, -SQRT3, out)
+    out = np.where(u <= a2, -(u - hu) / np.sqrt(np.maximum(rh * rh - (u - hu) ** 2, 1e-300)),
+                   out)
+    out = np.where(u <= a1, 0.0, out)
+    return np.where(t < 0, -1.0, 1.0) * out
+
+
+def _t_array(body: ThreadBody, theta: NDArray[np.float64], z: NDArray[np.float64] | float
+             ) -> NDArray[np.float64]:
+    """:meth:`ThreadBody.t_of` without its argument conversions."""
+    return _wrap(z - body.hand * body.lead * theta / TWO_PI, body.profile.pitch)
+
+
 def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
     n = float(np.linalg.norm(v))
     return v / n if n > 0 else v
@@ -90,8 +143,9 @@ def _helical_normal(body: ThreadBody, p: NDArray[np.float64], t: float) -> NDArr
 
 def _rim_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
     theta = math.atan2(p[1], p[0])
-    radius = float(body.section_radius(theta, body.cap_z))
-    d_radius = float(body.section_slope(theta, body.cap_z))
+    t = _t_of(body, theta, body.cap_z)
+    radius = float(body.profile.radius(t))
+    d_radius = float(body.profile.slope(t)) * (-body.hand * body.lead / TWO_PI)
     c, s = math.cos(theta), math.sin(theta)
     return _unit(np.array([d_radius * c - radius * s, d_radius * s + radius * c, 0.0]))
 
@@ -121,7 +175,7 @@ def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feat
     prof = body.profile
     r = math.hypot(p[0], p[1])
     theta = math.atan2(p[1], p[0])
-    t = float(body.t_of(theta, p[2]))
+    t = _t_of(body, theta, float(p[2]))
     R = float(prof.radius(t))
     # Distance to the thread in the axial section: the radial offset projected on the
     # profile's normal (exact on flats and flanks; contact points lie within ``tol``).
@@ -230,8 +284,8 @@ def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray
     # Within the slab: the thread surface's radial offset along its normal (first-order
     # exact, exact on the surface), intersected with the end face's half-space.
     r = np.hypot(p[:, 0], p[:, 1])
-    t = body.t_of(np.arctan2(p[:, 1], p[:, 0]), p[:, 2])
-    radial = (r - body.profile.radius(t)) / np.hypot(1.0, body.profile.slope(t))
+    t = _t_array(body, np.arctan2(p[:, 1], p[:, 0]), p[:, 2])
+    radial = (r - _radius(body, t)) / np.hypot(1.0, _slope(body, t))
     thread = radial if body.kind == "bolt" else -radial
     off = p[:, 2] - body.cap_z
     d = np.maximum(thread, off if body.kind == "nut" else -off)
@@ -239,7 +293,7 @@ def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray
     if beyond.any():
         q = p[beyond]
         r = np.hypot(q[:, 0], q[:, 1])
-        outline = body.section_radius(np.arctan2(q[:, 1], q[:, 0]), body.cap_z)
+        outline = _radius(body, _t_array(body, np.arctan2(q[:, 1], q[:, 0]), body.cap_z))
         radial = np.maximum(outline - r, 0.0) if body.kind == "nut" else \
             np.maximum(r - outline, 0.0)
         d[beyond] = np.hypot(off[beyond], radial)
@@ -250,7 +304,7 @@ def _edge_points(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]
                  angles: NDArray[np.float64]) -> NDArray[np.float64]:
     """Points of the exact edge through ``anchor`` (body frame) at polar ``angles``."""
     if feature.kind == "rim":
-        r = body.section_radius(angles, body.cap_z)
+        r = _radius(body, _t_array(body, angles, body.cap_z))
         return np.column_stack([r * np.cos(angles), r * np.sin(angles),
                                 np.full_like(angles, body.cap_z)])
     theta0 = math.atan2(anchor[1], anchor[0])
@@ -277,8 +331,31 @@ def refine_on_edge(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
     shrinking grids. Contacts that are not edge-on-face are returned unchanged.
     """
     p = np.asarray(point_f, dtype=float)
+    return _refine(nut, bolt, pose, p, tol, window, feature_at(nut, p, tol),
+                   feature_at(bolt, pose.to_bolt(p), tol))
+
+
+def refined_contact(nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64],
+                    tol: float, window: float
+                    ) -> tuple[NDArray[np.float64], NDArray[np.float64], Feature, Feature]:
+    """:func:`refine_on_edge`, then :func:`contact_normal` at the refined point.
+
+    A face-on-face contact is not moved: its features are then those already found, and
+    are not looked up a second time (half the cost of a contact on the thread).
+    """
+    p = np.asarray(point_f, dtype=float)
     fn = feature_at(nut, p, tol)
     fb = feature_at(bolt, pose.to_bolt(p), tol)
+    if fn.is_edge or fb.is_edge:
+        p = _refine(nut, bolt, pose, p, tol, window, fn, fb)
+        fn = feature_at(nut, p, tol)
+        fb = feature_at(bolt, pose.to_bolt(p), tol)
+    return _common_normal(fn, fb, pose), p, fn, fb
+
+
+def _refine(nut: ThreadBody, bolt: ThreadBody, pose: Pose, p: NDArray[np.float64], tol: float,
+            window: float, fn: Feature, fb: Feature) -> NDArray[np.float64]:
+    """:func:`refine_on_edge` with the features at ``p`` known."""
     if fn.is_edge and fb.is_edge:
         return _edge_crossing(nut, fn, bolt, fb, pose, p, window)[0]
     if fn.is_edge == fb.is_edge:
@@ -316,6 +393,35 @@ def refine_on_edge(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
     return to_f(_edge_points(edge_body, edge, anchor, np.array([best])))[0]
 
 
+def _edge_curve(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]
+                ) -> Callable[[float], tuple[float, float, float]]:
+    """:func:`_edge_points` at one polar angle, in plain floats: the point of the exact
+    edge through ``anchor`` (body frame) at that angle."""
+    prof = body.profile
+    if feature.kind == "rim":
+        z_cap = body.cap_z
+
+        def rim(angle: float) -> tuple[float, float, float]:
+            r = float(prof.radius(_t_of(body, angle, z_cap)))
+            return r * math.cos(angle), r * math.sin(angle), z_cap
+
+        return rim
+    theta0 = math.atan2(anchor[1], anchor[0])
+    r = math.hypot(anchor[0], anchor[1])
+    z0 = float(anchor[2])
+    t0 = _t_of(body, theta0, z0)
+    corners = _sharp_corners(body)
+    if corners:
+        uc = min(corners, key=lambda u: abs(abs(t0) - u))
+        r = float(prof.radius(uc))
+    rise = body.hand * body.lead
+
+    def helix(angle: float) -> tuple[float, float, float]:
+        return r * math.cos(angle), r * math.sin(angle), z0 + rise * (angle - theta0) / TWO_PI
+
+    return helix
+
+
 def _edge_crossing(nut: ThreadBody, fn: Feature, bolt: ThreadBody, fb: Feature, pose: Pose,
                    point_f: NDArray[np.float64], window: float
                    ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
@@ -324,31 +430,46 @@ def _edge_crossing(nut: ThreadBody, fn: Feature, bolt: ThreadBody, fb: Feature, 
     the nut edge's point and the bolt edge's above or below it (fixed frame);
     ``(point_f, None)`` when it does not converge within ``window``."""
     anchor_b = pose.to_bolt(point_f)
-    a0 = math.atan2(point_f[1], point_f[0])
-    b0 = math.atan2(anchor_b[1], anchor_b[0])
+    nut_at = _edge_curve(nut, fn, point_f)
+    bolt_at = _edge_curve(bolt, fb, anchor_b)
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = pose.rotation.tolist()
+    o0, o1, o2 = pose.origin.tolist()
 
-    def gap(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        q = _edge_points(nut, fn, point_f, x[:1])[0]
-        b = pose.to_fixed(_edge_points(bolt, fb, anchor_b, x[1:])[0])
-        return (q - b)[:2]
+    def bolt_f(angle: float) -> tuple[float, float, float]:
+        x, y, z = bolt_at(angle)
+        return (r00 * x + r01 * y + r02 * z + o0, r10 * x + r11 * y + r12 * z + o1,
+                r20 * x + r21 * y + r22 * z + o2)
 
-    x = np.array([a0, b0])
+    def gap(a: float, b: float) -> tuple[float, float]:
+        q, w = nut_at(a), bolt_f(b)
+        return q[0] - w[0], q[1] - w[1]
+
+    # Plain floats throughout: a 2 x 2 Newton solve is a few hundred flops, and numpy's
+    # per-call overhead on arrays this small was most of a descent step's cost.
+    a = math.atan2(point_f[1], point_f[0])
+    b = math.atan2(anchor_b[1], anchor_b[0])
     h = 1e-7
     for _ in range(8):
-        g = gap(x)
-        jac = np.column_stack([(gap(x + h * e) - g) / h for e in np.eye(2)])
-        try:
-            dx = np.linalg.solve(jac, -g)
-        except np.linalg.LinAlgError:
+        g0, g1 = gap(a, b)
+        ga0, ga1 = gap(a + h, b)
+        gb0, gb1 = gap(a, b + h)
+        j00, j01 = (ga0 - g0) / h, (gb0 - g0) / h
+        j10, j11 = (ga1 - g1) / h, (gb1 - g1) / h
+        det = j00 * j11 - j01 * j10
+        if det == 0.0 or not math.isfinite(det):
             return point_f, None
-        x = x + dx
-        if float(np.abs(dx).max()) < 1e-12:
+        da = (j01 * g1 - j11 * g0) / det
+        db = (j10 * g0 - j00 * g1) / det
+        a, b = a + da, b + db
+        if not (math.isfinite(a) and math.isfinite(b)):
+            return point_f, None
+        if max(abs(da), abs(db)) < 1e-12:
             break
-    q = _edge_points(nut, fn, point_f, x[:1])[0]
-    b = pose.to_fixed(_edge_points(bolt, fb, anchor_b, x[1:])[0])
+    q = np.array(nut_at(a))
+    w = np.array(bolt_f(b))
     if not np.all(np.isfinite(q)) or float(np.linalg.norm(q - point_f)) > window:
         return point_f, None
-    return q, b
+    return q, w
 
 
 def edge_crossing(nut: ThreadBody, bolt: ThreadBody, pose: Pose, nut_point: NDArray[np.float64],

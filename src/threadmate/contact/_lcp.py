@@ -77,19 +77,23 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
         if i < n and gap[i] <= tol and i not in working and len(working) < m \
                 and _independent(G[working], G[i]):
             working.append(i)
+    # The metric is small (at most 5 x 5) and positive definite: its inverse once, and
+    # each equality problem by its Schur complement on the working rows, avoid a
+    # least-squares solve of the whole KKT matrix per iteration.
+    h_inv = np.linalg.inv(H)
+    # After a full step ``x`` minimises the model on the working set: the step there is nil
+    # in exact arithmetic, and only the multipliers are still to be read. Testing the
+    # computed step against a threshold instead lets rounding (G's rows are small against
+    # H) pass for a step, and the iteration wanders.
+    stationary = False
     for _ in range(_MAX_ITERATIONS):
         g = H @ x + c
         k = len(working)
-        A = G[working]
-        kkt = np.zeros((m + k, m + k))
-        kkt[:m, :m] = H
-        kkt[:m, m:] = -A.T
-        kkt[m:, :m] = A
-        rhs = np.concatenate([-g, np.zeros(k)])
-        sol = np.linalg.lstsq(kkt, rhs, rcond=None)[0]
-        p, mult = sol[:m], sol[m:]
+        p, mult = _equality_step(h_inv, G[working], g)
         # Nil when its force, H p, is rounding against the forces acting, g.
-        if float(np.abs(H @ p).max()) <= 1e-12 * max(float(np.abs(g).max()), 1e-300):
+        if stationary or float(np.abs(H @ p).max()) <= 1e-12 * max(
+                float(np.abs(g).max()), 1e-300):
+            stationary = False
             if k == 0 or mult.min() >= -1e-12 * max(float(np.abs(mult).max()), 1e-300):
                 lam[:] = 0.0
                 lam[working] = np.maximum(mult, 0.0)
@@ -116,6 +120,8 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
         x = x + alpha * p
         if block >= 0:
             working.append(block)
+        else:
+            stationary = True
     # Cycling at a degenerate vertex (a flat face on a face: more touching rows than
     # coordinates): a general solver on the scaled problem, the forces by non-negative
     # least squares on the rows it leaves touching.
@@ -131,3 +137,23 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
     if len(active):
         lam[active] = nnls(G[active].T, H @ x + c)[0]
     return x, lam
+
+
+def _equality_step(h_inv: NDArray[np.float64], A: NDArray[np.float64], g: NDArray[np.float64]
+                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Step ``p`` and multipliers of ``min 1/2 p'Hp + g'p`` subject to ``A p = 0``.
+
+    ``H p - A' mult = -g`` and ``A p = 0`` give ``(A H^-1 A') mult = A H^-1 g`` and
+    ``p = H^-1 (A' mult - g)``. The working rows are independent, so the Schur complement
+    is positive definite; should rounding make it singular, least squares decides.
+    """
+    if len(A) == 0:
+        return -(h_inv @ g), np.empty(0)
+    ha = h_inv @ A.T
+    schur = A @ ha
+    rhs = ha.T @ g
+    try:
+        mult = np.linalg.solve(schur, rhs)
+    except np.linalg.LinAlgError:
+        mult = np.linalg.lstsq(schur, rhs, rcond=None)[0]
+    return ha @ mult - h_inv @ g, mult

@@ -17,12 +17,17 @@ over phase by the trapezoidal rule along continuous branches; during a jump the 
 stands still and the driver does no work. The work splits into friction and the part
 that raises the potential; without friction and away from jumps the latter equals the
 change of the potential (a check the tests make, not an assumption).
+
+:class:`Continuation` does the walking, in *legs* (a continuous branch, a jump, the snap);
+:func:`search` and the library's sweep (:mod:`threadmate.library`) both walk with it, so a
+library's passive paths and a search from the same start are the same computation.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -32,7 +37,7 @@ from ._compliance import Compliance
 from ._rest_state import MechanicalState, SearchEvent, SearchResult
 from ._settle import Mechanics, axis_turn, mechanics
 
-__all__ = ["search"]
+__all__ = ["Continuation", "Leg", "check_continuation", "search"]
 
 #: Tilt of the bolt axis within one step above which the step is a jump (degrees).
 JUMP_TILT = 0.5
@@ -47,6 +52,194 @@ def _signature(s: MechanicalState, floor: float) -> tuple[str, ...]:
     without force, or hovering at the touching threshold, changes nothing a driver or a
     sensor sees."""
     return tuple(sorted(c.regions for c in s.touching if c.force > floor))
+
+
+@dataclass(frozen=True)
+class Leg:
+    """One transition of the continuation.
+
+    Attributes
+    ----------
+    kind : str
+        ``turning`` (a continuous branch of rest states, contact changes included),
+        ``jump`` (the rest state ceased to exist: the bolt tipped, rolled or dropped) or
+        ``snap`` (the jump into the in-phase state).
+    before, after : MechanicalState
+        The states it joins.
+    turn : float
+        Phase turned along it (degrees, >= 0; 0 for a jump).
+    work_friction, work_potential : float
+        Driver's work against friction and against the potential (mJ; 0 for a jump).
+    torque_peak : float
+        Largest driver torque along it (N m; NaN for a jump).
+    label : str
+        ``stable`` when every state passed is a stable rest state, ``quasi-stable`` when
+        one is quasi-stable, ``unstable`` for a jump or a snap.
+    """
+
+    kind: str
+    before: MechanicalState
+    after: MechanicalState
+    turn: float
+    work_friction: float
+    work_potential: float
+    torque_peak: float
+    label: str
+
+    @property
+    def drop(self) -> float:
+        """Fall of the compliance centre along the leg (spec units)."""
+        return float(self.before.centre[2] - self.after.centre[2])
+
+    @property
+    def tilt_change(self) -> float:
+        """Angle between the bolt axes at its ends (degrees)."""
+        return _tilt_between(self.before, self.after)
+
+
+def _label(states: list[MechanicalState]) -> str:
+    classes = {s.classification for s in states}
+    if "unstable" in classes:
+        return "unstable"
+    return "quasi-stable" if "quasi-stable" in classes else "stable"
+
+
+class Continuation:
+    """The quasi-static continuation of one held tilt, walked in legs.
+
+    Parameters
+    ----------
+    mech : Mechanics
+        The thread pair and compliance.
+    roll, pitch : float
+        Held tilt (degrees).
+    step : float
+        Continuation step (degrees).
+    phase_tolerance : float
+        How closely events are located in phase (degrees).
+    """
+
+    def __init__(self, mech: Mechanics, roll: float, pitch: float, *, step: float = 2.0,
+                 phase_tolerance: float = 0.01) -> None:
+        self.mech = mech
+        self.roll, self.pitch = float(roll), float(pitch)
+        self.step, self.phase_tolerance = float(step), float(phase_tolerance)
+        self.sign = mech.spec.handedness  # +1: counter-clockwise (increasing phase)
+        self.drop_limit = mech.spec.pitch / 40
+        self.floor = 1e-4 * mech.compliance.force
+
+    def _settle(self, phase: float, before: MechanicalState) -> MechanicalState:
+        return self.mech.settle(self.roll, self.pitch, phase, start=before).state
+
+    def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
+        if b.classification == "in-phase" and a.classification != "in-phase":
+            return False
+        return (a.centre[2] - b.centre[2] <= self.drop_limit
+                and _tilt_between(a, b) <= JUMP_TILT)
+
+    def _bisect(self, phase: float, lo: float, hi: float, s_lo: MechanicalState,
+                s_hi: MechanicalState,
+                same: Callable[[MechanicalState, MechanicalState], bool]
+                ) -> tuple[float, float, MechanicalState, MechanicalState]:
+        """Close in on where ``same(s_lo, state)`` stops holding, from the side before
+        (``lo``, ``hi``: turns from ``phase``)."""
+        while hi - lo > self.phase_tolerance:
+            mid = 0.5 * (lo + hi)
+            s_mid = self._settle(phase + self.sign * mid, s_lo)
+            if same(s_lo, s_mid):
+                lo, s_lo = mid, s_mid
+            else:
+                hi, s_hi = mid, s_mid
+        return lo, hi, s_lo, s_hi
+
+    def advance(self, state: MechanicalState, phase: float, turn: float, *,
+                progress: Callable[[float], None] | None = None
+                ) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]]:
+        """Turn from ``state`` (a rest state at ``phase``, degrees) by ``turn`` degrees in
+        the unscrewing sense, stopping early at a snap.
+
+        Returns
+        -------
+        legs : list of Leg
+            In order; a turning leg ends at each jump and at the end of the turn.
+        events : list of SearchEvent
+            Contact changes, jumps, the snap.
+        states : list of MechanicalState
+            Every rest state settled, both sides of each event, in phase order.
+        """
+        legs: list[Leg] = []
+        events: list[SearchEvent] = []
+        states: list[MechanicalState] = []
+        sign = self.sign
+        branch = [state]  # states of the current turning leg
+        branch_start = 0.0
+        work = [0.0, 0.0]  # friction, potential (mJ) along the current turning leg
+
+        def integrate(a: MechanicalState, b: MechanicalState) -> None:
+            dphi = math.radians(abs(b.phase - a.phase))
+            if not (math.isfinite(a.driver_torque) and math.isfinite(b.driver_torque)):
+                return
+            total = 0.5 * (a.driver_torque + b.driver_torque) * dphi
+            fric = 0.5 * (a.friction_torque + b.friction_torque) * dphi
+            work[0] += 1e3 * fric
+            work[1] += 1e3 * (total - fric)
+
+        def close_branch(at: float) -> None:
+            if at > branch_start or len(branch) > 1:
+                torques = [s.driver_torque for s in branch if math.isfinite(s.driver_torque)]
+                legs.append(Leg("turning", branch[0], branch[-1], at - branch_start,
+                                work[0], work[1], max(torques, default=math.nan),
+                                _label(branch)))
+
+        def signature(s: MechanicalState) -> tuple[str, ...]:
+            return _signature(s, self.floor)
+
+        prev, at = state, 0.0
+        while at < turn - 1e-12:
+            if progress is not None:
+                progress(at)
+            nxt = min(at + self.step, turn)
+            cur = self._settle(phase + sign * nxt, prev)
+            if self._continuous(prev, cur):
+                if signature(cur) != signature(prev):
+                    before = signature(prev)
+                    lo, hi, s_lo, s_hi = self._bisect(
+                        phase, at, nxt, prev, cur,
+                        lambda a, b, before=before: (signature(b) == before
+                                                     and self._continuous(a, b)))
+                    events.append(SearchEvent(phase + sign * 0.5 * (lo + hi),
+                                              "contact-change", prev.region_combination,
+                                              s_hi.region_combination,
+                                              s_lo.centre[2] - s_hi.centre[2],
+                                              _tilt_between(s_lo, s_hi)))
+                    for a, b in ((prev, s_lo), (s_lo, s_hi), (s_hi, cur)):
+                        integrate(a, b)
+                    states += [s_lo, s_hi]
+                    branch += [s_lo, s_hi]
+                else:
+                    integrate(prev, cur)
+                states.append(cur)
+                branch.append(cur)
+                prev, at = cur, nxt
+                continue
+            # A fold within (at, nxt]: close in on it from the side before.
+            lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, self._continuous)
+            integrate(prev, s_lo)
+            branch.append(s_lo)
+            close_branch(lo)
+            kind = "snap" if s_hi.classification == "in-phase" else "jump"
+            legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, "unstable"))
+            events.append(SearchEvent(phase + sign * hi, kind, s_lo.region_combination,
+                                      s_hi.region_combination,
+                                      s_lo.centre[2] - s_hi.centre[2],
+                                      _tilt_between(s_lo, s_hi)))
+            states += [s_lo, s_hi]
+            if kind == "snap":
+                return legs, events, states
+            prev, at = s_hi, hi
+            branch, branch_start, work = [s_hi], hi, [0.0, 0.0]
+        close_branch(at)
+        return legs, events, states
 
 
 def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: float, *,
@@ -82,104 +275,38 @@ def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: flo
     SearchResult
         ``snap`` is None when no snap came within ``turns``.
     """
+    check_continuation(turns=turns, step=step, phase_tolerance=phase_tolerance)
+    mech = mechanics(target, compliance, chord)
+    q0 = mech.engine.queries
+    start = mech.settle(roll, pitch, phase).state
+    end = 360.0 * turns  # turn from the start, degrees
+    legs: list[Leg] = []
+    events: list[SearchEvent] = []
+    states = [start]
+    if start.classification == "in-phase":
+        events.append(SearchEvent(float(phase), "snap", "", start.region_combination,
+                                  0.0, 0.0))
+    else:
+        walk = Continuation(mech, roll, pitch, step=step, phase_tolerance=phase_tolerance)
+        tick = None if progress is None else (
+            lambda at: progress(int(at), int(math.ceil(end))))
+        legs, events, more = walk.advance(start, float(phase), end, progress=tick)
+        states += more
+    if progress is not None:
+        progress(int(math.ceil(end)), int(math.ceil(end)))
+    snap = next((e for e in events if e.kind == "snap"), None)
+    return SearchResult(mech.units, float(roll), float(pitch), float(phase),
+                        mech.compliance.to_dict(), tuple(states), tuple(events), snap,
+                        float(turns), sum(leg.work_friction for leg in legs),
+                        sum(leg.work_potential for leg in legs),
+                        mech.engine.queries - q0)
+
+
+def check_continuation(*, turns: float = 1.0, step: float = 2.0,
+                       phase_tolerance: float = 0.01) -> None:
+    """Refuse continuation settings out of range (InputError naming the setting)."""
     for name, value, lo, hi in (("turns", turns, 0.0, 10.0), ("step", step, 0.0, 10.0),
                                 ("phase_tolerance", phase_tolerance, 0.0, step)):
         if isinstance(value, bool) or not isinstance(value, int | float) \
                 or not math.isfinite(value) or not lo < value <= hi:
             raise InputError(f"{name} must be within ({lo:g}, {hi:g}], got {value!r}")
-    mech = mechanics(target, compliance, chord)
-    q0 = mech.engine.queries
-    drop_limit = mech.spec.pitch / 40
-    rest = mech.settle(roll, pitch, phase)
-    start = rest.state
-    states = [start]
-    events: list[SearchEvent] = []
-    work_f = work_p = 0.0
-    snap: SearchEvent | None = None
-    if start.classification == "in-phase":
-        snap = SearchEvent(float(phase), "snap", "", start.region_combination, 0.0, 0.0)
-        events.append(snap)
-    sign = mech.spec.handedness  # +1: counter-clockwise (increasing phase)
-    end = 360.0 * turns  # turn from the start, degrees
-
-    def settle(turn: float, before: MechanicalState) -> MechanicalState:
-        return mech.settle(roll, pitch, phase + sign * turn, start=before).state
-
-    def continuous(a: MechanicalState, b: MechanicalState) -> bool:
-        if b.classification == "in-phase" and a.classification != "in-phase":
-            return False
-        return (a.centre[2] - b.centre[2] <= drop_limit
-                and _tilt_between(a, b) <= JUMP_TILT)
-
-    def integrate(a: MechanicalState, b: MechanicalState) -> None:
-        nonlocal work_f, work_p
-        turn = math.radians(abs(b.phase - a.phase))
-        if not (math.isfinite(a.driver_torque) and math.isfinite(b.driver_torque)):
-            return
-        total = 0.5 * (a.driver_torque + b.driver_torque) * turn
-        fric = 0.5 * (a.friction_torque + b.friction_torque) * turn
-        work_f += 1e3 * fric
-        work_p += 1e3 * (total - fric)
-
-    def bisect(lo: float, hi: float, s_lo: MechanicalState, s_hi: MechanicalState,
-               same: Callable[[MechanicalState, MechanicalState], bool]
-               ) -> tuple[float, float, MechanicalState, MechanicalState]:
-        """Close in on where ``same(s_lo, state)`` stops holding, from the side before."""
-        while hi - lo > phase_tolerance:
-            mid = 0.5 * (lo + hi)
-            s_mid = settle(mid, s_lo)
-            if same(s_lo, s_mid):
-                lo, s_lo = mid, s_mid
-            else:
-                hi, s_hi = mid, s_mid
-        return lo, hi, s_lo, s_hi
-
-    def signature(s: MechanicalState) -> tuple[str, ...]:
-        return _signature(s, 1e-4 * mech.compliance.force)
-
-    def at_phase(turn: float) -> float:
-        return float(phase + sign * turn)
-
-    prev = start
-    at = 0.0
-    while snap is None and at < end - 1e-12:
-        if progress is not None:
-            progress(int(at), int(math.ceil(end)))
-        nxt = min(at + step, end)
-        cur = settle(nxt, prev)
-        if continuous(prev, cur):
-            if signature(cur) != signature(prev):
-                before = signature(prev)
-                lo, hi, s_lo, s_hi = bisect(
-                    at, nxt, prev, cur,
-                    lambda a, b, before=before: signature(b) == before and continuous(a, b))
-                events.append(SearchEvent(at_phase(0.5 * (lo + hi)), "contact-change",
-                                          prev.region_combination, s_hi.region_combination,
-                                          s_lo.centre[2] - s_hi.centre[2],
-                                          _tilt_between(s_lo, s_hi)))
-                for a, b in ((prev, s_lo), (s_lo, s_hi), (s_hi, cur)):
-                    integrate(a, b)
-                states += [s_lo, s_hi]
-            else:
-                integrate(prev, cur)
-            states.append(cur)
-            prev, at = cur, nxt
-            continue
-        # A fold within (at, nxt]: close in on it from the side before.
-        lo, hi, s_lo, s_hi = bisect(at, nxt, prev, cur, continuous)
-        integrate(prev, s_lo)
-        kind = "snap" if s_hi.classification == "in-phase" else "jump"
-        event = SearchEvent(at_phase(hi), kind, s_lo.region_combination,
-                            s_hi.region_combination, s_lo.centre[2] - s_hi.centre[2],
-                            _tilt_between(s_lo, s_hi))
-        events.append(event)
-        states += [s_lo, s_hi]
-        if kind == "snap":
-            snap = event
-            break
-        prev, at = s_hi, hi
-    if progress is not None:
-        progress(int(math.ceil(end)), int(math.ceil(end)))
-    return SearchResult(mech.units, float(roll), float(pitch), float(phase),
-                        mech.compliance.to_dict(), tuple(states), tuple(events), snap,
-                        float(turns), work_f, work_p, mech.engine.queries - q0)

@@ -20,7 +20,8 @@ from numpy.typing import NDArray
 
 __all__ = ["vertical_touch"]
 
-_EDGES = ((0, 1), (1, 2), (2, 0))
+#: The end of each triangle edge that starts at vertex 0, 1, 2: edges (0, 1), (1, 2), (2, 0).
+_NEXT = [1, 2, 0]
 
 
 def _inside(tri: NDArray[np.float64], pts: NDArray[np.float64]
@@ -71,23 +72,24 @@ def vertical_touch(bolt_tris: NDArray[np.float64], nut_tris: NDArray[np.float64]
     inside, za = _inside(a, b[:, :, :2])
     cands_d.append(np.where(inside, za - b[:, :, 2], np.inf))
     cands_p.append(b)
-    # Crossings of edge projections.
-    for i, j in _EDGES:
-        p, r = a[:, i], a[:, j] - a[:, i]
-        for k, m in _EDGES:
-            q, s = b[:, k], b[:, m] - b[:, k]
-            den = r[:, 0] * s[:, 1] - r[:, 1] * s[:, 0]
-            ok = np.abs(den) > 1e-14 * np.maximum(
-                np.hypot(r[:, 0], r[:, 1]) * np.hypot(s[:, 0], s[:, 1]), 1e-300)
-            safe = np.where(ok, den, 1.0)
-            w = q - p
-            t = (w[:, 0] * s[:, 1] - w[:, 1] * s[:, 0]) / safe
-            u = (w[:, 0] * r[:, 1] - w[:, 1] * r[:, 0]) / safe
-            hit = ok & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
-            za = p[:, 2] + t * r[:, 2]
-            pt = q + u[:, None] * s
-            cands_d.append(np.where(hit, za - pt[:, 2], np.inf)[:, None])
-            cands_p.append(pt[:, None])
+    # Crossings of edge projections: all nine edge pairs at once, bolt edge (i, j) by nut
+    # edge (k, m) in row-major order (the order of the candidates decides ties).
+    p = a[:, :, None, :]  # (n, 3, 1, 3): bolt edge starts
+    r = (a[:, _NEXT] - a)[:, :, None, :]
+    q = b[:, None, :, :]  # (n, 1, 3, 3): nut edge starts
+    s = (b[:, _NEXT] - b)[:, None, :, :]
+    den = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
+    ok = np.abs(den) > 1e-14 * np.maximum(
+        np.hypot(r[..., 0], r[..., 1]) * np.hypot(s[..., 0], s[..., 1]), 1e-300)
+    safe = np.where(ok, den, 1.0)
+    w = q - p
+    t = (w[..., 0] * s[..., 1] - w[..., 1] * s[..., 0]) / safe
+    u = (w[..., 0] * r[..., 1] - w[..., 1] * r[..., 0]) / safe
+    hit = ok & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)
+    za = p[..., 2] + t * r[..., 2]
+    pt = q + u[..., None] * s
+    cands_d.append(np.where(hit, za - pt[..., 2], np.inf).reshape(n, 9))
+    cands_p.append(pt.reshape(n, 9, 3))
     d = np.concatenate(cands_d, axis=1)
     pts = np.concatenate(cands_p, axis=1)
     best = np.argmin(d, axis=1)

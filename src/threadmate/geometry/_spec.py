@@ -17,6 +17,7 @@ import tomli_w
 
 from .._errors import SpecError
 from .._io import atomic_write_text
+from .._validate import check_length, check_number, check_range
 
 __all__ = ["BoltSpec", "NutSpec", "ThreadSpec", "load_spec", "save_spec", "UNITS"]
 
@@ -24,6 +25,16 @@ __all__ = ["BoltSpec", "NutSpec", "ThreadSpec", "load_spec", "save_spec", "UNITS
 UNITS = ("in", "mm")
 
 _SQRT3 = math.sqrt(3.0)
+
+# Bounds on a spec beyond the range of each length (MIN_LENGTH..MAX_LENGTH of the spec's
+# units, see threadmate._validate), each with room to spare around every real thread:
+#: Most starts of a multi-start thread; lead screws and closures use up to about 8.
+MAX_STARTS = 16
+#: Longest bolt length or nut height, in pitches. A standard bolt's thread is some 30
+#: pitches long (2d + 1/2 in) and a tapped hole deeper than 3d holds nothing more; the
+#: analyses concern the start of engagement (one pitch by default, as in the thesis), and
+#: 200 pitches already make meshes of over a million triangles.
+MAX_PITCHES = 200
 
 
 @dataclass(frozen=True)
@@ -128,7 +139,8 @@ class ThreadSpec:
         bolt = _body(data["bolt"], "bolt", BoltSpec)
         nut = _body(data["nut"], "nut", NutSpec)
         starts = data.get("starts", 1)
-        if isinstance(starts, bool) or not isinstance(starts, int | float) or starts != int(starts):
+        if check_range("spec key 'starts'", starts, 1, MAX_STARTS, error=SpecError) \
+                != int(starts):
             raise SpecError(f"spec key 'starts' must be a whole number, got {starts!r}")
         return cls(
             units=data["units"],
@@ -152,12 +164,7 @@ class ThreadSpec:
 # -- validation --------------------------------------------------------------------------
 
 def _number(value: Any, key: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise SpecError(f"spec key '{key}' must be a number, got {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise SpecError(f"spec key '{key}' must be finite, got {value!r}")
-    return value
+    return check_number(f"spec key '{key}'", value, error=SpecError)
 
 
 def _no_unknown(data: dict[str, Any], allowed: set[str], prefix: str) -> None:
@@ -180,23 +187,27 @@ def _body(data: Any, name: str, cls: type) -> Any:
     return cls(**values)
 
 
+def _length(spec: ThreadSpec, key: str, value: Any, zero_ok: bool = False) -> float:
+    return check_length(f"spec key '{key}'", value, spec.units, zero_ok=zero_ok,
+                        error=SpecError)
+
+
 def _validate(spec: ThreadSpec) -> None:
     if spec.units not in UNITS:
         raise SpecError(f"spec key 'units' must be one of {', '.join(UNITS)}; got {spec.units!r}")
     if spec.hand not in ("right", "left"):
         raise SpecError(f"spec key 'hand' must be 'right' or 'left'; got {spec.hand!r}")
-    if not isinstance(spec.starts, int) or spec.starts < 1:
-        raise SpecError(f"spec key 'starts' must be 1 or more; got {spec.starts!r}")
-    if not (isinstance(spec.pitch, int | float) and math.isfinite(spec.pitch) and spec.pitch > 0):
-        raise SpecError(f"spec key 'pitch' must be a positive length; got {spec.pitch!r}")
+    if isinstance(spec.starts, bool) or not isinstance(spec.starts, int) \
+            or not 1 <= spec.starts <= MAX_STARTS:
+        raise SpecError(f"spec key 'starts' must be a whole number from 1 to {MAX_STARTS}; "
+                        f"got {spec.starts!r}")
+    # Every length within [MIN_LENGTH, MAX_LENGTH] of the spec's units (see _validate for
+    # why that covers every real thread); a fillet may also be 0 (a sharp corner).
+    _length(spec, "pitch", spec.pitch)
     for name, body in (("bolt", spec.bolt), ("nut", spec.nut)):
         for key, value in asdict(body).items():
-            if value is None:
-                continue
-            if not math.isfinite(value):
-                raise SpecError(f"spec key '{name}.{key}' must be finite; got {value!r}")
-            if value < 0 or (value == 0 and key in ("major", "pitch_diameter", "minor")):
-                raise SpecError(f"spec key '{name}.{key}' must be positive; got {value!r}")
+            if value is not None:
+                _length(spec, f"{name}.{key}", value, zero_ok=key.endswith("fillet"))
         if not body.minor < body.pitch_diameter:
             raise SpecError(
                 f"spec key '{name}.minor' ({body.minor:g}) must be less than "
@@ -208,6 +219,14 @@ def _validate(spec: ThreadSpec) -> None:
                 f"than '{name}.major' ({body.major:g})"
             )
     p = spec.pitch
+    # The coarsest standard threads have a pitch of a quarter of their diameter (M1 x 0.25);
+    # a pitch beyond the diameter is no screw thread (and a unit or digit slip).
+    if p > spec.nut.major:
+        raise SpecError(
+            f"spec key 'pitch' ({p:g} {spec.units}) exceeds 'nut.major' "
+            f"({spec.nut.major:g} {spec.units}): a thread's pitch is a fraction of its "
+            f"diameter"
+        )
     # The 60-degree flanks span sqrt(3)/2 * p radially per side; a pitch diameter band
     # wider than the profile allows means the diameters were given for another pitch.
     for name, body in (("bolt", spec.bolt), ("nut", spec.nut)):
@@ -237,10 +256,18 @@ def _validate(spec: ThreadSpec) -> None:
 
 
 def _validate_extents(spec: ThreadSpec) -> None:
-    if spec.bolt.length is not None and spec.bolt.length <= 0:
-        raise SpecError(f"spec key 'bolt.length' must be positive; got {spec.bolt.length!r}")
-    if spec.nut.height is not None and spec.nut.height <= 0:
-        raise SpecError(f"spec key 'nut.height' must be positive; got {spec.nut.height!r}")
+    # With the defaults filled in, every extent is a number: check the ones derived from
+    # the pitch or the major diameter too (a default from an in-range pitch is in range).
+    _length(spec, "bolt.length", spec.bolt.length)
+    _length(spec, "nut.height", spec.nut.height)
+    _length(spec, "nut.outer_radius", spec.nut.outer_radius)
+    for key, value in (("bolt.length", spec.bolt.length), ("nut.height", spec.nut.height)):
+        assert value is not None
+        if value > MAX_PITCHES * spec.pitch:
+            raise SpecError(
+                f"spec key '{key}' ({value:g} {spec.units}) is out of range: give at most "
+                f"{MAX_PITCHES} pitches ({MAX_PITCHES * spec.pitch:g} {spec.units})"
+            )
     if spec.nut.outer_radius is not None and spec.nut.outer_radius <= spec.nut.major / 2.0:
         raise SpecError(
             f"spec key 'nut.outer_radius' ({spec.nut.outer_radius:g}) must exceed half the "
@@ -263,9 +290,16 @@ def load_spec(path: str | Path) -> ThreadSpec:
         If the file is missing, unreadable, not JSON/TOML, or not a valid spec.
     """
     path = Path(path)
-    if not path.is_file():
+    if path.is_dir():
+        raise SpecError(f"{path} is a directory, not a spec file")
+    if not path.exists():
         raise SpecError(f"spec file not found: {path}")
-    text = path.read_text(encoding="utf-8", errors="replace")
+    if not path.is_file():
+        raise SpecError(f"{path} is not a regular file, so not a spec file")
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        raise SpecError(f"cannot read spec file {path}: {exc.strerror or exc}") from None
     suffix = path.suffix.lower()
     try:
         if suffix == ".toml":

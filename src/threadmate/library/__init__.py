@@ -27,7 +27,16 @@ The directory also reads directly: ``pandas.read_parquet("lib-1-4-20")``,
 """
 
 from ._grid import DEFAULT_GRID, MAX_TILT, Grid, parse_range
-from ._store import METADATA_FILE, compare_metadata, info, library_schema, load, query
+from ._store import (
+    METADATA_FILE,
+    MODELS,
+    compare_metadata,
+    configurations,
+    info,
+    library_schema,
+    load,
+    query,
+)
 from ._summary import (
     CLASS_ORDER,
     plot_phase_strips,
@@ -36,17 +45,19 @@ from ._summary import (
     summary,
     write_figures,
 )
-from ._sweep import ProgressCallback, SweepInterrupted, sweep
+from ._sweep import ProgressCallback, SweepInterrupted, sweep, write_library
 
 __all__ = [
     "CLASS_ORDER",
     "DEFAULT_GRID",
     "MAX_TILT",
     "METADATA_FILE",
+    "MODELS",
     "Grid",
     "ProgressCallback",
     "SweepInterrupted",
     "compare_metadata",
+    "configurations",
     "info",
     "library_schema",
     "load",
@@ -58,4 +69,5 @@ __all__ = [
     "summary",
     "sweep",
     "write_figures",
+    "write_library",
 ]

@@ -2,7 +2,7 @@
 
 Layout of a library directory::
 
-    _threadmate.json        metadata (spec, grid, mesh and contact settings, units, version)
+    _threadmate.json        metadata (model, spec, grid, parameters, units, version)
     part-00000.parquet      rows of finished configurations, one file per chunk
     part-00001.parquet      ...
 
@@ -10,9 +10,12 @@ Every file appears whole or not at all (written to a temporary name, then rename
 every part carries the same metadata in its Arrow schema (key ``threadmate``), so the
 directory reads directly with ``pyarrow.dataset.dataset(dir)``,
 ``pandas.read_parquet(dir)`` or DuckDB's ``read_parquet('dir/*.parquet')``: names that
-start with ``_`` or ``.`` are skipped by pyarrow. Each row is one configuration: its
-``config_id`` (see :class:`~threadmate.library.Grid`), the contact record of
-docs/architecture.md, and ``error`` (the message when the analysis raised, else "").
+start with ``_`` or ``.`` are skipped by pyarrow.
+
+Rows follow the record contract of :mod:`threadmate.contact`: for the ``mechanics`` model
+(the default) one row per contact state (``STATE_COLUMNS``: the starts, the states passed
+on the way and the continuations, each with its passive transition); for the ``thesis``
+model one row per configuration (``thesis_schema``).
 """
 
 from __future__ import annotations
@@ -46,6 +49,8 @@ __all__ = [
     "info",
     "query",
     "compare_metadata",
+    "configurations",
+    "MODELS",
 ]
 
 #: Name of the metadata file inside a library directory.
@@ -54,21 +59,24 @@ METADATA_FILE = "_threadmate.json"
 SCHEMA_KEY = b"threadmate"
 #: Format tag and version of the metadata.
 FORMAT = "threadmate-contact-library"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+#: The models a library can hold: the mechanics' states, or the thesis's fixed-pivot rows.
+MODELS = ("mechanics", "thesis")
 _PART = re.compile(r"^part-(\d{5,})\.parquet$")
 
 
-def library_schema(metadata: dict[str, Any] | None = None) -> pa.Schema:
-    """``config_id``, the contact record's columns, then ``error``; with ``metadata``
-    attached under the key ``threadmate``."""
-    from ..contact import record_schema
+def library_schema(metadata: dict[str, Any] | None = None, model: str | None = None
+                   ) -> pa.Schema:
+    """The rows' schema of a library of ``model`` (default: the metadata's, else
+    ``mechanics``): the state record, or ``config_id`` + the thesis record + ``error``;
+    with ``metadata`` attached under the key ``threadmate``."""
+    from ..contact import state_schema, thesis_schema
 
-    fields = [pa.field("config_id", pa.int64()), *record_schema(),
-              pa.field("error", pa.string())]
-    schema = pa.schema(fields)
-    if metadata is not None:
-        schema = schema.with_metadata({SCHEMA_KEY: json.dumps(metadata, sort_keys=True)})
-    return schema
+    if model is None:
+        model = (metadata or {}).get("model", "mechanics")
+    attached = None if metadata is None else {
+        SCHEMA_KEY: json.dumps(metadata, sort_keys=True).encode()}
+    return state_schema(attached) if model == "mechanics" else thesis_schema(attached)
 
 
 def _check_dir(path: str | Path) -> Path:
@@ -94,9 +102,12 @@ def read_metadata(path: str | Path) -> dict[str, Any]:
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise LibraryError(f"{meta_file} is not threadmate library metadata "
                            f"(no format {FORMAT!r})")
-    for key in ("spec", "grid", "mesh", "contact", "units", "threadmate_version"):
+    for key in ("model", "spec", "grid", "mesh", "units", "threadmate_version"):
         if key not in doc:
-            raise LibraryError(f"{meta_file} lacks the key {key!r}")
+            raise LibraryError(f"{meta_file} lacks the key {key!r} (written by an older "
+                               "threadmate? sweep it again)")
+    if doc["model"] not in MODELS:
+        raise LibraryError(f"{meta_file}: unknown model {doc['model']!r}")
     return doc
 
 
@@ -137,11 +148,11 @@ def remove_stale_temporaries(path: str | Path) -> None:
         p.unlink(missing_ok=True)
 
 
-def _dataset(path: Path, columns: list[str] | None = None) -> ds.Dataset:
+def _dataset(path: Path) -> ds.Dataset:
     parts = part_files(path)
     try:
         return ds.dataset([str(p) for p in parts], format="parquet",
-                          schema=library_schema())
+                          schema=library_schema(read_metadata(path)))
     except (pa.ArrowInvalid, OSError) as exc:
         raise LibraryError(f"{path} holds a corrupt or foreign part: {exc}") from None
 
@@ -160,7 +171,12 @@ def done_ids(path: str | Path) -> np.ndarray:
     path = _check_dir(path)
     if not part_files(path):
         return np.empty(0, dtype=np.int64)
-    ids = _read(path, ["config_id"]).column("config_id").to_numpy()
+    if read_metadata(path)["model"] == "mechanics":
+        # A configuration is done when its start is: parts hold whole held tilts.
+        table = _read(path, ["config_id"], filter=ds.field("role") == "start")
+    else:
+        table = _read(path, ["config_id"])
+    ids = table.column("config_id").to_numpy()
     uniq = np.unique(ids)
     if len(uniq) != len(ids):
         raise LibraryError(f"{path} holds some configurations twice: it was mixed by hand")
@@ -168,7 +184,7 @@ def done_ids(path: str | Path) -> np.ndarray:
 
 
 def load(path: str | Path, columns: list[str] | None = None) -> pd.DataFrame:
-    """Every row of a library, sorted by ``config_id``.
+    """Every row of a library, sorted by ``config_id`` (then as written).
 
     Parameters
     ----------
@@ -180,8 +196,9 @@ def load(path: str | Path, columns: list[str] | None = None) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        One row per finished configuration (columns: ``config_id``, the contact record of
-        docs/architecture.md, ``error``); ``df.attrs["threadmate"]`` holds the metadata.
+        The rows (a mechanics library: one per state, the columns of
+        ``threadmate.contact.STATE_COLUMNS``; a thesis library: one per configuration);
+        ``df.attrs["threadmate"]`` holds the metadata.
 
     Raises
     ------
@@ -190,7 +207,7 @@ def load(path: str | Path, columns: list[str] | None = None) -> pd.DataFrame:
     """
     path = _check_dir(path)
     meta = read_metadata(path)
-    schema = library_schema()
+    schema = library_schema(meta)
     if columns is not None:
         unknown = [c for c in columns if c not in schema.names]
         if unknown:
@@ -212,27 +229,42 @@ def _counts(values: pd.Series | np.ndarray) -> dict[str, int]:
     return {str(k): int(v) for k, v in s.items()}
 
 
+def _starts(path: Path, meta: dict[str, Any], columns: list[str] | None = None,
+            filter: ds.Expression | None = None) -> pa.Table:
+    """One row per finished configuration: the thesis's rows, or the mechanics' starts."""
+    if meta["model"] == "mechanics":
+        start = ds.field("role") == "start"
+        filter = start if filter is None else (start & filter)
+    return _read(path, columns, filter)
+
+
 def info(path: str | Path) -> dict[str, Any]:
     """What a library holds, without loading its rows.
 
     Returns
     -------
     dict
-        ``path``, ``metadata``, ``configurations`` (grid size), ``done``, ``complete``,
-        ``parts``, ``classifications`` (counts of the finished rows) and ``grid``
+        ``path``, ``model``, ``metadata``, ``configurations`` (grid size), ``done``,
+        ``complete``, ``parts``, ``classifications`` (counts over the finished
+        configurations: the thesis's rows, or the rest states the mechanics' drops reach),
+        ``states`` (mechanics: counts of all states by role and by class) and ``grid``
         (a one-line description).
     """
     path = _check_dir(path)
     meta = read_metadata(path)
     grid = Grid.from_dict(meta["grid"])
+    done, classes, states = 0, {}, {}
     if part_files(path):
-        table = _read(path, ["config_id", "classification"])
+        table = _starts(path, meta, ["config_id", "classification"])
         done = table.num_rows
         classes = _counts(table.column("classification").to_numpy(zero_copy_only=False))
-    else:
-        done, classes = 0, {}
+        if meta["model"] == "mechanics":
+            every = _read(path, ["role", "classification"]).to_pandas()
+            states = {"total": len(every), "by_role": _counts(every["role"]),
+                      "by_class": _counts(every["classification"])}
     return {
         "path": str(path),
+        "model": meta["model"],
         "units": meta["units"],
         "grid": grid.describe(),
         "configurations": grid.size,
@@ -240,8 +272,30 @@ def info(path: str | Path) -> dict[str, Any]:
         "complete": done == grid.size,
         "parts": len(part_files(path)),
         "classifications": classes,
+        "states": states,
         "metadata": meta,
     }
+
+
+def configurations(library: str | Path | pd.DataFrame) -> pd.DataFrame:
+    """One row per finished configuration, in either model: ``config_id``, ``roll``,
+    ``pitch``, ``phase`` (the configuration: held tilt and start phase, degrees),
+    ``classification``, ``n_contacts``, ``region_combination`` (of the thesis's last stage,
+    or of the rest state the mechanics' drop reaches).
+
+    ``library`` is a library directory or rows as :func:`load` gives them.
+    """
+    df = library if isinstance(library, pd.DataFrame) else load(library)
+    if "role" in df.columns:
+        meta = df.attrs.get("threadmate")
+        df = df[df["role"] == "start"].drop(columns=["roll", "pitch"], errors="ignore").rename(
+            columns={"held_roll": "roll", "held_pitch": "pitch"})
+        df.attrs["threadmate"] = meta
+    cols = ["config_id", "roll", "pitch", "phase", "classification", "n_contacts",
+            "region_combination"]
+    out = df[[c for c in cols if c in df.columns]].reset_index(drop=True)
+    out.attrs = dict(df.attrs)
+    return out
 
 
 def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str, Any]:
@@ -258,8 +312,9 @@ def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str
     -------
     dict
         ``requested`` and ``grid`` (roll, pitch, phase), ``snapped`` (True when the grid
-        state differs from the request), ``config_id``, ``units``, ``computed`` (False
-        when an unfinished sweep has not reached it yet) and ``record`` (the row, or None).
+        state differs from the request), ``config_id``, ``units``, ``model``, ``computed``
+        (False when an unfinished sweep has not reached it yet) and ``record`` (the
+        thesis's row, or the rest state the mechanics' drop reaches; None if not computed).
     """
     path = _check_dir(path)
     meta = read_metadata(path)
@@ -270,7 +325,7 @@ def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str
                    and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= 1e-9)
     record = None
     if part_files(path):
-        rows = _read(path, filter=ds.field("config_id") == cid).to_pylist()
+        rows = _starts(path, meta, filter=ds.field("config_id") == cid).to_pylist()
         record = rows[0] if rows else None
     return {
         "requested": {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)},
@@ -278,6 +333,7 @@ def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str
         "snapped": snapped,
         "config_id": cid,
         "units": meta["units"],
+        "model": meta["model"],
         "computed": record is not None,
         "record": record,
     }
@@ -286,6 +342,7 @@ def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str
 #: Metadata entries that must agree for two libraries (or a library and a request) to
 #: hold comparable rows, with the words used to name a difference.
 _IDENTITY = (
+    (("model",), "model"),
     (("spec",), "spec"),
     (("grid", "roll"), "grid roll values"),
     (("grid", "pitch"), "grid pitch values"),
@@ -293,6 +350,8 @@ _IDENTITY = (
     (("mesh", "chord"), "mesh chord tolerance"),
     (("contact", "compliance_z"), "compliance centre (compliance_z)"),
     (("contact", "analyzer"), "contact analyser"),
+    (("compliance",), "compliance (force, stiffness, lateral stiffness, friction, centre)"),
+    (("continuation",), "continuation settings"),
     (("threadmate_version",), "threadmate version"),
 )
 

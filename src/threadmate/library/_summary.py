@@ -1,9 +1,15 @@
 """What a library shows: classification counts, region combinations and figures.
 
+Both models are summarised per *configuration* (:func:`configurations`): for the thesis's
+model a configuration's row, for the mechanics the rest state the bolt dropped at that
+held tilt and start phase reaches (its ``start`` state). A mechanics library also reports
+the counts of all its states, by role and by class, and of its passive transitions.
+
 The figures follow the thesis's chapter 4: a stability map over roll x pitch at one phase,
 the classification over phase for every orientation (Figure 4.5: a grid of small phase
 strips, one per roll/pitch), and the contact-region combinations seen. Figures are drawn
-with matplotlib's Agg canvas (no display, no global pyplot state) and written atomically.
+on matplotlib's Agg canvas (no display, no global pyplot state) and written atomically
+(:mod:`threadmate._figures`).
 """
 
 from __future__ import annotations
@@ -16,9 +22,8 @@ import numpy as np
 import pandas as pd
 
 from .._errors import InputError
-from .._io import atomic_path
 from ._grid import Grid
-from ._store import load
+from ._store import configurations, load
 
 if TYPE_CHECKING:
     from matplotlib.colors import ListedColormap
@@ -33,8 +38,20 @@ __all__ = [
     "write_figures",
 ]
 
-#: Classifications in report order: the thesis's three states, then the others.
+#: Classifications in report order: the thesis's three states, then the others. The
+#: mechanics' classes are the first four (``threadmate.contact.REST_CLASSES``).
 CLASS_ORDER = ("unstable", "quasi-stable", "stable", "in-phase", "no-contact", "error")
+#: The classes each model can give a configuration.
+_MODEL_CLASSES = {
+    "thesis": CLASS_ORDER,
+    "mechanics": ("unstable", "quasi-stable", "stable", "in-phase", "error"),
+}
+#: The classes among which ``most_common`` and ``least_common`` are picked: the thesis's
+#: three states, or the rest states a mechanics drop can reach.
+_RANKED = {
+    "thesis": ("unstable", "quasi-stable", "stable"),
+    "mechanics": ("quasi-stable", "stable", "in-phase"),
+}
 _COLOURS = {
     "unstable": "#d62728",
     "quasi-stable": "#ff9f1c",
@@ -45,21 +62,44 @@ _COLOURS = {
 }
 _NOT_COMPUTED = "#ffffff"
 _COLUMNS = ["roll", "pitch", "phase", "classification", "n_contacts", "region_combination"]
+#: What a mechanics library's summary reads (the starts and the counts of every state).
+_STATE_COLUMNS = ["held_roll", "held_pitch", "phase", "role", "classification",
+                  "n_contacts", "region_combination", "transition", "transition_label"]
 
 Library = str | os.PathLike[str] | pd.DataFrame
 
 
-def _frame(library: Library) -> tuple[pd.DataFrame, Grid, str]:
-    """Rows (the columns the summary needs), the grid and a title."""
+def _rows(library: Library) -> pd.DataFrame:
+    """The library's rows, reading only the columns the summary and figures need."""
     if isinstance(library, pd.DataFrame):
-        df = library
-        missing = [c for c in _COLUMNS if c not in df.columns]
-        if missing:
-            raise InputError(f"not library rows: column {missing[0]!r} is missing")
-        meta = df.attrs.get("threadmate")
-    else:
-        df = load(library, columns=_COLUMNS)
-        meta = df.attrs["threadmate"]
+        return library
+    from ._store import read_metadata
+
+    model = read_metadata(library)["model"]
+    return load(library, columns=_STATE_COLUMNS if model == "mechanics" else _COLUMNS)
+
+
+def _model(df: pd.DataFrame) -> str:
+    if df.attrs.get("threadmate_model"):
+        return str(df.attrs["threadmate_model"])
+    meta = df.attrs.get("threadmate") or {}
+    if "model" in meta:
+        return str(meta["model"])
+    return "mechanics" if "role" in df.columns else "thesis"
+
+
+def _frame(library: Library) -> tuple[pd.DataFrame, Grid, str, str]:
+    """One row per configuration (the columns the summary needs), the grid, a title and
+    the model."""
+    df = _rows(library)
+    model = _model(df)
+    meta = df.attrs.get("threadmate")
+    if "role" in df.columns:
+        df = configurations(df)
+        df.attrs["threadmate_model"] = model
+    missing = [c for c in _COLUMNS if c not in df.columns]
+    if missing:
+        raise InputError(f"not library rows: column {missing[0]!r} is missing")
     if meta is not None:
         grid = Grid.from_dict(meta["grid"])
         spec = meta.get("spec", {})
@@ -67,10 +107,16 @@ def _frame(library: Library) -> tuple[pd.DataFrame, Grid, str]:
     else:
         if df.empty:
             raise InputError("an empty table without library metadata has no grid")
-        grid = Grid(tuple(df["roll"].unique()), tuple(df["pitch"].unique()),
-                    tuple(df["phase"].unique()))
+        grid = Grid(tuple(sorted(df["roll"].unique())), tuple(sorted(df["pitch"].unique())),
+                    tuple(sorted(df["phase"].unique())))
         name = "contact-state library"
-    return df, grid, name
+    return df, grid, name, model
+
+
+def _what(model: str) -> str:
+    """What a configuration's class is, in a figure's words."""
+    return ("rest state reached by the drop" if model == "mechanics"
+            else "contact state (thesis's stages)")
 
 
 def _class_index(df: pd.DataFrame, grid: Grid) -> np.ndarray:
@@ -96,57 +142,96 @@ def _nearest_phase(grid: Grid, phase: float | None) -> tuple[int, float]:
     return k, on_grid
 
 
+def _counts(values: pd.Series) -> dict[str, int]:
+    return {str(k): int(v) for k, v in values.value_counts().items()}
+
+
+def _states(rows: pd.DataFrame) -> dict[str, Any]:
+    """Counts of every state of a mechanics library and of its passive transitions."""
+    by_role_class: dict[str, dict[str, int]] = {}
+    for (role, cls), n in rows.groupby(["role", "classification"]).size().items():
+        by_role_class.setdefault(str(role), {})[str(cls)] = int(n)
+    out: dict[str, Any] = {
+        "total": len(rows),
+        "by_role": _counts(rows["role"]),
+        "by_class": _counts(rows["classification"]),
+        "by_role_and_class": by_role_class,
+    }
+    if "transition" in rows.columns:
+        moves = rows[rows["transition"] != ""]
+        by_kind: dict[str, dict[str, int]] = {}
+        if "transition_label" in moves.columns:
+            for (kind, label), n in moves.groupby(
+                    ["transition", "transition_label"]).size().items():
+                by_kind.setdefault(str(kind), {})[str(label)] = int(n)
+        out["transitions"] = by_kind
+    return out
+
+
 def summary(library: Library, phase: float | None = None) -> dict[str, Any]:
-    """Counts of the contact states of a library.
+    """Counts of the contact states of a library (either model).
 
     Parameters
     ----------
     library : path-like or pandas.DataFrame
-        A library directory or rows from :func:`load`.
+        A library directory, rows from :func:`load`, or one row per configuration as
+        :func:`configurations` gives them.
     phase : float, optional
-        Also count the states at this phase (snapped to the nearest grid phase).
+        Also count the configurations at this phase (snapped to the nearest grid phase;
+        default the first grid phase, as :func:`plot_stability_map`).
 
     Returns
     -------
     dict
-        ``configurations`` (grid size), ``done``, ``counts`` and ``fractions`` per
-        classification (all of :data:`CLASS_ORDER`), ``most_common`` and
-        ``least_common`` among unstable, quasi-stable and stable, ``region_combinations``
-        (counts, most frequent first), ``n_contacts`` (counts), ``orientations`` (counts
-        per roll/pitch) and, with ``phase``, ``at_phase`` (the grid phase and its counts).
+        ``library`` (its name), ``model``, ``units``, ``grid``, ``configurations`` (grid
+        size), ``done``; over the finished configurations (the thesis's rows, or the rest
+        state each mechanics start reaches): ``counts`` and ``fractions`` per
+        classification (every class the model can give), ``most_common`` and
+        ``least_common`` (among unstable, quasi-stable and stable for the thesis's model;
+        among quasi-stable, stable and in-phase for the mechanics, whose drops always end
+        at rest), ``region_combinations`` (counts, most frequent first), ``n_contacts``
+        (counts), ``orientations`` (counts per roll/pitch) and ``at_phase`` (the grid
+        phase and its counts). A mechanics library adds ``states``:
+        ``total``, ``by_role``, ``by_class``, ``by_role_and_class`` over all its states
+        and ``transitions`` (counts by kind and stability label).
     """
-    df, grid, name = _frame(library)
+    rows = _rows(library)
+    df, grid, name, model = _frame(rows)
+    classes = _MODEL_CLASSES.get(model, CLASS_ORDER)
     cls = df["classification"]
-    counts = {c: int((cls == c).sum()) for c in CLASS_ORDER}
-    for other in sorted(set(cls.unique()) - set(CLASS_ORDER)):
+    counts = {c: int((cls == c).sum()) for c in classes}
+    for other in sorted(set(cls.unique()) - set(classes)):
         counts[str(other)] = int((cls == other).sum())
     done = len(df)
-    three = {c: counts[c] for c in ("unstable", "quasi-stable", "stable")}
+    ranked = {c: counts[c] for c in _RANKED.get(model, _RANKED["thesis"])}
     combos = df["region_combination"].replace("", "(none)").value_counts()
     per_orientation = []
     for (r, p), group in df.groupby(["roll", "pitch"], sort=True):
-        vc = group["classification"].value_counts()
         per_orientation.append({"roll": float(r), "pitch": float(p),
-                                "counts": {str(k): int(v) for k, v in vc.items()}})
+                                "counts": _counts(group["classification"])})
+    meta = rows.attrs.get("threadmate") or {}
     out: dict[str, Any] = {
         "library": name,
+        "model": model,
+        "units": meta.get("units"),
         "grid": grid.describe(),
         "configurations": grid.size,
         "done": done,
         "counts": counts,
         "fractions": {c: (v / done if done else 0.0) for c, v in counts.items()},
-        "most_common": max(three, key=three.get) if done else None,
-        "least_common": min(three, key=three.get) if done else None,
+        "most_common": max(ranked, key=ranked.get) if done else None,
+        "least_common": min(ranked, key=ranked.get) if done else None,
         "region_combinations": {str(k): int(v) for k, v in combos.items()},
         "n_contacts": {int(k): int(v) for k, v in
                        df["n_contacts"].value_counts().sort_index().items()},
         "orientations": per_orientation,
     }
-    if phase is not None:
-        _, on_grid = _nearest_phase(grid, phase)
-        at = df.loc[np.isclose(df["phase"], on_grid, atol=1e-9), "classification"]
-        out["at_phase"] = {"phase": on_grid,
-                           "counts": {c: int((at == c).sum()) for c in CLASS_ORDER}}
+    if "role" in rows.columns:
+        out["states"] = _states(rows)
+    _, on_grid = _nearest_phase(grid, phase)
+    at = df.loc[np.isclose(df["phase"], on_grid, atol=1e-9), "classification"]
+    out["at_phase"] = {"phase": on_grid,
+                       "counts": {c: int((at == c).sum()) for c in classes}}
     return out
 
 
@@ -159,9 +244,17 @@ def _cmap() -> ListedColormap:
 
 
 def _figure(width: float, height: float) -> Figure:
-    from matplotlib.figure import Figure
+    from .._figures import new_figure
 
-    return Figure(figsize=(width, height))
+    return new_figure((width, height))
+
+
+def _save(fig: Figure, path: str | os.PathLike[str]) -> Path:
+    """Write ``fig`` atomically in the format of the path's suffix (PNG without one)."""
+    from .._figures import save_figure
+
+    fmt = Path(path).suffix.lstrip(".").lower() or "png"
+    return save_figure(fig, path, fmt)
 
 
 def _legend(ax: Any, present: set[int]) -> None:
@@ -181,22 +274,18 @@ def _ticks(values: tuple[float, ...], most: int = 19) -> tuple[list[int], list[s
     return idx, [f"{values[i]:g}" for i in idx]
 
 
-def _save(fig: Figure, path: str | os.PathLike[str]) -> Path:
-    path = Path(path)
-    fmt = path.suffix.lstrip(".").lower() or "png"
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    FigureCanvasAgg(fig)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format=fmt, dpi=150, bbox_inches="tight")
-    return path
+def _axis_names(model: str) -> tuple[str, str]:
+    if model == "mechanics":
+        return "held roll (deg)", "held pitch (deg)"
+    return "roll (deg)", "pitch (deg)"
 
 
 def plot_stability_map(library: Library, path: str | os.PathLike[str],
                        phase: float | None = None) -> Path:
     """Classification over roll x pitch at one phase (nearest grid phase; default the
-    first). Returns the figure's path (format from its suffix, PNG by default)."""
-    df, grid, name = _frame(library)
+    first): the thesis's state, or the rest state the mechanics' drop reaches. Returns the
+    figure's path (format from its suffix, PNG by default)."""
+    df, grid, name, model = _frame(library)
     k, on_grid = _nearest_phase(grid, phase)
     cube = _class_index(df, grid)
     plane = cube[:, :, k].T  # rows: pitch, columns: roll
@@ -211,9 +300,10 @@ def plot_stability_map(library: Library, path: str | os.PathLike[str],
     ax.tick_params(which="minor", length=0)
     ax.set_xticks(*_ticks(grid.roll))
     ax.set_yticks(*_ticks(grid.pitch))
-    ax.set_xlabel("roll (deg)")
-    ax.set_ylabel("pitch (deg)")
-    ax.set_title(f"{name}: contact state at phase {on_grid:g} deg")
+    xlabel, ylabel = _axis_names(model)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(f"{name}: {_what(model)} at phase {on_grid:g} deg", fontsize="medium")
     _legend(ax, set(np.unique(plane).tolist()))
     return _save(fig, path)
 
@@ -221,7 +311,7 @@ def plot_stability_map(library: Library, path: str | os.PathLike[str],
 def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
     """The classification over phase for each orientation (thesis Figure 4.5): one small
     strip per roll/pitch, phase increasing left to right from 0 to 360 deg."""
-    df, grid, name = _frame(library)
+    df, grid, name, model = _frame(library)
     cube = _class_index(df, grid)
     n_roll, n_pitch, n_phase = grid.shape
     width = n_phase
@@ -246,9 +336,12 @@ def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
     yi, yl = _ticks(grid.pitch)
     ax.set_xticks([gap + i * (width + gap) + width / 2 for i in xi], xl)
     ax.set_yticks([(n_pitch - 1 - j) * (height + gap) + gap + height / 2 for j in yi], yl)
-    ax.set_xlabel("roll (deg); within each strip, phase 0 to 360 deg left to right")
-    ax.set_ylabel("pitch (deg)")
-    ax.set_title(f"{name}: contact state over phase for each orientation")
+    xlabel, ylabel = _axis_names(model)
+    ax.set_xlabel(f"{xlabel}; within each strip, phase 0 to 360 deg left to right")
+    ax.set_ylabel(ylabel)
+    ax.set_title(f"{name}: {_what(model)} over phase for each held tilt"
+                 if model == "mechanics" else
+                 f"{name}: {_what(model)} over phase for each orientation")
     for side in ax.spines.values():
         side.set_visible(False)
     _legend(ax, set(np.unique(cube).tolist()))
@@ -257,9 +350,10 @@ def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
 
 def plot_region_combinations(library: Library, path: str | os.PathLike[str],
                              top: int = 25) -> Path:
-    """Counts of the contact-region combinations (bolt/nut per contact) at the last stage
-    reached, most frequent first (the ``top`` ones)."""
-    df, _, name = _frame(library)
+    """Counts of the contact-region combinations (bolt/nut per contact) of each
+    configuration (at the thesis's last stage reached, or of the rest state the mechanics'
+    drop reaches), most frequent first (the ``top`` ones)."""
+    df, _, name, model = _frame(library)
     combos = df["region_combination"].replace("", "(none)").value_counts().head(top)
     fig = _figure(8.0, 1.0 + 0.28 * max(1, len(combos)))
     ax = fig.add_subplot()
@@ -267,8 +361,10 @@ def plot_region_combinations(library: Library, path: str | os.PathLike[str],
     ax.barh(y, combos.to_numpy(), color="#4c72b0")
     ax.set_yticks(y, [str(s) for s in combos.index], fontsize="small")
     ax.invert_yaxis()
-    ax.set_xlabel("configurations")
-    ax.set_title(f"{name}: contact-region combinations (bolt/nut per contact)")
+    ax.set_xlabel("starts (held tilt, phase)" if model == "mechanics" else "configurations")
+    where = "rest states reached" if model == "mechanics" else "last stage reached"
+    ax.set_title(f"{name}: contact-region combinations, {where} (bolt/nut per contact)",
+                 fontsize="medium")
     for yy, v in zip(y, combos.to_numpy(), strict=True):
         ax.text(v, yy, f" {v}", va="center", fontsize="x-small")
     return _save(fig, path)
@@ -286,11 +382,12 @@ def write_figures(library: Library, outdir: str | os.PathLike[str],
     outdir = Path(outdir)
     if outdir.exists() and not outdir.is_dir():
         raise InputError(f"-o {outdir} exists and is not a directory")
-    if not isinstance(library, pd.DataFrame):
-        library = load(library, columns=_COLUMNS)  # read once for the three figures
+    # Read once, one row per configuration, for the three figures.
+    configs, _, _, model = _frame(library)
+    configs.attrs["threadmate_model"] = model
     return {
-        "stability_map": plot_stability_map(library, outdir / "stability_map.png", phase),
-        "phase_strips": plot_phase_strips(library, outdir / "phase_strips.png"),
+        "stability_map": plot_stability_map(configs, outdir / "stability_map.png", phase),
+        "phase_strips": plot_phase_strips(configs, outdir / "phase_strips.png"),
         "region_combinations": plot_region_combinations(
-            library, outdir / "region_combinations.png"),
+            configs, outdir / "region_combinations.png"),
     }

@@ -1,12 +1,15 @@
-"""The sweep: every configuration of a grid through the contact stages, in chunks, to disk.
+"""The sweep: every configuration of a grid through the mechanics (or the thesis's stages),
+in chunks, to disk.
 
-Work goes out in chunks of consecutive ``config_id``. Each worker process (or Dask
-worker thread) builds ONE contact analyser, meshes and python-fcl BVHs included, the
-first time it sees a job, and keeps it for every later chunk: fcl objects neither pickle
-nor share between threads. Each finished chunk is written at once as its own Parquet part
-(temporary name, then rename), so an interrupted sweep loses at most the chunks in
-flight, and running the same request again computes only the configurations that no part
-holds yet.
+Work goes out in chunks of consecutive ``config_id``: for the mechanics one chunk is one
+held tilt with all its phases (the continuations of its starts join each other), for the
+thesis's model a run of configurations. Each worker process (or Dask worker thread)
+builds ONE :class:`~threadmate.contact.Mechanics` (or contact analyser), meshes and
+python-fcl BVHs included, the first time it sees a job, and keeps it for every later
+chunk: fcl objects neither pickle nor share between threads. Each finished chunk is
+written at once as its own Parquet part (temporary name, then rename), so an interrupted
+sweep loses at most the chunks in flight, and running the same request again computes
+only the configurations that no part holds yet.
 """
 
 from __future__ import annotations
@@ -31,12 +34,15 @@ import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
 from .._version import __version__
+from ..contact import Compliance, blank_row, check_continuation
 from ..geometry import ThreadSpec
 from ._grid import Grid, Values
+from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_TURNS, states_of_held_tilt
 from ._store import (
     FORMAT,
     FORMAT_VERSION,
     METADATA_FILE,
+    MODELS,
     compare_metadata,
     done_ids,
     library_schema,
@@ -48,7 +54,7 @@ from ._store import (
     write_part,
 )
 
-__all__ = ["sweep", "SweepInterrupted", "ProgressCallback"]
+__all__ = ["sweep", "write_library", "SweepInterrupted", "ProgressCallback"]
 
 #: ``progress(done, total)``: configurations finished (resumed ones included) and the
 #: grid's size, called once before any work and after every chunk.
@@ -72,28 +78,38 @@ class Job:
     spec: ThreadSpec
     grid: Grid
     chord: float
-    compliance_z: float
+    model: str
+    compliance: Compliance
+    step: float = 2.0
+    phase_tolerance: float = 0.01
     analyzer: Callable[..., Any] | None = None
 
     @property
     def key(self) -> str:
-        return repr((self.spec, self.grid, self.chord, self.compliance_z,
+        return repr((self.spec, self.grid, self.chord, self.model, self.compliance,
                      _describe_analyzer(self.analyzer)))
 
 
 _LOCAL = threading.local()
 
 
-def _analyzer_for(job: Job) -> Any:
-    """This worker's analyser for ``job``, built on first use and kept."""
+def _worker_for(job: Job) -> Any:
+    """This worker's Mechanics (or thesis analyser) for ``job``, built on first use and
+    kept."""
     if getattr(_LOCAL, "key", None) != job.key:
-        _LOCAL.analyzer = None  # free the old meshes before building new ones
-        factory = job.analyzer
-        if factory is None:
-            from ..contact import ContactAnalyzer as factory
-        _LOCAL.analyzer = factory(job.spec, chord=job.chord, compliance_z=job.compliance_z)
+        _LOCAL.worker = None  # free the old meshes before building new ones
+        if job.model == "mechanics":
+            from ..contact import Mechanics
+
+            _LOCAL.worker = Mechanics(job.spec, job.compliance, chord=job.chord)
+        else:
+            factory = job.analyzer
+            if factory is None:
+                from ..contact import ContactAnalyzer as factory
+            _LOCAL.worker = factory(job.spec, chord=job.chord,
+                                    compliance_z=job.compliance.compliance_z)
         _LOCAL.key = job.key
-    return _LOCAL.analyzer
+    return _LOCAL.worker
 
 
 def _settings(analyzer: Any) -> dict[str, Any]:
@@ -108,21 +124,6 @@ def _settings(analyzer: Any) -> dict[str, Any]:
     }
 
 
-def _blank_record(schema: pa.Schema) -> dict[str, Any]:
-    """Missing values per the record contract: NaN, 0, False, ""."""
-    out: dict[str, Any] = {}
-    for f in schema:
-        if pa.types.is_floating(f.type):
-            out[f.name] = math.nan
-        elif pa.types.is_integer(f.type):
-            out[f.name] = 0
-        elif pa.types.is_boolean(f.type):
-            out[f.name] = False
-        else:
-            out[f.name] = ""
-    return out
-
-
 def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]]:
     """Analyse configurations in this process; a configuration that raises becomes a row
     with classification ``error`` and the message in ``error``.
@@ -130,25 +131,31 @@ def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]
     Returns
     -------
     table : pyarrow.Table
-        Rows in the library schema (without metadata), in ``config_ids`` order.
+        Rows in the library schema (without metadata).
     settings : dict
         The analyser's chord, mesh deviation and tolerances.
     """
-    analyzer = _analyzer_for(job)
-    schema = library_schema()
-    blank = _blank_record(schema)
+    worker = _worker_for(job)
+    schema = library_schema(model=job.model)
+    configs = job.grid.configurations(config_ids)
+    if job.model == "mechanics":
+        # One chunk is one held tilt (see _chunks).
+        rows = states_of_held_tilt(worker, float(configs[0][0]), float(configs[0][1]),
+                                   [float(c[2]) for c in configs], config_ids,
+                                   step=job.step, phase_tolerance=job.phase_tolerance)
+        return pa.Table.from_pylist(rows, schema=schema), _settings(worker.analyzer)
+    blank = blank_row(schema)
     rows = []
-    for cid, (roll, pitch, phase) in zip(config_ids, job.grid.configurations(config_ids),
-                                         strict=True):
+    for cid, (roll, pitch, phase) in zip(config_ids, configs, strict=True):
         try:
-            rec = analyzer.analyze(float(roll), float(pitch), float(phase)).to_record()
+            rec = worker.analyze(float(roll), float(pitch), float(phase)).to_record()
             rec["error"] = ""
         except Exception as exc:  # noqa: BLE001 - one bad configuration must not stop a sweep
             rec = dict(blank, roll=float(roll), pitch=float(pitch), phase=float(phase),
                        classification="error", error=f"{type(exc).__name__}: {exc}")
         rec["config_id"] = int(cid)
         rows.append(rec)
-    return pa.Table.from_pylist(rows, schema=schema), _settings(analyzer)
+    return pa.Table.from_pylist(rows, schema=schema), _settings(worker)
 
 
 # -- executors ----------------------------------------------------------------------------
@@ -302,22 +309,34 @@ def _default_chord(units: str) -> float:
 
 
 def _request_metadata(job: Job) -> dict[str, Any]:
-    spec = job.spec.to_dict()
-    return {
+    meta: dict[str, Any] = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
         "threadmate_version": __version__,
+        "model": job.model,
         "units": job.spec.units,
         "angles": "degrees",
         "conventions": "conventions.md: x_F = Rx(roll) Ry(pitch) Rz(phase) x_B + origin",
-        "spec": spec,
+        "spec": job.spec.to_dict(),
         "grid": job.grid.to_dict(),
         "mesh": {"chord": job.chord, "max_deviation": None},
-        "contact": {"compliance_z": job.compliance_z, "tolerances": None,
-                    "analyzer": _describe_analyzer(job.analyzer)},
-        "columns": "config_id, the contact record of docs/architecture.md, error",
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
     }
+    if job.model == "mechanics":
+        meta["compliance"] = job.compliance.to_dict()
+        meta["continuation"] = {
+            "step": job.step, "phase_tolerance": job.phase_tolerance,
+            "max_turns": MAX_TURNS, "join_tilt": JOIN_TILT,
+            "join_distance_pitches": JOIN_DISTANCE, "units": "degrees; turns; pitches"}
+        meta["contact"] = {"tolerances": None}
+        meta["columns"] = ("one row per contact state: threadmate.contact.STATE_COLUMNS "
+                           "(docs/architecture.md)")
+    else:
+        meta["compliance"] = {"compliance_z": job.compliance.compliance_z}
+        meta["contact"] = {"compliance_z": job.compliance.compliance_z, "tolerances": None,
+                           "analyzer": _describe_analyzer(job.analyzer)}
+        meta["columns"] = "config_id, the contact record of docs/architecture.md, error"
+    return meta
 
 
 def _open_library(out: Path, job: Job) -> dict[str, Any]:
@@ -346,14 +365,31 @@ def _chunks(ids: np.ndarray, size: int) -> Iterator[list[int]]:
         yield [int(i) for i in ids[start:start + size]]
 
 
+def _tilt_chunks(ids: np.ndarray, n_phase: int) -> Iterator[list[int]]:
+    """One chunk per held tilt (ids are roll-major, phase fastest)."""
+    tilts = ids // n_phase
+    for t in np.unique(tilts):
+        yield [int(i) for i in ids[tilts == t]]
+
+
 # -- the sweep ----------------------------------------------------------------------------
 def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Values = None,
           *, out: str | os.PathLike[str] | None = None, workers: int | None = None,
           scheduler: str | None = None, chunk_size: int | None = None,
-          chord: float | None = None, compliance_z: float = 0.0,
-          progress: ProgressCallback | None = None, max_chunks: int | None = None,
+          chord: float | None = None, model: str = "mechanics",
+          compliance: Compliance | None = None, step: float = 2.0,
+          phase_tolerance: float = 0.01, progress: ProgressCallback | None = None,
+          max_chunks: int | None = None,
           analyzer: Callable[..., Any] | None = None) -> Path | pd.DataFrame:
     """Build (or resume) the contact-state library of a thread pair over a grid.
+
+    With the ``mechanics`` model (the default) every configuration is a start: a held tilt
+    and a phase where the bolt is dropped. The library holds the rest state each start
+    reaches, the unstable states passed on the way, and the counter-clockwise search
+    continued from it grid phase by grid phase (jumps and the snap located between grid
+    phases), each state with its passive transition (``threadmate.contact.STATE_COLUMNS``).
+    With the ``thesis`` model it holds the thesis's fixed-pivot procedure per
+    configuration, with the thesis's classes.
 
     Parameters
     ----------
@@ -376,20 +412,28 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
         ``DASK_SCHEDULER_ADDRESS``) if set, else the process pool. Dask is optional
         (``pip install threadmate[dask]``).
     chunk_size : int, optional
-        Configurations per chunk (one Parquet part each). Default: about 16 chunks per
-        worker, 4 to 256 configurations each.
+        Thesis model: configurations per chunk (one Parquet part each; default about 16
+        chunks per worker, 4 to 256 configurations each). The mechanics' chunk is always
+        one held tilt.
     chord : float, optional
         Chord tolerance of the meshes (spec units; default that of
         :mod:`threadmate.geometry`). At most a tenth of the pitch.
-    compliance_z : float
-        Compliance centre on the bolt axis, bolt frame (default 0: the tip centre).
+    model : {"mechanics", "thesis"}
+        What each configuration runs through (see above).
+    compliance : Compliance, optional
+        Load, stiffness, lateral stiffness, friction and compliance centre (default
+        :class:`~threadmate.contact.Compliance()`); stored in the metadata, and a resumed
+        sweep with other values is refused. The thesis's model uses only the centre.
+    step, phase_tolerance : float
+        Mechanics: the continuation's step and how closely jumps and the snap are located
+        (degrees; as :func:`threadmate.contact.search`).
     progress : callable, optional
         ``progress(done, total)`` after each chunk (see :data:`ProgressCallback`).
     max_chunks : int, optional
         Stop after writing this many chunks (the library stays resumable).
     analyzer : callable, optional
-        ``analyzer(spec, chord=..., compliance_z=...)`` builds the analyser in each
-        worker (default :class:`threadmate.contact.ContactAnalyzer`); it must pickle
+        Thesis model: ``analyzer(spec, chord=..., compliance_z=...)`` builds the analyser
+        in each worker (default :class:`threadmate.contact.ContactAnalyzer`); it must pickle
         (a module-level class or a :func:`functools.partial` of one). Recorded in the
         metadata.
 
@@ -417,15 +461,23 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
     if chord > spec.pitch / 10:
         raise InputError(f"--chord {chord:g} is too coarse for pitch {spec.pitch:g} "
                          f"{spec.units}: give at most a tenth of the pitch")
-    if isinstance(compliance_z, bool) or not isinstance(compliance_z, int | float) \
-            or not math.isfinite(compliance_z):
-        raise InputError(f"--compliance-z must be a finite length, got {compliance_z!r}")
+    if model not in MODELS:
+        raise InputError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
+    if compliance is None:
+        compliance = Compliance()
+    if not isinstance(compliance, Compliance):
+        raise InputError(f"compliance must be a Compliance, got {type(compliance).__name__}")
+    compliance.check_for(spec.pitch)  # here, not first in a worker after the library exists
+    check_continuation(step=step, phase_tolerance=phase_tolerance)
     for name, value in (("chunk_size", chunk_size), ("max_chunks", max_chunks)):
         if value is not None and (isinstance(value, bool) or not isinstance(value, int)
                                   or value < 1):
             raise InputError(f"{name} must be a whole number >= 1, got {value!r}")
     _check_execution(workers, scheduler)
-    job = Job(spec, grid, float(chord), float(compliance_z), analyzer)
+    if model == "mechanics" and analyzer is not None:
+        raise InputError("analyzer is for the thesis's model only")
+    job = Job(spec, grid, float(chord), model, compliance, float(step),
+              float(phase_tolerance), analyzer)
 
     if out is None:
         tmp = Path(tempfile.mkdtemp(prefix="threadmate-sweep-"))
@@ -436,6 +488,61 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
             shutil.rmtree(tmp, ignore_errors=True)
     out = Path(out)
     _run(job, out, workers, scheduler, chunk_size, progress, max_chunks)
+    return out
+
+
+def write_library(records: pd.DataFrame | list[dict[str, Any]],
+                  out: str | os.PathLike[str], spec: ThreadSpec, roll: Values = None,
+                  pitch: Values = None, phase: Values = None, *, model: str = "mechanics",
+                  compliance: Compliance | None = None, chord: float | None = None,
+                  step: float = 2.0, phase_tolerance: float = 0.01,
+                  rows_per_part: int = 500_000) -> Path:
+    """Write a library from rows computed elsewhere (a study, a benchmark, a test).
+
+    The library is what :func:`sweep` with the same arguments would write around the same
+    rows: metadata for the request, the rows in the model's schema (the record contract of
+    :mod:`threadmate.contact`) as Parquet parts. Rows are not checked against the
+    mechanics; they must carry every column of the schema.
+
+    Parameters
+    ----------
+    records : pandas.DataFrame or list of dict
+        Rows with the columns of ``STATE_COLUMNS`` (mechanics) or of ``thesis_schema``.
+    out : path-like
+        A new or empty directory (or a library of the same request, to add parts to).
+    spec, roll, pitch, phase, model, compliance, chord, step, phase_tolerance
+        As :func:`sweep`: they go into the metadata.
+    rows_per_part : int
+        Rows per Parquet part.
+
+    Returns
+    -------
+    pathlib.Path
+        The library directory.
+    """
+    if not isinstance(spec, ThreadSpec):
+        raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
+    if model not in MODELS:
+        raise InputError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
+    job = Job(spec, Grid.parse(roll, pitch, phase),
+              float(_default_chord(spec.units) if chord is None else chord), model,
+              compliance or Compliance(), float(step), float(phase_tolerance))
+    schema = library_schema(model=model)
+    frame = pd.DataFrame(records) if not isinstance(records, pd.DataFrame) else records
+    missing = [n for n in schema.names if n not in frame.columns]
+    if missing:
+        raise InputError(f"records lack the column {missing[0]!r} of the {model} schema")
+    try:
+        table = pa.Table.from_pandas(frame[schema.names], schema=schema, preserve_index=False)
+    except (pa.ArrowInvalid, pa.ArrowTypeError) as exc:
+        raise InputError(f"records do not fit the {model} schema: {exc}") from None
+    out = Path(out)
+    meta = _open_library(out, job)
+    part = next_part_index(out)
+    with_meta = table.replace_schema_metadata(library_schema(meta).metadata)
+    for start in range(0, max(table.num_rows, 1), rows_per_part):
+        write_part(out, part, with_meta.slice(start, rows_per_part))
+        part += 1
     return out
 
 
@@ -462,9 +569,12 @@ def _run(job: Job, out: Path, workers: int | None, scheduler: str | None,
         raise
     if progress is not None:
         progress(n_done, total)
-    if chunk_size is None:
-        chunk_size = int(min(256, max(4, math.ceil(len(todo) / (16 * executor.slots)))))
-    chunks = _chunks(todo, chunk_size)
+    if job.model == "mechanics":
+        chunks = _tilt_chunks(todo, len(job.grid.phase))
+    else:
+        if chunk_size is None:
+            chunk_size = int(min(256, max(4, math.ceil(len(todo) / (16 * executor.slots)))))
+        chunks = _chunks(todo, chunk_size)
     part = next_part_index(out)
     cancel = True
     try:
@@ -504,7 +614,7 @@ def _loop(job: Job, out: Path, executor: Any, chunks: Iterator[list[int]],
         write_part(out, part, table.replace_schema_metadata(library_schema(meta).metadata))
         part += 1
         written += 1
-        n_done += table.num_rows
+        n_done += len(np.unique(table.column("config_id").to_numpy()))
         if progress is not None:
             progress(n_done, total)
 

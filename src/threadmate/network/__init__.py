@@ -1,81 +1,85 @@
-"""The graph stage: the contact-state network, least-resistance paths to the snap, the SRCC
-pitch recommendation, GraphML.
+"""The graph stage: the contact-state network of a mechanics library, least-resistance
+paths to the snap, the SRCC recommendation, GraphML.
 
-A library (:mod:`threadmate.library`) becomes a networkx directed graph
-(:func:`build_network`): one node per state (string ids such as ``r+1.0_p-2.0_ph135.0``),
-*turning* edges one phase step counter-clockwise, *settling* edges one roll/pitch step
-toward the bolt's resting orientation, labels from the destination's classification and
-weights in mJ from :class:`ResistanceParams` (work against the axial load where the
-compliance centre rises, elastic energy in the compliance, friction of turning, penalty for
-entering an unstable state; formula in :mod:`threadmate.network._cost`). In-phase states
-are the snap targets. Angles in degrees, lengths in the spec's units, costs in mJ.
+A library (:mod:`threadmate.library`, mechanics model) becomes a networkx directed graph
+(:func:`build_network`, :func:`from_library`). Nodes are its contact states: the rest
+state each start (held tilt, phase) reaches, the unstable states passed on the way, the
+continuation's states at each grid phase and both sides of every jump. Edges are the
+passive transitions (settling, turning, jump, snap; labelled ``stable``, ``quasi-stable``
+or ``unstable`` by the stability of the transition; weighted by the driver's work in mJ,
+:data:`WEIGHT_FORMULA`) and, when asked, the active moves (change the held tilt by a grid
+step: lift and re-drop; marked ``active``). A passive edge never changes the held tilt.
+
+Without active moves the path from a start is the passive search itself
+(:func:`least_resistance_path`; :func:`start_outcomes` gives every start's at once: does
+it snap within a turn, how far it turns, the work, the click, the peak torque, whether it
+passes an unstable transition). :func:`recommend` ranks the SRCC settings (held pitch,
+and compliance across libraries). Angles in degrees, lengths in the spec's units, work
+in mJ, torques in N m.
 
 Example
 -------
 >>> from threadmate import network
 >>> g = network.from_library("lib-1-4-20")                             # doctest: +SKIP
 >>> p = network.least_resistance_path(g, roll=2, pitch=-1, phase=40)   # doctest: +SKIP
->>> p.path, p.labels, p.cost                                           # doctest: +SKIP
->>> rec = network.recommend_pitch(g, roll_spread=2)                    # doctest: +SKIP
+>>> p.path, p.labels, p.cost, p.snap                                   # doctest: +SKIP
+>>> rec = network.recommend(g, roll_spread=2)                          # doctest: +SKIP
 >>> print(network.format_recommendation(rec))                          # doctest: +SKIP
 >>> network.write_graphml(g, "network.graphml")                        # doctest: +SKIP
 """
 
 from ._build import (
-    CLASSIFICATIONS,
-    EDGE_LABELS,
-    NETWORK_COLUMNS,
-    NODE_ID_FORMAT,
+    COST_UNITS,
+    EDGE_KINDS,
+    NODE_ATTRIBUTES,
+    WEIGHT_FORMULA,
     build_network,
     from_library,
-    node_id,
+    start_node,
+    starts,
 )
-from ._cost import COST_UNITS, WEIGHT_FORMULA, ResistanceParams, edge_costs, variant_weight
+from ._figures import plot_click_signature, plot_click_vs_tilt
 from ._paths import (
+    MAX_K,
     PathResult,
-    cost_to_snap,
     k_best_paths,
     least_resistance_path,
-    resolve_start,
     snap_targets,
-    unsafe_starts,
+    start_outcomes,
 )
 from ._readwrite import read_graphml, write_graphml, write_node_link
 from ._recommend import (
-    PitchSetting,
+    METRICS,
     Recommendation,
     format_recommendation,
     plot_recommendation,
-    recommend_pitch,
+    recommend,
     write_recommendation,
 )
 
 __all__ = [
-    "CLASSIFICATIONS",
     "COST_UNITS",
-    "EDGE_LABELS",
-    "NETWORK_COLUMNS",
-    "NODE_ID_FORMAT",
+    "EDGE_KINDS",
+    "MAX_K",
+    "METRICS",
+    "NODE_ATTRIBUTES",
     "WEIGHT_FORMULA",
     "PathResult",
-    "PitchSetting",
     "Recommendation",
-    "ResistanceParams",
     "build_network",
-    "cost_to_snap",
-    "edge_costs",
     "format_recommendation",
     "from_library",
     "k_best_paths",
     "least_resistance_path",
-    "node_id",
+    "plot_click_signature",
+    "plot_click_vs_tilt",
     "plot_recommendation",
     "read_graphml",
-    "recommend_pitch",
-    "resolve_start",
+    "recommend",
     "snap_targets",
-    "unsafe_starts",
-    "variant_weight",
+    "start_node",
+    "start_outcomes",
+    "starts",
     "write_graphml",
     "write_node_link",
     "write_recommendation",

@@ -1,395 +1,237 @@
-"""The contact-state network: one node per library state, turning and settling edges.
+"""The contact-state network of a mechanics library (design/mechanics.md, "The network").
 
-Nodes
-    One per library row, with the string id :func:`node_id` (``r{roll}_p{pitch}_ph{phase}``,
-    each angle in degrees rounded to 1e-6 and written as Python writes a float, roll and
-    pitch signed: ``r+1.0_p-2.0_ph135.0``, ``r-0.5_p+0.0_ph3.0``). Attributes are scalars:
-    ``roll``, ``pitch``, ``phase``, ``classification``, ``in_phase`` (the snap targets),
-    ``n_contacts``, ``region_combination``, ``interference``, ``origin_drop``,
-    ``pivot_offset``, ``final_roll``, ``final_pitch``, ``final_origin_z``,
-    ``first_origin_z``, ``second_origin_z``, ``third_origin_z``, ``rest_height`` (the
-    compliance centre's height at the last stage reached) and ``contact_radius`` (mean
-    distance of that stage's contacts from the nut axis); lengths in the spec's units,
-    angles in degrees, NaN where the contact stages gave no value.
+**Nodes** are the library's states, one per row of the state record
+(``threadmate.contact.STATE_COLUMNS``): the rest states each start reaches, the unstable
+states passed on the way (first contact, new contacts, rolling), the states the
+continuation reaches at each grid phase, and both sides of every jump. Their ids
+(``r+1_p-2_ph135.000_s7``) carry the held tilt, the phase and a serial; continuations from
+different starts that reach the same state (same load-carrying contacts, pose within the
+library's join tolerances) share one node, which the sweep decides.
 
-Edges (``kind``)
-    ``turning``: to the state one phase step further counter-clockwise (the next phase of
-    the grid, wrapping at 360) at the same roll and pitch: the motion of the snap heuristic.
+**Passive edges** are the transitions the state record names (each state has at most one:
+the quasi-static dynamics are deterministic): ``settling`` (first contact to rest, same
+phase), ``turning`` (a continuous branch, to the next grid phase or to a fold), ``jump``
+and ``snap``. Each keeps its label (``stable``, ``quasi-stable``, ``unstable``) and the
+work the library measured. None changes the held tilt.
 
-    ``settling``: to the neighbouring roll/pitch of the grid, at the same phase, toward the
-    bolt's resting orientation. The contact stages turn the bolt about its contacts in the
-    sense that lowers the compliance centre, i.e. along the moment of the axial load (along
-    -Z through the compliance centre) about the contacts; they end at ``final_roll`` and
-    ``final_pitch``. The compliance holding the bolt yields the same way, so its held
-    orientation relaxes toward that rest: along each tilt axis the edge steps one grid value
-    in the sign of ``final - held`` when the rest lies at least half of that grid step away
-    (a diagonal step when both do); no edge when the rest is within half a step on both.
+**Active edges** (``active=True``, marked ``active``): what a robot can do beyond turning.
+From every rest state at a grid phase, change the held tilt by one grid step in roll or
+pitch: lift the bolt clear and drop it again at the new held tilt, arriving at that
+tilt's first contact at the same phase; then it settles passively.
 
-    In-phase states are absorbing (the bolt has dropped into the thread: the search ends
-    there) and ``error`` states have no edges.
-
-Labels (``label``)
-    The classification of the destination state: ``stable``, ``quasi-stable`` or
-    ``unstable``; entering an in-phase state is ``stable`` (the bolt is seated) and entering
-    a ``no-contact`` state is ``unstable`` (nothing known holds the bolt there).
-
-Weights (``weight``, mJ)
-    See :mod:`threadmate.network._cost`; the four terms are kept on each edge (``work``,
-    ``elastic``, ``friction``, ``penalty``) with the geometry they come from (``rise``,
-    ``tilt_change``, ``turn``, lengths in the spec's units and angles in degrees).
+Weights are in mJ (:data:`WEIGHT_FORMULA`); never negative.
 """
 
 from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
-from pathlib import Path
+import os
 from typing import Any
 
 import networkx as nx
 import numpy as np
 import pandas as pd
 
-from .._errors import LibraryError
-from .._version import __version__
-from ._cost import COST_UNITS, MM_PER_UNIT, WEIGHT_FORMULA, ResistanceParams, edge_costs
+from .._errors import InputError, LibraryError
+from .._units import to_metres
+from ..contact import STATE_COLUMNS, TRANSITIONS
+from ..library import Grid, load
 
 __all__ = [
-    "CLASSIFICATIONS",
-    "EDGE_LABELS",
-    "NETWORK_COLUMNS",
-    "NODE_ID_FORMAT",
+    "COST_UNITS",
+    "EDGE_KINDS",
+    "NODE_ATTRIBUTES",
+    "WEIGHT_FORMULA",
     "build_network",
     "from_library",
-    "node_id",
+    "start_node",
+    "starts",
 ]
 
-#: Classifications a library row may carry.
-CLASSIFICATIONS = ("stable", "quasi-stable", "unstable", "in-phase", "no-contact", "error")
-#: Labels an edge may carry.
-EDGE_LABELS = ("stable", "quasi-stable", "unstable")
-#: How node ids are written.
-NODE_ID_FORMAT = "r{roll:+}_p{pitch:+}_ph{phase}  (degrees rounded to 1e-6)"
-#: Label of an edge by the classification of its destination.
-_LABEL_OF = {"stable": "stable", "quasi-stable": "quasi-stable", "unstable": "unstable",
-             "in-phase": "stable", "no-contact": "unstable"}
-_STAGES = ("first", "second", "third")
-_SLOTS = 3
-_FLOAT_ATTRS = ("interference", "origin_drop", "pivot_offset", "final_roll", "final_pitch",
-                "final_origin_z", "first_origin_z", "second_origin_z", "third_origin_z")
-#: Library columns the network reads (pass to ``threadmate.library.load(columns=...)``).
-NETWORK_COLUMNS = [
-    "roll", "pitch", "phase", "classification", "n_contacts", "region_combination",
-    *_FLOAT_ATTRS, "error",
-    *[f"{s}_found" for s in _STAGES],
-    *[f"{s}_r22" for s in _STAGES],
-    *[f"{s}_c{i}_{a}" for s in _STAGES for i in range(1, _SLOTS + 1) for a in "xy"],
-]
-_ROUND = 6
-_TOL = 1e-6
+COST_UNITS = "mJ"
+#: Kinds of edge: the passive transitions, then the active move.
+EDGE_KINDS = (*TRANSITIONS, "tilt-step")
+#: The weight of each kind of edge (mJ).
+WEIGHT_FORMULA = (
+    "turning: max(0, work_friction + work_potential), the driver's work along the branch "
+    "(trapezoid of its torque over the phase turned: friction, and the rise of the "
+    "potential F z_C + k/2 |tilt - held|^2 it supplies; clipped at 0 where the potential "
+    "falls faster than friction takes, since the driver is not paid back); "
+    "settling: 0 (the driver holds the phase; the load does the work); "
+    "jump: jump_penalty (default 0: a jump releases energy); snap: 0; "
+    "tilt-step (active): F * max(0, z_C at the new tilt's first contact - z_C now) + "
+    "move_penalty (the lift against the load, and a stated price per robot move, default "
+    "F x one thread pitch)"
+)
+#: Node attributes kept from the state record (the transition columns go to the edges).
+NODE_ATTRIBUTES = tuple(
+    c.name for c in STATE_COLUMNS
+    if c.name not in ("next_id", "transition", "transition_label", "transition_turn",
+                      "work_friction", "work_potential", "torque_peak", "drop",
+                      "tilt_change", "state_id"))
+_EDGE_COLUMNS = ("transition", "transition_label", "transition_turn", "work_friction",
+                 "work_potential", "torque_peak", "drop", "tilt_change")
+_REST_ROLES = ("start", "continued")
 
 
-def _angle(value: float) -> float:
-    return round(float(value), _ROUND) + 0.0  # + 0.0 turns -0.0 into 0.0
+def _finite_nonnegative(name: str, value: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) \
+            or not math.isfinite(value) or value < 0:
+        raise InputError(f"{name} must be a finite number of mJ >= 0, got {value!r}")
+    return float(value)
 
 
-def node_id(roll: float, pitch: float, phase: float) -> str:
-    """The node id of a state, e.g. ``node_id(1, -2, 135) == "r+1.0_p-2.0_ph135.0"``.
-
-    Angles in degrees, rounded to 1e-6; phase taken modulo 360.
-    """
-    ph = _angle(float(phase) % 360.0)
-    if ph >= 360.0:
-        ph = 0.0
-    return f"r{_angle(roll):+}_p{_angle(pitch):+}_ph{ph}"
-
-
-def _grid_values(meta: dict[str, Any], df: pd.DataFrame) -> tuple[np.ndarray, ...]:
-    grid = meta.get("grid") if isinstance(meta.get("grid"), dict) else None
-    out = []
-    for name in ("roll", "pitch", "phase"):
-        if grid is not None and name in grid:
-            values = np.asarray(grid[name], dtype=float)
-        else:
-            col = df[name].to_numpy(float)
-            values = np.unique(np.round(col % 360.0 if name == "phase" else col, _ROUND))
-        out.append(np.sort(values))
-    return tuple(out)
-
-
-def _indices(values: np.ndarray, grid: np.ndarray, name: str, phase: bool = False
-             ) -> np.ndarray:
-    if phase:
-        values = np.mod(values, 360.0)
-    pos = np.clip(np.searchsorted(grid, values - _TOL), 0, len(grid) - 1)
-    bad = np.abs(grid[pos] - values) > _TOL
-    if phase:  # 359.9999999 is phase 0
-        wrap = bad & (np.abs(values - 360.0 - grid[0]) <= _TOL)
-        pos[wrap], bad = 0, bad & ~wrap
-    if np.any(bad):
-        v = values[np.argmax(bad)]
-        raise LibraryError(f"a library row has {name} {v:g}, which is not on the library's "
-                           f"grid")
-    return pos
-
-
-def _column(df: pd.DataFrame, name: str, default: Any, dtype: Any) -> np.ndarray:
-    if name in df.columns:
-        col = df[name]
-        if dtype is str:
-            return col.fillna(default).astype(str).to_numpy()
-        return col.to_numpy(dtype=dtype, na_value=default)
-    return np.full(len(df), default, dtype=object if dtype is str else dtype)
-
-
-def _contact_radius(df: pd.DataFrame, fallback: float) -> np.ndarray:
-    """Mean distance from the nut axis of the last stage's contacts (fallback: pitch radius)."""
-    n = len(df)
-    radius = np.full(n, np.nan)
-    for stage in _STAGES:  # later stages overwrite earlier ones where they found contacts
-        xs = [f"{stage}_c{i}_x" for i in range(1, _SLOTS + 1)]
-        ys = [f"{stage}_c{i}_y" for i in range(1, _SLOTS + 1)]
-        if not all(c in df.columns for c in xs + ys):
-            continue
-        r = np.hypot(df[xs].to_numpy(float), df[ys].to_numpy(float))
-        count = np.isfinite(r).sum(axis=1)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            mean = np.where(np.isfinite(r), r, 0.0).sum(axis=1) / count
-        found = _column(df, f"{stage}_found", True, bool)
-        take = found & np.isfinite(mean)
-        radius[take] = mean[take]
-    radius[~np.isfinite(radius)] = fallback
-    return radius
-
-
-def _rest_height(df: pd.DataFrame, compliance_z: float) -> np.ndarray:
-    """Height of the compliance centre at the last stage reached (spec units)."""
-    z = _column(df, "final_origin_z", np.nan, float)
-    if compliance_z == 0.0:
-        return z
-    r22 = np.full(len(df), np.nan)
-    for stage in _STAGES:
-        col = _column(df, f"{stage}_r22", np.nan, float)
-        found = _column(df, f"{stage}_found", False, bool)
-        r22 = np.where(found & np.isfinite(col), col, r22)
-    return z + compliance_z * np.nan_to_num(r22, nan=1.0)
-
-
-def _metadata(df: pd.DataFrame, metadata: dict[str, Any] | None) -> dict[str, Any]:
-    meta = dict(df.attrs.get("threadmate") or {}) if metadata is None else dict(metadata)
-    spec = meta.get("spec") if isinstance(meta.get("spec"), dict) else {}
-    units = meta.get("units") or spec.get("units")
-    if units not in MM_PER_UNIT:
-        raise LibraryError("the library table does not say its length units ('in' or 'mm'): "
-                           "expected df.attrs['threadmate']['units'] as threadmate.library."
-                           "load gives")
-    meta["units"] = units
-    meta["spec"] = spec
-    return meta
-
-
-def build_network(library: pd.DataFrame, params: ResistanceParams | None = None, *,
-                  metadata: dict[str, Any] | None = None) -> nx.DiGraph:
-    """The contact-state network of a library table.
+def build_network(rows: pd.DataFrame, *, active: bool = False, jump_penalty: float = 0.0,
+                  move_penalty: float | None = None) -> nx.DiGraph:
+    """The network of a mechanics library's rows (see the module docstring).
 
     Parameters
     ----------
-    library : pandas.DataFrame
-        Rows of a contact-state library (:func:`threadmate.library.load`; the columns of
-        docs/architecture.md). ``roll``, ``pitch``, ``phase`` and ``classification`` are
-        required; other missing columns count as missing values.
-    params : ResistanceParams, optional
-        Parameters of the edge weight (defaults: :class:`ResistanceParams`).
-    metadata : dict, optional
-        The library's metadata (spec, grid, units, ...); default ``library.attrs
-        ["threadmate"]``. ``units`` is required; the spec gives the pitch (default
-        penalty) and the pitch radius (friction radius where a state has no contacts).
+    rows : pandas.DataFrame
+        The library's rows as :func:`threadmate.library.load` gives them (with the
+        library's metadata in ``rows.attrs["threadmate"]``).
+    active : bool
+        Add the active tilt-step moves.
+    jump_penalty : float
+        Weight of a jump (mJ, >= 0; the snap costs nothing).
+    move_penalty : float, optional
+        Price of one active move (mJ, >= 0; default the axial force times one thread
+        pitch).
 
     Returns
     -------
     networkx.DiGraph
-        Nodes, edges, labels and weights as described in this module's docstring. Graph
-        attributes (scalars, ready for GraphML): ``units``, ``cost_units``, ``spec``,
-        ``grid`` and ``parameters`` (JSON strings), ``threadmate_version``,
-        ``node_id_format``, ``weight_formula``, ``compliance_z``, ``pitch_mm``.
-
-    Raises
-    ------
-    LibraryError
-        A table without the required columns or units, with no rows, with a row off the
-        grid, with a configuration twice or with an unknown classification.
+        Node and edge attributes as in the module docstring; graph attributes ``units``,
+        ``cost_units``, ``weight_formula``, ``spec``, ``grid``, ``compliance`` (JSON
+        strings), ``active``, ``jump_penalty``, ``move_penalty``.
     """
-    params = ResistanceParams() if params is None else params
-    if not isinstance(library, pd.DataFrame):
-        raise LibraryError(f"expected a library table (pandas.DataFrame), got "
-                           f"{type(library).__name__}")
-    missing = [c for c in ("roll", "pitch", "phase", "classification")
-               if c not in library.columns]
+    meta = rows.attrs.get("threadmate")
+    if not meta:
+        raise InputError("rows without library metadata (load them with "
+                         "threadmate.library.load)")
+    if meta.get("model") != "mechanics":
+        raise LibraryError("the network stands on the mechanics: this library holds the "
+                           "thesis's fixed-pivot rows (sweep it again with --model "
+                           "mechanics, the default)")
+    jump_penalty = _finite_nonnegative("jump_penalty", jump_penalty)
+    force = float(meta["compliance"]["force"])
+    pitch_mj = 1e3 * force * to_metres(float(meta["spec"]["pitch"]), meta["units"])
+    move_penalty = pitch_mj if move_penalty is None else _finite_nonnegative(
+        "move_penalty", move_penalty)
+    graph = nx.DiGraph(
+        units=meta["units"], cost_units=COST_UNITS, weight_formula=WEIGHT_FORMULA,
+        model="mechanics", spec=json.dumps(meta["spec"], sort_keys=True),
+        grid=json.dumps(meta["grid"], sort_keys=True),
+        compliance=json.dumps(meta["compliance"], sort_keys=True),
+        threadmate_version=str(meta.get("threadmate_version", "")), active=bool(active),
+        jump_penalty=jump_penalty, move_penalty=move_penalty)
+    ids = rows["state_id"].to_numpy()
+    attrs = rows[list(NODE_ATTRIBUTES)].to_dict("records")
+    graph.add_nodes_from(zip(ids, attrs, strict=True))
+
+    linked = rows[rows["next_id"] != ""]
+    missing = sorted(set(linked["next_id"]) - set(ids))
     if missing:
-        raise LibraryError(f"not a contact-state library table: no column {missing[0]!r}")
-    if len(library) == 0:
-        raise LibraryError("the library holds no states: sweep it first")
-    meta = _metadata(library, metadata)
-    units, spec = meta["units"], meta["spec"]
-    mm = MM_PER_UNIT[units]
-    df = library.reset_index(drop=True)
-    cls = df["classification"].fillna("error").astype(str).to_numpy()
-    unknown = sorted(set(cls) - set(CLASSIFICATIONS))
-    if unknown:
-        raise LibraryError(f"unknown classification {unknown[0]!r} in the library")
-
-    rolls, pitches, phases = _grid_values(meta, df)
-    ir = _indices(df["roll"].to_numpy(float), rolls, "roll")
-    ip = _indices(df["pitch"].to_numpy(float), pitches, "pitch")
-    ik = _indices(df["phase"].to_numpy(float), phases, "phase", phase=True)
-    shape = (len(rolls), len(pitches), len(phases))
-    flat = np.ravel_multi_index((ir, ip, ik), shape)
-    if len(np.unique(flat)) != len(flat):
-        raise LibraryError("the library holds a configuration twice")
-    where = np.full(shape, -1, dtype=np.int64)
-    where[ir, ip, ik] = np.arange(len(df))
-
-    pitch_len = float(spec.get("pitch", math.nan))
-    pitch_mm = pitch_len * mm if math.isfinite(pitch_len) else math.nan
-    pitch_radius = float((spec.get("bolt") or {}).get("pitch_diameter", math.nan)) / 2.0
-    compliance_z = float((meta.get("contact") or {}).get("compliance_z", 0.0) or 0.0)
-    radius = _contact_radius(df, pitch_radius)
-    height = _rest_height(df, compliance_z)
-    held_roll, held_pitch = rolls[ir], pitches[ip]
-    f_roll = _column(df, "final_roll", np.nan, float)
-    f_pitch = _column(df, "final_pitch", np.nan, float)
-    rest_roll = np.where(np.isfinite(f_roll), f_roll, held_roll)
-    rest_pitch = np.where(np.isfinite(f_pitch), f_pitch, held_pitch)
-
-    ids = [node_id(r, p, ph) for r, p, ph in zip(held_roll, held_pitch, phases[ik],
-                                                  strict=True)]
-    # --- edges -------------------------------------------------------------------------
-    active = (cls != "in-phase") & (cls != "error")  # in-phase absorbs, error is unknown
-    src_parts, dst_parts, kind_parts, turn_parts = [], [], [], []
-    if len(phases) > 1:
-        nxt = (ik + 1) % len(phases)
-        dst = where[ir, ip, nxt]
-        ok = active & (dst >= 0)
-        step = np.mod(phases[nxt] - phases[ik], 360.0)
-        src_parts.append(np.flatnonzero(ok))
-        dst_parts.append(dst[ok])
-        kind_parts.append(np.full(ok.sum(), "turning", dtype=object))
-        turn_parts.append(step[ok])
-    di = _settle_step(f_roll - held_roll, ir, rolls)
-    dj = _settle_step(f_pitch - held_pitch, ip, pitches)
-    moves = active & np.isfinite(f_roll) & np.isfinite(f_pitch) & ((di != 0) | (dj != 0))
-    dst = np.full(len(df), -1, dtype=np.int64)
-    dst[moves] = where[ir[moves] + di[moves], ip[moves] + dj[moves], ik[moves]]
-    ok = moves & (dst >= 0)
-    src_parts.append(np.flatnonzero(ok))
-    dst_parts.append(dst[ok])
-    kind_parts.append(np.full(ok.sum(), "settling", dtype=object))
-    turn_parts.append(np.zeros(ok.sum()))
-    src = np.concatenate(src_parts)
-    dst = np.concatenate(dst_parts)
-    kind = np.concatenate(kind_parts)
-    turn_deg = np.concatenate(turn_parts)
-    keep = cls[dst] != "error"
-    src, dst, kind, turn_deg = src[keep], dst[keep], kind[keep], turn_deg[keep]
-
-    label = np.array([_LABEL_OF[c] for c in cls[dst]], dtype=object)
-    rise = height[dst] - height[src]
-    tilt_deg = np.hypot(rest_roll[dst] - rest_roll[src], rest_pitch[dst] - rest_pitch[src])
-    if np.any(label == "unstable") and not math.isfinite(pitch_mm) \
-            and params.unstable_penalty is None:
-        raise LibraryError("the library's spec gives no pitch for the default unstable "
-                           "penalty: pass ResistanceParams(unstable_penalty=...)")
-    if not np.all(np.isfinite(radius[src][kind == "turning"])):
-        raise LibraryError("states without contact points and a spec without a pitch "
-                           "diameter: cannot size the friction torque of turning")
-    costs = edge_costs(rise * mm, np.radians(tilt_deg), np.radians(turn_deg), radius[src] * mm,
-                       label == "unstable", params, pitch_mm)
-
-    # --- graph ---------------------------------------------------------------------------
-    graph = nx.DiGraph()
-    graph.graph.update(_graph_attributes(meta, params, (rolls, pitches, phases), pitch_mm,
-                                         compliance_z))
-    n_contacts = _column(df, "n_contacts", 0, np.int64)
-    regions = _column(df, "region_combination", "", str)
-    node_cols: dict[str, Sequence[Any]] = {
-        "roll": held_roll.tolist(), "pitch": held_pitch.tolist(),
-        "phase": phases[ik].tolist(), "classification": cls.tolist(),
-        "in_phase": (cls == "in-phase").tolist(),
-        "n_contacts": [int(v) for v in n_contacts], "region_combination": list(map(str, regions)),
-    }
-    for name in _FLOAT_ATTRS:
-        node_cols[name] = _column(df, name, np.nan, float).tolist()
-    node_cols["rest_height"] = height.tolist()
-    node_cols["contact_radius"] = radius.tolist()
-    if "config_id" in df.columns:
-        node_cols["config_id"] = [int(v) for v in df["config_id"].to_numpy()]
-    names = list(node_cols)
-    graph.add_nodes_from(zip(ids, (dict(zip(names, values, strict=True))
-                                   for values in zip(*node_cols.values(), strict=True)),
-                             strict=True))
-    edge_cols = {
-        "kind": kind.tolist(), "label": label.tolist(),
-        "weight": costs["weight"].tolist(), "work": costs["work"].tolist(),
-        "elastic": costs["elastic"].tolist(), "friction": costs["friction"].tolist(),
-        "penalty": costs["penalty"].tolist(),
-        "rise": np.nan_to_num(rise, nan=0.0).tolist(), "tilt_change": tilt_deg.tolist(),
-        "turn": turn_deg.tolist(),
-    }
-    enames = list(edge_cols)
-    graph.add_edges_from(
-        (ids[u], ids[v], dict(zip(enames, values, strict=True)))
-        for u, v, *values in zip(src.tolist(), dst.tolist(), *edge_cols.values(), strict=True))
+        raise LibraryError(f"the library's transitions name {len(missing)} state(s) it does "
+                           f"not hold (first: {missing[0]}): it is incomplete or mixed")
+    kind = linked["transition"].to_numpy()
+    work = (linked["work_friction"] + linked["work_potential"]).to_numpy()
+    weight = np.where(kind == "turning", np.maximum(work, 0.0),
+                      np.where(kind == "jump", jump_penalty, 0.0))
+    weight = np.where(np.isfinite(weight), weight, 0.0)
+    edges = linked[list(_EDGE_COLUMNS)].rename(columns={
+        "transition": "kind", "transition_label": "label", "transition_turn": "turn"})
+    edge_attrs = edges.to_dict("records")
+    for d, w in zip(edge_attrs, weight, strict=True):
+        d["weight"] = float(w)
+        d["active"] = False
+    graph.add_edges_from(zip(linked["state_id"], linked["next_id"], edge_attrs, strict=True))
+    if active:
+        _add_tilt_steps(graph, rows, meta, force, move_penalty)
     return graph
 
 
-def _settle_step(delta: np.ndarray, index: np.ndarray, grid: np.ndarray) -> np.ndarray:
-    """-1, 0 or +1 grid step toward the rest: at least half the step to that neighbour."""
-    n = len(grid)
-    up_gap = np.where(index + 1 < n, grid[np.minimum(index + 1, n - 1)] - grid[index], np.inf)
-    down_gap = np.where(index > 0, grid[index] - grid[np.maximum(index - 1, 0)], np.inf)
-    with np.errstate(invalid="ignore"):
-        step = np.where(delta >= 0.5 * up_gap - _TOL, 1,
-                        np.where(-delta >= 0.5 * down_gap - _TOL, -1, 0))
-    return np.where(np.isfinite(delta), step, 0).astype(np.int64)
+def _add_tilt_steps(graph: nx.DiGraph, rows: pd.DataFrame, meta: dict[str, Any],
+                    force: float, move_penalty: float) -> None:
+    """Active moves: from each rest state at a grid phase to the first contact of a
+    neighbouring held tilt at that phase."""
+    grid = Grid.from_dict(meta["grid"])
+    first = rows[rows["role"] == "first-contact"]
+    arrive = {(r, p, round(ph, 6)): (sid, z) for sid, r, p, ph, z in zip(
+        first["state_id"], first["held_roll"], first["held_pitch"], first["phase"],
+        first["centre_z"], strict=True)}
+    metres = to_metres(1.0, meta["units"])
+    rest = rows[rows["role"].isin(_REST_ROLES)
+                & ~rows["classification"].isin(["in-phase", "error"])]
+    steps = []
+    for axis, values in ((0, grid.roll), (1, grid.pitch)):
+        index = {v: i for i, v in enumerate(values)}
+        for sid, r, p, ph, z in zip(rest["state_id"], rest["held_roll"], rest["held_pitch"],
+                                    rest["phase"], rest["centre_z"], strict=True):
+            i = index.get(r if axis == 0 else p)
+            if i is None:
+                continue
+            for j in (i - 1, i + 1):
+                if not 0 <= j < len(values):
+                    continue
+                tilt = (values[j], p) if axis == 0 else (r, values[j])
+                target = arrive.get((tilt[0], tilt[1], round(ph, 6)))
+                if target is None:
+                    continue
+                lift = max(0.0, target[1] - z) * metres
+                steps.append((sid, target[0], {
+                    "kind": "tilt-step", "label": "unstable", "turn": 0.0,
+                    "work_friction": 0.0, "work_potential": 1e3 * force * lift,
+                    "torque_peak": math.nan, "drop": z - target[1], "tilt_change": math.nan,
+                    "weight": 1e3 * force * lift + move_penalty, "active": True}))
+    graph.add_edges_from(steps)
 
 
-def _graph_attributes(meta: dict[str, Any], params: ResistanceParams,
-                      grid: tuple[np.ndarray, ...], pitch_mm: float, compliance_z: float
-                      ) -> dict[str, Any]:
-    rolls, pitches, phases = grid
-    return {
-        "name": "threadmate contact-state network",
-        "units": meta["units"],
-        "angle_units": "deg",
-        "cost_units": COST_UNITS,
-        "spec": json.dumps(meta["spec"], sort_keys=True),
-        "grid": json.dumps({"roll": rolls.tolist(), "pitch": pitches.tolist(),
-                            "phase": phases.tolist()}),
-        "parameters": json.dumps(params.to_dict(), sort_keys=True),
-        "axial_force_N": params.axial_force,
-        "rotational_stiffness_Nm_per_rad": params.rotational_stiffness,
-        "friction": params.friction,
-        "unstable_penalty_mJ": float(params.penalty_mj(pitch_mm)) if (
-            params.unstable_penalty is not None or math.isfinite(pitch_mm)) else -1.0,
-        "pitch_mm": float(pitch_mm) if math.isfinite(pitch_mm) else -1.0,
-        "compliance_z": compliance_z,
-        "threadmate_version": __version__,
-        "library_version": str(meta.get("threadmate_version", "")),
-        "node_id_format": NODE_ID_FORMAT,
-        "weight_formula": WEIGHT_FORMULA,
-        "label_rule": "label = classification of the destination state (in-phase -> stable, "
-                      "no-contact -> unstable)",
-        "settling_rule": "one grid step in roll and/or pitch at the same phase toward "
-                         "(final_roll, final_pitch) when it lies at least half a step away",
-        "conventions": "frames, poses and regions per threadmate conventions.md",
-    }
+def from_library(path: str | os.PathLike[str], *, active: bool = False,
+                 jump_penalty: float = 0.0, move_penalty: float | None = None
+                 ) -> nx.DiGraph:
+    """The network of the mechanics library at ``path`` (:func:`build_network`)."""
+    return build_network(load(path), active=active, jump_penalty=jump_penalty,
+                         move_penalty=move_penalty)
 
 
-def from_library(path: str | Path, params: ResistanceParams | None = None) -> nx.DiGraph:
-    """Load a library directory (reading only the columns the network needs) and build
-    its network: ``build_network(threadmate.library.load(path, NETWORK_COLUMNS), params)``.
+def starts(graph: nx.DiGraph) -> dict[tuple[float, float, float], str]:
+    """The start states, keyed by (held roll, held pitch, phase) in degrees (cached on the
+    graph under a private key that the writers skip)."""
+    cached = graph.graph.get("_starts")
+    if cached is None:
+        cached = {(d["held_roll"], d["held_pitch"], d["phase"]): n
+                  for n, d in graph.nodes(data=True) if d["role"] == "start"}
+        graph.graph["_starts"] = cached
+    return cached
+
+
+def start_node(graph: nx.DiGraph, roll: float, pitch: float, phase: float, *,
+               nearest: bool = False) -> tuple[str, bool]:
+    """The start state of a configuration: ``(node id, moved)``.
+
+    Without ``nearest`` a configuration that is not on the library's grid is refused with
+    the nearest grid configurations named; with it, the nearest is taken and ``moved`` is
+    True.
     """
-    from ..library import load
-
-    return build_network(load(path, columns=NETWORK_COLUMNS), params)
+    for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
+        if isinstance(value, bool) or not isinstance(value, int | float) \
+                or not math.isfinite(value):
+            raise InputError(f"--{name} must be a finite angle in degrees, got {value!r}")
+    grid = Grid.from_dict(json.loads(graph.graph["grid"]))
+    _, on_grid = grid.nearest(roll, pitch, phase)
+    moved = not (math.isclose(on_grid[0], roll, abs_tol=1e-9)
+                 and math.isclose(on_grid[1], pitch, abs_tol=1e-9)
+                 and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= 1e-9)
+    if moved and not nearest:
+        raise InputError(
+            f"roll {roll:g}, pitch {pitch:g}, phase {phase:g} is not a start of the library "
+            f"(grid {grid.describe()}); the nearest is roll {on_grid[0]:g}, pitch "
+            f"{on_grid[1]:g}, phase {on_grid[2]:g}: ask for it, or pass --nearest")
+    node = starts(graph).get(on_grid)
+    if node is None:
+        raise InputError(f"the library has no start at roll {on_grid[0]:g}, pitch "
+                         f"{on_grid[1]:g}, phase {on_grid[2]:g}: its sweep is unfinished or "
+                         "that configuration failed")
+    return node, moved

@@ -1,360 +1,285 @@
-"""Least-resistance paths to the snap (the in-phase states) on a contact-state network.
+"""Least-resistance paths to the snap, and the outcome of every start at once.
 
-Every in-phase state is a target. One Dijkstra on the reversed graph, started from all
-targets at once, gives each state's cost to its cheapest snap (:func:`cost_to_snap`); a
-single path stops as soon as its start is settled (:func:`least_resistance_path`); the k
-best alternatives run :func:`networkx.shortest_simple_paths` to a virtual sink joined to
-every target by a zero-weight edge (:func:`k_best_paths`). Costs are in the graph's
-``cost_units`` (mJ).
+The targets are the in-phase states. Without active moves a state has at most one
+successor, so the path from a start is the passive search itself, and
+:func:`start_outcomes` follows every start's path once, sharing the common tails. With
+active moves (:func:`~threadmate.network.build_network` with ``active=True``) the
+least-resistance path is a Dijkstra search to a virtual sink joined to every target
+(:func:`least_resistance_path`); :func:`k_best_paths` gives the next best by
+:func:`networkx.shortest_simple_paths`. Costs in mJ, turns in degrees.
 """
 
 from __future__ import annotations
 
 import itertools
-import json
 import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import networkx as nx
-import numpy as np
+import pandas as pd
 
 from .._errors import InputError, NoPathError
-from ._build import node_id
+from ._build import start_node, starts
 
 __all__ = [
+    "MAX_K",
     "PathResult",
-    "cost_to_snap",
     "k_best_paths",
     "least_resistance_path",
-    "resolve_start",
     "snap_targets",
-    "unsafe_starts",
+    "start_outcomes",
 ]
 
+#: Most alternatives :func:`k_best_paths` gives (Yen's algorithm grows with k).
+MAX_K = 20
+#: A turn of this many degrees is "within one turn".
+ONE_TURN = 360.0
 _SINK = ("threadmate", "snap")  # a node no string id can equal
-Weight = str | Callable[[str, str, dict[str, Any]], float]
+
+
+def _passive(u: str, v: str, d: dict[str, Any]) -> float | None:
+    """Edge weight with the active moves hidden (networkx skips None)."""
+    return None if d.get("active") else d["weight"]
+
+
+def _any(u: str, v: str, d: dict[str, Any]) -> float:
+    return d["weight"]
 
 
 @dataclass
 class PathResult:
-    """One path from a start state to the snap.
+    """One path from a start to the snap.
 
     Attributes
     ----------
     start : str
-        Node id of the start state (the grid state nearest the request).
+        Node id of the start (the rest state the drop at the configuration reaches).
     requested : dict
-        The requested ``roll``, ``pitch``, ``phase`` (degrees).
-    snapped : bool
-        True when the request was not a grid state and was moved to the nearest one.
-    message : str
-        What was done (the snapping, or that the start is already in phase).
+        The configuration asked for (``roll``, ``pitch``, ``phase``, degrees).
+    moved : bool
+        True when the request was off the grid and the nearest start was taken.
     path : list of str
-        Node ids, start to snap (the last is an in-phase state).
-    labels, kinds : list of str
-        Label (``stable``/``quasi-stable``/``unstable``) and kind (``turning``/
-        ``settling``) of each edge, ``len(path) - 1`` of each.
+        Node ids, start to the in-phase state.
+    kinds, labels : list of str
+        Kind (``turning``, ``jump``, ``snap``, ``settling``, ``tilt-step``) and label
+        (``stable``, ``quasi-stable``, ``unstable``) of each edge.
     weights : list of float
-        Weight of each edge (mJ).
-    cost : float
-        Sum of the weights (mJ).
+        Weight of each edge (mJ); their sum is :attr:`cost`.
+    turn : float
+        Phase turned along the path (degrees).
+    snap : dict
+        ``phase``, ``turn`` and ``drop`` (the click, spec units) of the snap.
+    active : bool
+        Whether active moves were allowed.
     """
 
     start: str
     requested: dict[str, float]
-    snapped: bool
-    message: str
+    moved: bool
     path: list[str]
-    labels: list[str] = field(default_factory=list)
-    kinds: list[str] = field(default_factory=list)
-    weights: list[float] = field(default_factory=list)
-    cost: float = 0.0
+    kinds: list[str]
+    labels: list[str]
+    weights: list[float]
+    turn: float
+    snap: dict[str, float]
+    active: bool
+    units: str = "in"
+    alternatives: list[PathResult] = field(default_factory=list)
 
     @property
-    def target(self) -> str:
-        """The in-phase state the path ends in."""
-        return self.path[-1]
+    def cost(self) -> float:
+        """Total weight (mJ)."""
+        return float(sum(self.weights))
 
     @property
-    def safe(self) -> bool:
-        """True when no edge of the path is labelled unstable."""
-        return "unstable" not in self.labels
+    def passes_unstable(self) -> bool:
+        """True when a transition before the snap is labelled unstable."""
+        return any(lab == "unstable" for lab, k in zip(self.labels, self.kinds, strict=True)
+                   if k != "snap")
+
+    @property
+    def moves(self) -> int:
+        """Active moves on the path."""
+        return sum(k == "tilt-step" for k in self.kinds)
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready mapping (the ``threadmate path --json`` document)."""
-        return {"start": self.start, "requested": dict(self.requested),
-                "snapped": self.snapped, "message": self.message, "path": list(self.path),
-                "labels": list(self.labels), "kinds": list(self.kinds),
-                "weights": list(self.weights), "cost": self.cost, "target": self.target,
-                "steps": len(self.path) - 1, "safe": self.safe}
+        """The JSON document of ``threadmate path --json``."""
+        return {
+            "units": {"length": self.units, "angle": "deg", "cost": "mJ", "work": "mJ"},
+            "start": {"node": self.start, **self.requested, "moved": self.moved},
+            "path": list(self.path), "kinds": list(self.kinds), "labels": list(self.labels),
+            "weights": list(self.weights), "cost": self.cost, "turn": self.turn,
+            "within_one_turn": self.turn <= ONE_TURN + 1e-9,
+            "passes_unstable": self.passes_unstable, "active": self.active,
+            "active_moves": self.moves, "snap": dict(self.snap),
+            "alternatives": [a.to_dict() for a in self.alternatives],
+        }
 
 
 def snap_targets(graph: nx.DiGraph) -> list[str]:
-    """Node ids of the in-phase states (the snap targets)."""
-    return [n for n, d in graph.nodes(data=True) if d.get("in_phase")]
-
-
-def _grid(graph: nx.DiGraph) -> dict[str, np.ndarray]:
-    try:
-        doc = json.loads(graph.graph["grid"])
-        return {k: np.asarray(doc[k], dtype=float) for k in ("roll", "pitch", "phase")}
-    except (KeyError, TypeError, ValueError):
-        raise InputError("the graph carries no grid: build it with build_network") from None
-
-
-def _finite(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating) \
-            or not math.isfinite(value):
-        raise InputError(f"--{name}: {value!r} is not a finite number of degrees")
-    return float(value)
-
-
-def resolve_start(graph: nx.DiGraph, roll: float, pitch: float, phase: float
-                  ) -> tuple[str, bool, str]:
-    """The grid state nearest a requested configuration.
-
-    Roll and pitch snap to their nearest grid values and phase to the nearest grid phase
-    modulo 360. A roll or pitch farther than one grid step outside the grid is refused.
-
-    Returns
-    -------
-    node : str
-        Node id of the state.
-    snapped : bool
-        True when the state differs from the request.
-    message : str
-        Says which state is used and why.
-
-    Raises
-    ------
-    InputError
-        A non-finite angle, a tilt beyond the grid, or a nearest state the library lacks.
-    """
-    roll, pitch, phase = _finite("roll", roll), _finite("pitch", pitch), _finite("phase", phase)
-    grid = _grid(graph)
-    picked = []
-    for name, value in (("roll", roll), ("pitch", pitch)):
-        values = grid[name]
-        step = float(np.min(np.diff(values))) if len(values) > 1 else 1.0
-        if value < values[0] - step - 1e-9 or value > values[-1] + step + 1e-9:
-            raise InputError(f"--{name} {value:g} lies outside the library's grid "
-                             f"({values[0]:g}..{values[-1]:g} deg); nearest states: "
-                             f"{_nearest_list(graph, grid, roll, pitch, phase)}")
-        picked.append(float(values[int(np.argmin(np.abs(values - value)))]))
-    d_phase = np.abs((grid["phase"] - phase + 180.0) % 360.0 - 180.0)
-    picked.append(float(grid["phase"][int(np.argmin(d_phase))]))
-    node = node_id(*picked)
-    if node not in graph:
-        raise InputError(f"the library has no state {node} (an unfinished sweep?); nearest "
-                         f"states: {_nearest_list(graph, grid, roll, pitch, phase)}")
-    snapped = node != node_id(roll, pitch, phase)
-    if snapped:
-        message = (f"({roll:g}, {pitch:g}, {phase:g}) is not a state of the grid: using the "
-                   f"nearest state {node} (roll {picked[0]:g}, pitch {picked[1]:g}, "
-                   f"phase {picked[2]:g} deg)")
-    else:
-        message = f"start {node} is a state of the grid"
-    return node, snapped, message
-
-
-def _nearest_list(graph: nx.DiGraph, grid: dict[str, np.ndarray], roll: float, pitch: float,
-                  phase: float, n: int = 3) -> str:
-    out = []
-    rolls = sorted(grid["roll"], key=lambda v: abs(v - roll))[:2]
-    pitches = sorted(grid["pitch"], key=lambda v: abs(v - pitch))[:2]
-    phases = sorted(grid["phase"], key=lambda v: abs((v - phase + 180.0) % 360.0 - 180.0))[:2]
-    for r, p, ph in itertools.product(rolls, pitches, phases):
-        if node_id(r, p, ph) in graph:
-            out.append(node_id(r, p, ph))
-        if len(out) == n:
-            break
-    return ", ".join(out) if out else "none"
-
-
-def _start(graph: nx.DiGraph, start: str | None, roll: float | None, pitch: float | None,
-           phase: float | None) -> tuple[str, dict[str, float], bool, str]:
-    if start is not None:
-        if start not in graph:
-            raise InputError(f"no state {start!r} in the network (ids look like "
-                             f"{next(iter(graph.nodes), 'r+0.0_p+0.0_ph0.0')})")
-        d = graph.nodes[start]
-        requested = {"roll": d["roll"], "pitch": d["pitch"], "phase": d["phase"]}
-        return start, requested, False, f"start {start} is a state of the grid"
-    if roll is None or pitch is None or phase is None:
-        raise InputError("give a start state: its node id, or roll, pitch and phase")
-    node, snapped, message = resolve_start(graph, roll, pitch, phase)
-    return node, {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)}, \
-        snapped, message
+    """The in-phase states."""
+    return [n for n, d in graph.nodes(data=True) if d.get("classification") == "in-phase"]
 
 
 def _result(graph: nx.DiGraph, path: list[str], start: str, requested: dict[str, float],
-            snapped: bool, message: str) -> PathResult:
+            moved: bool, active: bool) -> PathResult:
     edges = [graph.edges[u, v] for u, v in itertools.pairwise(path)]
-    weights = [float(e["weight"]) for e in edges]
-    return PathResult(start=start, requested=requested, snapped=snapped, message=message,
-                      path=list(path), labels=[e["label"] for e in edges],
-                      kinds=[e["kind"] for e in edges], weights=weights,
-                      cost=float(math.fsum(weights)))
+    turn = float(sum(e["turn"] for e in edges))
+    last = graph.nodes[path[-1]]
+    snap_edges = [e for e in edges if e["kind"] == "snap"]
+    drop = float(snap_edges[-1]["drop"]) if snap_edges else 0.0
+    return PathResult(start, requested, moved, path, [e["kind"] for e in edges],
+                      [e["label"] for e in edges], [float(e["weight"]) for e in edges],
+                      turn, {"phase": float(last["phase"]), "turn": turn, "drop": drop},
+                      active, graph.graph.get("units", "in"))
 
 
-def _no_path(graph: nx.DiGraph, start: str) -> NoPathError:
+def _no_path(graph: nx.DiGraph, start: str, active: bool) -> NoPathError:
     d = graph.nodes[start]
-    if not snap_targets(graph):
-        return NoPathError("no state of the library is in phase: there is no snap to reach")
     if d.get("classification") == "error":
-        return NoPathError(f"state {start} has no contact analysis (its sweep recorded an "
-                           "error), so no transition leaves it")
-    return NoPathError(f"no sequence of turning and settling transitions leads from {start} "
-                       f"({d.get('classification')}) to an in-phase state")
+        return NoPathError(f"the library failed at start {start}: {d.get('error')}")
+    how = "with active moves" if active else "passively (no active moves asked)"
+    return NoPathError(f"no path from {start} reaches the snap {how}: the search from it "
+                       "never snaps within the library's horizon")
 
 
-def least_resistance_path(graph: nx.DiGraph, start: str | None = None, *,
-                          roll: float | None = None, pitch: float | None = None,
-                          phase: float | None = None) -> PathResult:
-    """The cheapest path from a start state to any in-phase state.
+def least_resistance_path(graph: nx.DiGraph, roll: float, pitch: float, phase: float, *,
+                          active: bool = False, nearest: bool = False) -> PathResult:
+    """The least-resistance path from the start at (roll, pitch, phase) to the snap.
 
     Parameters
     ----------
     graph : networkx.DiGraph
-        A network from :func:`build_network`.
-    start : str, optional
-        Node id of the start; otherwise give ``roll``, ``pitch`` and ``phase`` (degrees),
-        which snap to the nearest grid state (``PathResult.snapped`` and ``message`` say so).
-
-    Returns
-    -------
-    PathResult
+        From :func:`~threadmate.network.build_network`.
+    roll, pitch, phase : float
+        The start: held tilt and phase (degrees).
+    active : bool
+        Allow the active moves (the graph must have been built with them).
+    nearest : bool
+        Take the nearest start when the request is off the grid (else refuse).
 
     Raises
     ------
-    InputError
-        A start that is not in the network or off the grid.
     NoPathError
-        No path from the start reaches an in-phase state.
+        No path reaches the snap.
     """
-    node, requested, snapped, message = _start(graph, start, roll, pitch, phase)
-    if graph.nodes[node].get("in_phase"):
-        return _result(graph, [node], node, requested, snapped,
-                       message + "; it is already in phase (the snap)")
+    if active and not graph.graph.get("active"):
+        raise InputError("active moves were asked for, but the network was built without "
+                         "them (build it with active=True / --active)")
+    start, moved = start_node(graph, roll, pitch, phase, nearest=nearest)
+    requested = {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)}
+    if graph.nodes[start].get("classification") == "in-phase":
+        return _result(graph, [start], start, requested, moved, active)
+    weight = _any if active else _passive
     targets = snap_targets(graph)
-    if not targets:
-        raise _no_path(graph, node)
+    graph.add_node(_SINK)
     try:
-        _, path = nx.multi_source_dijkstra(graph.reverse(copy=False), targets, target=node,
-                                           weight="weight")
-    except nx.NetworkXNoPath:
-        raise _no_path(graph, node) from None
-    return _result(graph, path[::-1], node, requested, snapped, message)
+        graph.add_edges_from((t, _SINK, {"weight": 0.0}) for t in targets)
+        try:
+            path = nx.dijkstra_path(graph, start, _SINK, weight=weight)
+        except nx.NetworkXNoPath:
+            raise _no_path(graph, start, active) from None
+    finally:
+        graph.remove_node(_SINK)
+    return _result(graph, path[:-1], start, requested, moved, active)
 
 
-def k_best_paths(graph: nx.DiGraph, k: int, start: str | None = None, *,
-                 roll: float | None = None, pitch: float | None = None,
-                 phase: float | None = None) -> list[PathResult]:
-    """The ``k`` cheapest loopless paths from a start state to the snap, cheapest first.
+def k_best_paths(graph: nx.DiGraph, k: int, roll: float, pitch: float, phase: float, *,
+                 active: bool = False, nearest: bool = False) -> PathResult:
+    """The least-resistance path with up to ``k - 1`` next-best alternatives (in
+    :attr:`PathResult.alternatives`); ``k`` is at most :data:`MAX_K`.
 
-    Each path ends at its first in-phase state (in-phase states are absorbing). Fewer than
-    ``k`` come back when fewer exist. Arguments as :func:`least_resistance_path`.
-
-    Yen's algorithm (:func:`networkx.shortest_simple_paths`, to a virtual sink joined to
-    every target) runs on the states that a path of cost at most ``B`` can visit: those
-    with (cost from the start) + (cost to the snap) <= ``B``. Every path of cost <= ``B``
-    lies in that subgraph, so the paths found there up to ``B`` are the best overall;
-    ``B`` starts 1e-6 above the cheapest cost (ties) and grows tenfold until ``k`` paths
-    fit, so that the search stays near the cheapest path.
+    Passively there is one path (the dynamics are deterministic); alternatives come from
+    active moves.
     """
-    if isinstance(k, bool) or not isinstance(k, int | np.integer) or k < 1:
-        raise InputError(f"--k {k!r}: give a whole number of paths, at least 1")
-    node, requested, snapped, message = _start(graph, start, roll, pitch, phase)
-    if graph.nodes[node].get("in_phase"):
-        return [_result(graph, [node], node, requested, snapped,
-                        message + "; it is already in phase (the snap)")]
-    targets = snap_targets(graph)
-    if not targets:
-        raise _no_path(graph, node)
-    to_snap = cost_to_snap(graph)
-    best = to_snap[node]
-    if math.isinf(best):
-        raise _no_path(graph, node)
-    from_start = nx.single_source_dijkstra_path_length(graph, node, weight="weight")
-    through = {v: d + to_snap[v] for v, d in from_start.items() if math.isfinite(to_snap[v])}
-    widest = max(through.values())
-    slack = max(1e-6 * best, 1e-9)
-    while True:
-        bound = best + slack
-        # a hair of tolerance so that rounding in the sums never drops a path at the bound
-        keep = {v for v, c in through.items() if c <= bound * (1 + 1e-12) + 1e-12}
-        paths = _yen(graph, node, keep, k, bound)
-        if len(paths) >= k or bound >= widest:
-            break
-        slack *= 10.0
-    if len(paths) < k:  # every reachable state is in: the paths past the bound count too
-        paths = _yen(graph, node, set(through), k, math.inf)
-    return [_result(graph, p, node, requested, snapped, message) for p in paths]
+    if isinstance(k, bool) or not isinstance(k, int) or not 1 <= k <= MAX_K:
+        raise InputError(f"--k must be a whole number from 1 to {MAX_K} (the alternatives "
+                         f"are Yen's k shortest paths, whose cost grows with k), got {k!r}")
+    best = least_resistance_path(graph, roll, pitch, phase, active=active, nearest=nearest)
+    if k == 1 or len(best.path) == 1:
+        return best
+    view = graph if active else nx.subgraph_view(
+        graph, filter_edge=lambda u, v: not graph.edges[u, v].get("active"))
+    work = nx.DiGraph(view)
+    work.add_edges_from((t, _SINK, {"weight": 0.0}) for t in snap_targets(graph))
+    paths = nx.shortest_simple_paths(work, best.start, _SINK, weight="weight")
+    for path in itertools.islice(paths, 1, k):
+        best.alternatives.append(_result(graph, path[:-1], best.start, best.requested,
+                                         best.moved, active))
+    return best
 
 
-def _yen(graph: nx.DiGraph, start: str, keep: set[str], k: int, bound: float
-         ) -> list[list[str]]:
-    """Up to ``k`` cheapest simple paths from ``start`` to a target inside ``keep``, of cost
-    at most ``bound``."""
-    search = nx.DiGraph()
-    search.add_node(start)
-    succ = graph.succ
-    search.add_weighted_edges_from((u, v, d["weight"]) for u in keep
-                                   for v, d in succ[u].items() if v in keep)
-    nodes = graph.nodes
-    search.add_weighted_edges_from((t, _SINK, 0.0) for t in keep if nodes[t].get("in_phase"))
-    out = []
-    for path in nx.shortest_simple_paths(search, start, _SINK, "weight"):
-        cost = math.fsum(search.succ[u][v]["weight"] for u, v in itertools.pairwise(path))
-        if cost > bound * (1 + 1e-12) + 1e-12:
-            break
-        out.append(path[:-1])
-        if len(out) == k:
-            break
-    return out
+def _larger(a: float, b: float) -> float:
+    """The larger of two torques, NaN meaning none."""
+    if not math.isfinite(b):
+        return a
+    return b if not math.isfinite(a) else max(a, b)
 
 
-def cost_to_snap(graph: nx.DiGraph, weight: Weight = "weight") -> dict[str, float]:
-    """Least-resistance cost from every state to the snap, in one Dijkstra.
-
-    Parameters
-    ----------
-    graph : networkx.DiGraph
-    weight : str or callable
-        Edge attribute or networkx weight function (e.g.
-        :func:`~threadmate.network.variant_weight` for a sensitivity study).
+def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
+    """The passive search from every start at once.
 
     Returns
     -------
-    dict
-        Node id -> cost (mJ); 0 for in-phase states, ``math.inf`` where no path exists.
+    pandas.DataFrame
+        One row per start: ``node``, ``held_roll``, ``held_pitch``, ``phase``,
+        ``classification`` (of the rest state reached), ``snapped`` (reaches the snap
+        within one turn), ``reaches`` (at all, within the library's horizon), ``turn``
+        (degrees to the snap, NaN if never), ``work`` (mJ: the sum of the passive edge
+        weights), ``click`` (the snap's drop, spec units), ``snap_phase``, ``torque_peak``
+        (largest driver torque on the way, N m), ``passes_unstable`` (a jump or an
+        unstable transition before the snap), ``failed`` (the start's drop raised).
     """
-    out = dict.fromkeys(graph.nodes, math.inf)
-    targets = snap_targets(graph)
-    if targets:
-        out.update(nx.multi_source_dijkstra_path_length(graph.reverse(copy=False), targets,
-                                                        weight=weight))
-    return out
+    memo: dict[str, tuple[Any, ...]] = {}
+    nan = math.nan
 
+    def passive_next(n: str) -> tuple[str, dict[str, Any]] | None:
+        for _, v, d in graph.out_edges(n, data=True):
+            if not d.get("active"):
+                return v, d
+        return None
 
-def _safe_reach(graph: nx.DiGraph) -> set[str]:
-    """States with a path to the snap that enters no unstable state (targets included)."""
-    targets = snap_targets(graph)
-    if not targets:
-        return set()
-    succ = graph.succ
-    safe = nx.subgraph_view(graph, filter_edge=lambda u, v: succ[u][v]["label"] != "unstable")
-    return set(nx.multi_source_dijkstra_path_length(safe.reverse(copy=False), targets,
-                                                    weight=lambda u, v, d: 1))
+    def outcome(node: str) -> tuple[Any, ...]:
+        # (reaches, turn, work, click, snap_phase, torque_peak, unstable); iterative walk.
+        trail: list[tuple[str, dict[str, Any]]] = []
+        seen: set[str] = set()
+        n = node
+        while n not in memo:
+            d = graph.nodes[n]
+            if d.get("classification") == "in-phase":
+                memo[n] = (True, 0.0, 0.0, 0.0, float(d["phase"]), nan, False)
+                break
+            step = passive_next(n)
+            if step is None or n in seen:  # horizon, failure or a cycle: never snaps
+                memo[n] = (False, nan, nan, nan, nan, nan, False)
+                break
+            seen.add(n)
+            trail.append((n, step[1]))
+            n = step[0]
+        for m, e in reversed(trail):
+            reaches, turn, work, click, ph, peak, unstable = memo[n]
+            if e["kind"] == "snap":
+                click = float(e["drop"])
+            peak = _larger(peak, e["torque_peak"])
+            unstable = unstable or (e["label"] == "unstable" and e["kind"] != "snap")
+            memo[m] = (reaches, turn + e["turn"], work + e["weight"], click, ph, peak,
+                       unstable)
+            n = m
+        return memo[node]
 
-
-def unsafe_starts(graph: nx.DiGraph) -> list[str]:
-    """States from which no snap is reachable without an unstable transition.
-
-    ``error`` states (no analysis) are left out; in-phase states are safe.
-    """
-    reach = _safe_reach(graph)
-    return [n for n, d in graph.nodes(data=True)
-            if n not in reach and d.get("classification") != "error"]
+    rows = []
+    for (roll, pitch, phase), node in sorted(starts(graph).items()):
+        d = graph.nodes[node]
+        reaches, turn, work, click, snap_phase, peak, unstable = outcome(node)
+        peak = _larger(peak, d["driver_torque"])
+        rows.append({
+            "node": node, "held_roll": roll, "held_pitch": pitch, "phase": phase,
+            "classification": d["classification"],
+            "snapped": bool(reaches and turn <= ONE_TURN + 1e-9), "reaches": bool(reaches),
+            "turn": turn, "work": work, "click": click, "snap_phase": snap_phase,
+            "torque_peak": peak, "passes_unstable": bool(unstable),
+            "failed": d["classification"] == "error"})
+    return pd.DataFrame(rows, columns=[
+        "node", "held_roll", "held_pitch", "phase", "classification", "snapped", "reaches",
+        "turn", "work", "click", "snap_phase", "torque_peak", "passes_unstable", "failed"])

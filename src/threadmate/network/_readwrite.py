@@ -1,12 +1,15 @@
 """The network on disk: GraphML (networkx, yEd, Gephi, Cytoscape) and node-link JSON.
 
 GraphML keeps string node ids and scalar attributes only, each key of one type (str, int,
-float or bool as Python types, never numpy scalars). A float the contact stages did not
-give (NaN in memory) is left out of that node's data, as GraphML allows for missing values,
+float or boolean, never numpy scalars); booleans are written ``true``/``false`` as the
+GraphML schema spells them. A list attribute (the rotation, the contacts' regions, forces,
+points and normals) is written as its JSON text. A float the mechanics did not give (NaN
+in memory) is left out of that element's data, as GraphML allows for missing values,
 because NaN is not a number every reader parses. The graph's metadata (spec, grid and
-parameters as JSON strings, units, cost units, threadmate version, the weight formula) are
-graph attributes. The node-link JSON is :func:`networkx.node_link_data` with missing values
-as ``null``. Both files are written atomically.
+compliance as JSON strings, units, cost units, threadmate version, the weight formula) are
+graph attributes; private keys (starting with ``_``) are not written. The node-link JSON
+is :func:`networkx.node_link_data` with missing values as ``null``. Both files are
+written atomically.
 """
 
 from __future__ import annotations
@@ -18,15 +21,21 @@ from typing import Any
 
 import networkx as nx
 import numpy as np
+from networkx.readwrite.graphml import GraphMLWriter
 
 from .._errors import InputError
 from .._io import atomic_path, atomic_write_text
 
-__all__ = ["read_graphml", "write_graphml", "write_node_link"]
+__all__ = ["LIST_ATTRIBUTES", "read_graphml", "write_graphml", "write_node_link"]
+
+
+#: Node attributes that hold lists (written as JSON text, read back as lists).
+LIST_ATTRIBUTES = ("rotation", "contact_regions", "contact_forces", "contact_points",
+                   "contact_normals")
 
 
 def _scalar(value: Any) -> Any:
-    """A plain Python scalar (None for missing values); refuses containers."""
+    """A plain Python scalar (None for missing values); lists become JSON text."""
     if isinstance(value, bool | np.bool_):
         return bool(value)
     if isinstance(value, int | np.integer):
@@ -38,12 +47,16 @@ def _scalar(value: Any) -> Any:
         return value
     if value is None:
         return None
+    if isinstance(value, list | tuple | np.ndarray):
+        return json.dumps([_scalar(v) for v in value])
     raise TypeError(f"attribute value {value!r} is not a scalar")
 
 
 def _clean(data: dict[str, Any]) -> dict[str, Any]:
     out = {}
     for key, value in data.items():
+        if str(key).startswith("_"):
+            continue
         v = _scalar(value)
         if v is not None:
             out[str(key)] = v
@@ -73,10 +86,21 @@ def write_graphml(graph: nx.DiGraph, path: str | Path) -> Path:
     pathlib.Path
     """
     path = Path(path)
-    export = _export_graph(graph)
-    with atomic_path(path) as tmp:
-        nx.write_graphml(export, tmp, encoding="utf-8", prettyprint=False)
+    writer = _GraphMLWriter(encoding="utf-8", prettyprint=False)
+    writer.add_graph_element(_export_graph(graph))
+    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
+        writer.dump(fh)
     return path
+
+
+class _GraphMLWriter(GraphMLWriter):
+    """networkx's writer, with booleans spelled as the GraphML schema has them."""
+
+    def add_data(self, name: str, element_type: Any, value: Any, scope: str = "all",
+                 default: Any = None) -> Any:
+        if element_type is bool:  # networkx passes str(value): "True" or "False"
+            value = str(value).lower()
+        return super().add_data(name, element_type, value, scope, default)
 
 
 def write_node_link(graph: nx.DiGraph, path: str | Path) -> Path:
@@ -85,11 +109,16 @@ def write_node_link(graph: nx.DiGraph, path: str | Path) -> Path:
     Missing values are ``null``; read back with ``networkx.node_link_graph(doc,
     edges="edges")``.
     """
+    def plain(v: Any) -> Any:
+        return [plain(x) for x in v] if isinstance(v, list | tuple | np.ndarray) \
+            else _scalar(v)
+
     export = nx.DiGraph()
-    export.graph.update({k: _scalar(v) for k, v in graph.graph.items()})
-    export.add_nodes_from((n, {k: _scalar(v) for k, v in d.items()})
+    export.graph.update({k: plain(v) for k, v in graph.graph.items()
+                         if not str(k).startswith("_")})
+    export.add_nodes_from((n, {k: plain(v) for k, v in d.items()})
                           for n, d in graph.nodes(data=True))
-    export.add_edges_from((u, v, {k: _scalar(x) for k, x in d.items()})
+    export.add_edges_from((u, v, {k: plain(x) for k, x in d.items()})
                           for u, v, d in graph.edges(data=True))
     doc = nx.node_link_data(export, edges="edges")
     return atomic_write_text(path, json.dumps(doc, allow_nan=False) + "\n")
@@ -112,10 +141,15 @@ def read_graphml(path: str | Path) -> nx.DiGraph:
         raise InputError(f"{path} is not readable GraphML: {exc}") from None
     if "grid" not in graph.graph or not isinstance(graph, nx.DiGraph):
         raise InputError(f"{path} is not a threadmate contact-state network")
-    floats = ("interference", "origin_drop", "pivot_offset", "final_roll", "final_pitch",
-              "final_origin_z", "first_origin_z", "second_origin_z", "third_origin_z",
-              "rest_height", "contact_radius")
+    floats = ("potential", "driver_torque", "friction_torque", "roll", "pitch", "origin_x",
+              "origin_y", "origin_z", "centre_x", "centre_y", "centre_z")
     for _, d in graph.nodes(data=True):
         for key in floats:
+            d.setdefault(key, math.nan)
+        for key in LIST_ATTRIBUTES:
+            if isinstance(d.get(key), str):
+                d[key] = json.loads(d[key])
+    for _, _, d in graph.edges(data=True):
+        for key in ("torque_peak", "tilt_change", "drop"):
             d.setdefault(key, math.nan)
     return graph

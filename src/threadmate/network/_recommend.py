@@ -1,336 +1,302 @@
-"""SRCC pitch recommendation: which pitch setting of the compliance makes the snap easiest.
+"""The SRCC recommendation: which pre-tilt (and compliance) makes the passive search snap
+reliably, quickly and cheaply.
 
-For each pitch value of the grid, the starts are the states at that pitch whose roll lies
-within the expected spread (``|roll| <= roll_spread``) at every phase (``error`` states
-left out). Over them:
+A *setting* is a held pitch of the grid (the pre-tilt the robot sets about the nut's Y
+axis) for one compliance (one library). Its starts are the library's starts at that held
+pitch whose held roll lies within the expected roll error (``|roll| <= roll_spread``), at
+every start phase. Over them, from :func:`start_outcomes` (the passive search):
 
-- ``expected_cost``: mean least-resistance cost to the snap over the starts that reach it;
-- ``worst_cost``: the largest of those costs;
-- ``share_reachable``: share of starts with any path to the snap;
-- ``share_safe``: share of starts with a path that enters no unstable state.
+- ``share_snap``: share that snap within one turn;
+- ``turn_mean``, ``turn_worst``: degrees turned to the snap (over those that snap);
+- ``work_mean``, ``work_worst``: the driver's work to the snap (mJ, same starts);
+- ``click_mean``: the snap's drop of the compliance centre (spec units; starts that drop
+  straight in phase have no click and are left out);
+- ``torque_peak``: the largest driver torque met (N m);
+- ``share_unstable``: share whose path passes a jump or an unstable transition before
+  the snap.
 
-The recommended setting is the first in the order (largest ``share_reachable``, smallest
-``expected_cost``, smallest ``worst_cost``, largest ``share_safe``); the margin is the
-next setting's expected cost minus the pick's. At the pick, the roll with the smallest
-expected cost is named, and roll *matters* when the expected costs of the rolls spread by
-more than 10 % of the pick's expected cost. Sensitivity: the ranking is recomputed with
-the friction, the unstable penalty and the compliance stiffness each halved and doubled
-(six variants) and the report says whether the pick changes.
+Settings are ranked by what a designer needs first: ``share_snap`` (higher), then
+``turn_mean`` (lower), then ``work_mean`` (lower). The margin is the pick's lead over the
+next setting in each. A pick at the smallest or largest held pitch of the grid is flagged:
+the best may lie beyond the range searched.
+
+**The nut's azimuth.** The robot rarely knows where the nut's thread starts. Turning the
+nut about its axis by a quarter turn turns a pre-tilt about Y into one about X; every
+figure above depends on the tilt's direction relative to the thread start, and the start
+phases (all of them are averaged) absorb the rest. The azimuth-proof recommendation takes,
+for each pre-tilt size ``s`` that the grid holds in all four quarter-turn directions
+(held pitch ``+s`` and ``-s`` with the roll spread, held roll ``+s`` and ``-s`` with the
+same spread in pitch), the *worst* of the four directions, and ranks the sizes the same
+way. Directions between the quarter turns are not computed.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import networkx as nx
 import numpy as np
+import pandas as pd
 
-from .._errors import InputError, NoPathError
-from .._io import atomic_path, atomic_write_text
-from ._cost import variant_weight
-from ._paths import Weight, _safe_reach, cost_to_snap
+from .._errors import InputError
+from .._figures import new_figure, save_figure
+from .._io import atomic_write_text
+from ._paths import start_outcomes
 
 __all__ = [
-    "PitchSetting",
+    "METRICS",
     "Recommendation",
     "format_recommendation",
     "plot_recommendation",
-    "recommend_pitch",
+    "recommend",
     "write_recommendation",
 ]
 
-#: Roll matters when its expected costs spread by more than this share of the pick's cost.
-ROLL_MATTERS = 0.10
-#: (parameter, edge term scaled, factor) of the sensitivity study.
-SENSITIVITY = (("friction", "friction", 0.5), ("friction", "friction", 2.0),
-               ("unstable_penalty", "penalty", 0.5), ("unstable_penalty", "penalty", 2.0),
-               ("rotational_stiffness", "stiffness", 0.5),
-               ("rotational_stiffness", "stiffness", 2.0))
-_TOL = 1e-9
+#: The figures of a setting, with units.
+METRICS = {
+    "share_snap": "1", "turn_mean": "deg", "turn_worst": "deg", "work_mean": "mJ",
+    "work_worst": "mJ", "click_mean": "length", "torque_peak": "N m",
+    "share_unstable": "1",
+}
 
 
-@dataclass
-class PitchSetting:
-    """Figures of one pitch setting over its starts (costs in mJ)."""
+def _figures(rows: pd.DataFrame) -> dict[str, Any]:
+    ok = rows[~rows["failed"]]
+    snapped = ok[ok["snapped"]]
+    clicks = snapped.loc[snapped["turn"] > 0, "click"]
 
-    pitch: float
-    starts: int
-    reachable: int
-    expected_cost: float
-    worst_cost: float
-    share_reachable: float
-    share_safe: float
-    roll_costs: dict[float, float] = field(default_factory=dict)
+    def stat(series: pd.Series, how: str) -> float | None:
+        series = series.dropna()
+        if series.empty:
+            return None
+        return float(series.mean() if how == "mean" else series.max())
 
-    def key(self) -> tuple[float, float, float, float]:
-        """Ranking key: smaller is better."""
-        return (-self.share_reachable, self.expected_cost, self.worst_cost, -self.share_safe)
+    return {
+        "starts": len(ok), "failed": int(rows["failed"].sum()),
+        "share_snap": float(len(snapped) / len(ok)) if len(ok) else 0.0,
+        "turn_mean": stat(snapped["turn"], "mean"),
+        "turn_worst": stat(snapped["turn"], "max"),
+        "work_mean": stat(snapped["work"], "mean"),
+        "work_worst": stat(snapped["work"], "max"),
+        "click_mean": stat(clicks, "mean"),
+        "torque_peak": stat(ok["torque_peak"], "max"),
+        "share_unstable": float(ok["passes_unstable"].mean()) if len(ok) else 0.0,
+    }
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready mapping (infinite costs as None)."""
-        return {"pitch": self.pitch, "starts": self.starts, "reachable": self.reachable,
-                "expected_cost": _num(self.expected_cost), "worst_cost": _num(self.worst_cost),
-                "share_reachable": self.share_reachable, "share_safe": self.share_safe,
-                "roll_expected_cost": [{"roll": r, "expected_cost": _num(c)}
-                                       for r, c in sorted(self.roll_costs.items())]}
+
+def _rank_key(s: dict[str, Any]) -> tuple[float, float, float]:
+    inf = math.inf
+    return (-s["share_snap"], s["turn_mean"] if s["turn_mean"] is not None else inf,
+            s["work_mean"] if s["work_mean"] is not None else inf)
 
 
 @dataclass
 class Recommendation:
-    """The recommended SRCC pitch setting and the figures behind it.
+    """Settings ranked, the pick and its margin, the azimuth-proof pick.
 
     Attributes
     ----------
-    pitch : float
-        Recommended pitch setting (degrees).
-    roll : float
-        Roll with the smallest expected cost at that pitch (degrees).
-    roll_matters : bool
-        Whether the roll changes the expected cost by more than 10 %.
-    next_pitch : float or None
-        The second-best setting.
-    margin : float
-        Next setting's expected cost minus the pick's (mJ; inf when the next one reaches
-        fewer starts or none).
-    settings : list of PitchSetting
-        Every pitch setting, in pitch order.
-    sensitivity : list of dict
-        ``parameter``, ``factor``, ``pick``, ``changed`` for each variant.
+    settings : list of dict
+        One per (compliance, held pitch), ranked best first: ``force`` (N),
+        ``stiffness`` (N m/rad, roll and pitch), ``held_pitch`` (deg) and the
+        :data:`METRICS`.
+    margin : dict
+        The pick's lead over the next setting (``share_snap``, ``turn_mean``,
+        ``work_mean``), None with one setting.
+    at_edge : bool
+        The pick's held pitch is the grid's smallest or largest.
+    azimuth_proof : list of dict
+        Per pre-tilt size and compliance, the worst of the four quarter-turn directions,
+        ranked best first (empty when the grid holds no size in all four directions).
+    roll_spread : float
+        The roll error over which starts were taken (degrees).
+    units : str
+        Length units.
+    pitch_range : tuple of float
+        Smallest and largest held pitch searched.
     """
 
-    pitch: float
-    roll: float
-    roll_matters: bool
-    next_pitch: float | None
-    margin: float
-    settings: list[PitchSetting]
-    roll_spread: float | None
-    sensitivity: list[dict[str, Any]]
-    parameters: dict[str, Any]
+    settings: list[dict[str, Any]]
+    margin: dict[str, float | None] | None
+    at_edge: bool
+    azimuth_proof: list[dict[str, Any]]
+    roll_spread: float
     units: str
-    cost_units: str
+    pitch_range: tuple[float, float]
+    notes: list[str] = field(default_factory=list)
 
     @property
-    def best(self) -> PitchSetting:
-        """The figures of the recommended setting."""
-        return next(s for s in self.settings if s.pitch == self.pitch)
-
-    @property
-    def robust(self) -> bool:
-        """True when no sensitivity variant changes the pick."""
-        return not any(v["changed"] for v in self.sensitivity)
-
-    @property
-    def margin_relative(self) -> float:
-        """The margin as a share of the pick's expected cost."""
-        best = self.best.expected_cost
-        return self.margin / best if best > 0 else math.inf
-
-    def note(self) -> str:
-        """One paragraph on the pick, its margin and its sensitivity."""
-        b = self.best
-        text = (f"Recommended SRCC pitch {self.pitch:g} deg: expected {b.expected_cost:.3g} "
-                f"{self.cost_units}, worst {b.worst_cost:.3g} {self.cost_units}, "
-                f"{100 * b.share_safe:.0f}% of starts reach the snap without an unstable "
-                f"transition.")
-        if self.next_pitch is not None:
-            margin = ("the pick reaches the snap from more starts" if math.isinf(self.margin)
-                      else f"the pick is {self.margin:.3g} {self.cost_units} cheaper on "
-                           f"average ({100 * self.margin_relative:.2g}% of its own cost)")
-            text += f" Next best pitch {self.next_pitch:g} deg: {margin}."
-        text += (f" Roll {'matters' if self.roll_matters else 'matters little'}: best roll "
-                 f"{self.roll:g} deg.")
-        changed = [v for v in self.sensitivity if v["changed"]]
-        if not self.sensitivity:
-            pass
-        elif not changed:
-            text += (" The pick holds with the friction, the unstable penalty and the "
-                     "compliance stiffness each halved or doubled.")
-        else:
-            text += " The pick changes with " + "; ".join(
-                f"{v['parameter']} x{v['factor']:g} (-> {v['pick']:g} deg)" for v in changed) \
-                + "."
-        return text
+    def best(self) -> dict[str, Any]:
+        """The recommended setting."""
+        return self.settings[0]
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON document of ``threadmate recommend --json``."""
+        """The JSON document (``threadmate recommend --json``)."""
         return {
-            "recommended_pitch": self.pitch, "recommended_roll": self.roll,
-            "roll_matters": self.roll_matters, "next_best_pitch": self.next_pitch,
-            "margin": _num(self.margin), "margin_relative": _num(self.margin_relative),
-            "roll_spread": self.roll_spread, "robust": self.robust,
-            "sensitivity": self.sensitivity, "note": self.note(),
-            "settings": [s.to_dict() for s in self.settings],
-            "parameters": self.parameters, "units": self.units,
-            "cost_units": self.cost_units, "angle_units": "deg",
+            "units": {"length": self.units, "angle": "deg", "work": "mJ", "torque": "N m",
+                      "force": "N", "stiffness": "N m/rad", "share": "1"},
+            "metrics": METRICS, "roll_spread": self.roll_spread,
+            "pitch_range": list(self.pitch_range), "recommended": self.best,
+            "margin": self.margin, "at_edge": self.at_edge, "settings": self.settings,
+            "azimuth_proof": self.azimuth_proof,
+            "azimuth_proof_pick": self.azimuth_proof[0] if self.azimuth_proof else None,
+            "notes": list(self.notes),
         }
 
 
-def _num(x: float) -> float | None:
-    return float(x) if math.isfinite(x) else None
+def _compliance(graph: nx.DiGraph) -> dict[str, Any]:
+    c = json.loads(graph.graph["compliance"])
+    return {"force": c["force"], "stiffness": [c["stiffness"]["roll"], c["stiffness"]["pitch"]]}
 
 
-def _settings(graph: nx.DiGraph, starts: list[str], costs: dict[str, float],
-              safe: set[str]) -> list[PitchSetting]:
-    nodes = graph.nodes
-    by_pitch: dict[float, list[str]] = {}
-    for n in starts:
-        by_pitch.setdefault(nodes[n]["pitch"], []).append(n)
-    out = []
-    for pitch in sorted(by_pitch):
-        group = by_pitch[pitch]
-        c = np.array([costs[n] for n in group])
-        ok = np.isfinite(c)
-        rolls = np.array([nodes[n]["roll"] for n in group])
-        roll_costs = {}
-        for r in np.unique(rolls):
-            sel = (rolls == r) & ok
-            roll_costs[float(r)] = float(c[sel].mean()) if sel.any() else math.inf
-        out.append(PitchSetting(
-            pitch=float(pitch), starts=len(group), reachable=int(ok.sum()),
-            expected_cost=float(c[ok].mean()) if ok.any() else math.inf,
-            worst_cost=float(c[ok].max()) if ok.any() else math.inf,
-            share_reachable=float(ok.mean()),
-            share_safe=float(np.mean([n in safe for n in group])),
-            roll_costs=roll_costs))
-    return out
-
-
-def _pick(settings: list[PitchSetting]) -> list[PitchSetting]:
-    return sorted(settings, key=lambda s: (*s.key(), abs(s.pitch)))
-
-
-def recommend_pitch(graph: nx.DiGraph, roll_spread: float | None = None, *,
-                    sensitivity: bool = True) -> Recommendation:
-    """Recommend the SRCC pitch setting that makes the snap cheapest and safest.
+def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None = None
+              ) -> Recommendation:
+    """Rank the SRCC settings of one or more networks (see the module docstring).
 
     Parameters
     ----------
-    graph : networkx.DiGraph
-        A network from :func:`build_network`.
+    networks : networkx.DiGraph or list of them
+        Networks of libraries on the same grid and thread, differing in compliance.
     roll_spread : float, optional
-        Largest roll error expected (degrees): starts have ``|roll| <= roll_spread``.
-        Default: every roll of the grid.
-    sensitivity : bool
-        Recompute the pick with friction, penalty and stiffness halved and doubled.
+        Largest roll error expected (degrees, >= 0); default every roll of the grid.
 
     Returns
     -------
     Recommendation
-
-    Raises
-    ------
-    InputError
-        A negative or non-finite spread, or one that holds no roll of the grid.
-    NoPathError
-        No start at any pitch reaches the snap.
     """
-    if roll_spread is not None:
-        if isinstance(roll_spread, bool) or not isinstance(roll_spread, int | float) \
-                or not math.isfinite(roll_spread) or roll_spread < 0:
-            raise InputError(f"--roll-spread {roll_spread!r}: give a non-negative number of "
-                             "degrees")
-        roll_spread = float(roll_spread)
-    starts = [n for n, d in graph.nodes(data=True) if d["classification"] != "error"
-              and (roll_spread is None or abs(d["roll"]) <= roll_spread + _TOL)]
-    if not starts:
-        rolls = sorted({d["roll"] for _, d in graph.nodes(data=True)})
-        raise InputError(f"--roll-spread {roll_spread:g} holds no roll of the library's grid "
-                         f"(rolls {rolls[0]:g}..{rolls[-1]:g} deg)" if rolls else
-                         "the network holds no states")
-    safe = _safe_reach(graph)
-    settings = _settings(graph, starts, cost_to_snap(graph), safe)
-    ranked = _pick(settings)
-    best = ranked[0]
-    if best.reachable == 0:
-        raise NoPathError("no start state at any pitch setting reaches the snap (no in-phase "
-                          "state is reachable)")
-    nxt = ranked[1] if len(ranked) > 1 else None
-    if nxt is None:
-        margin = math.inf
-    elif nxt.share_reachable < best.share_reachable:
-        margin = math.inf
-    else:
-        margin = nxt.expected_cost - best.expected_cost
-    finite = [c for c in best.roll_costs.values() if math.isfinite(c)]
-    best_roll = min(best.roll_costs, key=lambda r: (best.roll_costs[r], abs(r)))
-    roll_matters = bool(len(finite) > 1 and (max(finite) - min(finite))
-                        > ROLL_MATTERS * best.expected_cost)
-    variants = []
-    if sensitivity:
-        for parameter, term, factor in SENSITIVITY:
-            weight: Weight = variant_weight(**{term: factor})
-            alt = _pick(_settings(graph, starts, cost_to_snap(graph, weight), safe))[0]
-            variants.append({"parameter": parameter, "factor": factor, "pick": alt.pitch,
-                             "changed": alt.pitch != best.pitch})
-    return Recommendation(
-        pitch=best.pitch, roll=best_roll, roll_matters=roll_matters,
-        next_pitch=nxt.pitch if nxt is not None else None, margin=margin,
-        settings=sorted(settings, key=lambda s: s.pitch), roll_spread=roll_spread,
-        sensitivity=variants, parameters=json.loads(graph.graph.get("parameters", "{}")),
-        units=str(graph.graph.get("units", "")),
-        cost_units=str(graph.graph.get("cost_units", "mJ")))
+    graphs = [networks] if isinstance(networks, nx.DiGraph) else list(networks)
+    if not graphs:
+        raise InputError("no network to recommend from")
+    if roll_spread is not None and (isinstance(roll_spread, bool)
+                                    or not isinstance(roll_spread, int | float)
+                                    or not math.isfinite(roll_spread) or roll_spread < 0):
+        raise InputError(f"--roll-spread must be a non-negative number of degrees, got "
+                         f"{roll_spread!r}")
+    spread = math.inf if roll_spread is None else float(roll_spread)
+    grids = {g.graph["grid"] for g in graphs}
+    if len(grids) > 1 or len({g.graph["spec"] for g in graphs}) > 1:
+        raise InputError("the libraries to compare must share one thread and one grid")
+    settings, proof, notes = [], [], []
+    for graph in graphs:
+        comp = _compliance(graph)
+        out = start_outcomes(graph)
+        if out.empty:
+            raise InputError("the library holds no finished start")
+        inside = out[out["held_roll"].abs() <= spread + 1e-9]
+        if inside.empty:
+            raise InputError(f"no start within the roll spread {roll_spread:g} deg")
+        for pitch, rows in inside.groupby("held_pitch", sort=True):
+            settings.append({**comp, "held_pitch": float(pitch), **_figures(rows)})
+        proof += _azimuth_proof(out, spread, comp)
+    settings.sort(key=_rank_key)
+    proof.sort(key=_rank_key)
+    pitches = sorted({s["held_pitch"] for s in settings})
+    best = settings[0]
+    margin = None
+    if len(settings) > 1:
+        nxt = settings[1]
+        margin = {k: (None if best[k] is None or nxt[k] is None else
+                      (best[k] - nxt[k] if k == "share_snap" else nxt[k] - best[k]))
+                  for k in ("share_snap", "turn_mean", "work_mean")}
+    at_edge = len(pitches) > 1 and best["held_pitch"] in (pitches[0], pitches[-1])
+    if at_edge:
+        notes.append(f"the pick, held pitch {best['held_pitch']:+g} deg, is at the edge of "
+                     f"the range searched ({pitches[0]:g}..{pitches[-1]:g} deg): a larger "
+                     "pre-tilt that way may do better; sweep a wider pitch range")
+    if best["share_snap"] < 1.0:
+        notes.append(f"even the pick leaves {1 - best['share_snap']:.0%} of starts without "
+                     "a snap within one turn")
+    if not proof:
+        notes.append("no pre-tilt size lies in all four quarter-turn directions of this "
+                     "grid: no azimuth-proof pick (sweep a square roll x pitch grid)")
+    units = graphs[0].graph["units"]
+    spread_out = spread if math.isfinite(spread) else float(max(abs(p) for p in pitches))
+    return Recommendation(settings, margin, at_edge, proof, spread_out, units,
+                          (pitches[0], pitches[-1]), notes)
+
+
+def _azimuth_proof(out: pd.DataFrame, spread: float, comp: dict[str, Any]
+                   ) -> list[dict[str, Any]]:
+    """Per pre-tilt size held in all four quarter-turn directions, its worst direction."""
+    rolls = set(out["held_roll"])
+    pitches = set(out["held_pitch"])
+    sizes = sorted({abs(p) for p in pitches if p in pitches and -p in pitches
+                    and p in rolls and -p in rolls})
+    found = []
+    for s in sizes:
+        directions = {
+            "+pitch": out[(out["held_pitch"] == s) & (out["held_roll"].abs() <= spread)],
+            "-pitch": out[(out["held_pitch"] == -s) & (out["held_roll"].abs() <= spread)],
+            "+roll": out[(out["held_roll"] == s) & (out["held_pitch"].abs() <= spread)],
+            "-roll": out[(out["held_roll"] == -s) & (out["held_pitch"].abs() <= spread)],
+        }
+        if s == 0:
+            directions = {"upright": out[(out["held_pitch"] == 0)
+                                         & (out["held_roll"].abs() <= spread)]}
+        figures = {k: _figures(v) for k, v in directions.items() if len(v)}
+        if not figures:
+            continue
+        worst = max(figures.items(), key=lambda kv: _rank_key(kv[1]))
+        found.append({**comp, "tilt_size": float(s), "worst_direction": worst[0],
+                      **worst[1]})
+    return found
+
+
+def _fmt(v: Any, spec: str) -> str:
+    return "-" if v is None else format(v, spec)
 
 
 def format_recommendation(rec: Recommendation) -> str:
-    """The recommendation as a plain-text table with its note."""
-    u = rec.cost_units
-    head = (f"{'pitch':>7}  {'starts':>6}  {'expected ' + u:>12}  {'worst ' + u:>10}  "
-            f"{'reach':>6}  {'safe':>6}")
-    lines = [head, "-" * len(head)]
+    """The ranking as a Markdown table, the pick and its notes."""
+    many = len({(s["force"], tuple(s["stiffness"])) for s in rec.settings}) > 1
+    head = ("| " + ("force N | stiffness N m/rad | " if many else "")
+            + "held pitch deg | share snap | turn mean deg | turn worst deg | work mean mJ | "
+            f"work worst mJ | click mean {rec.units} | torque peak N m | share unstable |")
+    lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for s in rec.settings:
-        mark = "  <- recommended" if s.pitch == rec.pitch else ""
-        lines.append(f"{s.pitch:>7g}  {s.starts:>6d}  {s.expected_cost:>12.4g}  "
-                     f"{s.worst_cost:>10.4g}  {100 * s.share_reachable:>5.0f}%  "
-                     f"{100 * s.share_safe:>5.0f}%{mark}")
-    spread = "all rolls" if rec.roll_spread is None else f"|roll| <= {rec.roll_spread:g} deg"
-    lines += ["", f"starts: {spread}, every phase", rec.note()]
-    return "\n".join(lines)
+        comp = f"{s['force']:g} | {s['stiffness'][0]:g}/{s['stiffness'][1]:g} | " if many else ""
+        lines.append(
+            f"| {comp}{s['held_pitch']:+g} | {s['share_snap']:.0%} | "
+            f"{_fmt(s['turn_mean'], '.0f')} | {_fmt(s['turn_worst'], '.0f')} | "
+            f"{_fmt(s['work_mean'], '.3g')} | {_fmt(s['work_worst'], '.3g')} | "
+            f"{_fmt(s['click_mean'], '.2e')} | {_fmt(s['torque_peak'], '.3g')} | "
+            f"{s['share_unstable']:.0%} |")
+    return "\n".join(lines) + "\n"
 
 
-def write_recommendation(rec: Recommendation, path: str | Path) -> Path:
-    """Write the recommendation's JSON document atomically."""
-    return atomic_write_text(path, json.dumps(rec.to_dict(), indent=2) + "\n")
+def write_recommendation(rec: Recommendation, path: str | os.PathLike[str]) -> Path:
+    """Write the JSON document atomically."""
+    return atomic_write_text(path, json.dumps(rec.to_dict(), indent=2, allow_nan=False) + "\n")
 
 
-def plot_recommendation(rec: Recommendation, path: str | Path) -> Path:
-    """Draw cost to the snap against the pitch setting (expected and worst), with the share
-    of safe starts on a twin axis; written atomically (format from the suffix)."""
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    from matplotlib.figure import Figure
-
-    path = Path(path)
-    fmt = path.suffix.lstrip(".").lower() or "png"
-    if fmt not in ("png", "pdf", "svg", "jpg", "jpeg", "eps", "ps", "tif", "tiff", "webp"):
-        raise InputError(f"--plot {path}: unknown figure format {fmt!r} (use .png, .pdf "
-                         "or .svg)")
-    pitches = [s.pitch for s in rec.settings]
-    expected = [s.expected_cost if math.isfinite(s.expected_cost) else np.nan
-                for s in rec.settings]
-    worst = [s.worst_cost if math.isfinite(s.worst_cost) else np.nan for s in rec.settings]
-    safe = [100 * s.share_safe for s in rec.settings]
-    fig = Figure(figsize=(7, 4.2), layout="constrained")
-    ax = fig.add_subplot()
-    ax.plot(pitches, expected, "o-", color="C0", label="expected cost")
-    ax.plot(pitches, worst, "s--", color="C3", label="worst cost")
-    ax.axvline(rec.pitch, color="0.5", lw=1, ls=":", label=f"recommended {rec.pitch:g} deg")
-    ax.set_xlabel("SRCC pitch setting [deg]")
-    ax.set_ylabel(f"least-resistance cost to the snap [{rec.cost_units}]")
-    twin = ax.twinx()
-    twin.plot(pitches, safe, "^-", color="C2", label="safe starts")
-    twin.set_ylabel("starts with a safe path to the snap [%]")
-    twin.set_ylim(-5, 105)
-    spread = "all rolls" if rec.roll_spread is None else f"|roll| <= {rec.roll_spread:g} deg"
-    ax.set_title(f"SRCC pitch recommendation ({spread}, all phases)")
-    handles = ax.get_legend_handles_labels()
-    handles2 = twin.get_legend_handles_labels()
-    ax.legend(handles[0] + handles2[0], handles[1] + handles2[1], loc="best", fontsize=8)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format=fmt, dpi=120)
-    return path
+def plot_recommendation(rec: Recommendation, path: str | os.PathLike[str]) -> Path:
+    """Share of starts that snap within a turn, and the mean turn to the snap, against the
+    held pitch (one line per compliance); the pick marked."""
+    fig = new_figure((7.0, 5.5))
+    ax1, ax2 = fig.subplots(2, 1, sharex=True)
+    groups: dict[tuple[Any, ...], list[dict[str, Any]]] = {}
+    for s in rec.settings:
+        groups.setdefault((s["force"], tuple(s["stiffness"])), []).append(s)
+    for (force, stiff), rows in groups.items():
+        rows = sorted(rows, key=lambda s: s["held_pitch"])
+        x = [s["held_pitch"] for s in rows]
+        label = f"F {force:g} N, k {stiff[0]:g}/{stiff[1]:g} N m/rad"
+        ax1.plot(x, [100 * s["share_snap"] for s in rows], "o-", label=label)
+        ax2.plot(x, [np.nan if s["turn_mean"] is None else s["turn_mean"] for s in rows],
+                 "o-", label=label)
+    best = rec.best
+    ax1.axvline(best["held_pitch"], color="0.5", ls=":", lw=1)
+    ax2.axvline(best["held_pitch"], color="0.5", ls=":", lw=1)
+    ax1.set_ylabel("snap within one turn (%)")
+    ax2.set_ylabel("mean turn to the snap (deg)")
+    ax2.set_xlabel("held pitch: the SRCC pre-tilt about the nut's Y axis (deg)")
+    ax1.set_title(f"starts with |roll| <= {rec.roll_spread:g} deg, every start phase; "
+                  f"pick {best['held_pitch']:+g} deg" + (" (at the edge)" if rec.at_edge
+                                                          else ""))
+    ax1.legend(fontsize=7)
+    return save_figure(fig, path, Path(path).suffix.lstrip(".").lower() or "png")

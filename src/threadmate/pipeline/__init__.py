@@ -1,6 +1,6 @@
 """The main job end to end: sweep (or reuse) a library, build the network, recommend the
-SRCC pitch, write GraphML, figures and a short report."""
+SRCC setting, write GraphML, figures and the report."""
 
-from ._run import DEFAULT_DESIGNATION, RunResult, run_pipeline
+from ._run import DEFAULT_DESIGNATION, RUN_GRID, RunResult, run_pipeline
 
-__all__ = ["DEFAULT_DESIGNATION", "RunResult", "run_pipeline"]
+__all__ = ["DEFAULT_DESIGNATION", "RUN_GRID", "RunResult", "run_pipeline"]

@@ -2,43 +2,57 @@
 
 Layout of the output folder::
 
-    DIR/library/            the contact-state library (Parquet dataset, resumable)
-    DIR/network.graphml     the contact-state network
+    DIR/library/            the mechanics library (Parquet dataset, resumable); with
+                            several compliances, DIR/library-F<force>-k<stiffness>/ each
+    DIR/network.graphml     the contact-state network (of the first compliance)
     DIR/network.json        the same graph as node-link JSON
-    DIR/recommendation.json the SRCC pitch recommendation
-    DIR/figures/            planar disk and pivot chart, stability map, phase strips,
-                            region combinations, recommendation chart
-    DIR/report.md           a short report
+    DIR/starts.csv          every start's passive outcome (snap, turn, work, click, ...)
+    DIR/recommendation.json the SRCC recommendation
+    DIR/figures/            recommendation, click signature, click against tilt, class
+                            map and strips, region combinations, planar figures
+    DIR/report.md           the report, figures embedded
 """
 
 from __future__ import annotations
 
+import math
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from .._io import atomic_write_text
 from .._version import __version__
+from ..contact import Compliance
 from ..geometry import ThreadSpec
-from ..library import summary, sweep, write_figures
+from ..library import Grid, info, sweep, write_figures
 from ..network import (
-    ResistanceParams,
+    WEIGHT_FORMULA,
+    Recommendation,
     format_recommendation,
     from_library,
+    least_resistance_path,
+    plot_click_signature,
+    plot_click_vs_tilt,
     plot_recommendation,
-    recommend_pitch,
+    recommend,
+    start_outcomes,
     write_graphml,
     write_node_link,
     write_recommendation,
 )
 from ..planar import plot_pivot_axes, plot_region_disk
 
-__all__ = ["DEFAULT_DESIGNATION", "RunResult", "run_pipeline"]
+__all__ = ["DEFAULT_DESIGNATION", "RUN_GRID", "RunResult", "run_pipeline"]
 
 #: The built-in default of ``threadmate run``: the thesis's thread pair.
 DEFAULT_DESIGNATION = "1/4-20 UNC-2A/2B"
+#: The default grid of ``threadmate run``: held roll and pitch -2..2 by 1 degree (a square
+#: grid, so that the azimuth-proof pick exists) and start phases every 15 degrees. The
+#: thesis's grid (-4..4 by 1, phases by 5) is ``--roll -4:4:1 --pitch -4:4:1 --phase
+#: 0:355:5``.
+RUN_GRID = {"roll": "-2:2:1", "pitch": "-2:2:1", "phase": "0:345:15"}
 
 
 @dataclass(frozen=True)
@@ -46,26 +60,36 @@ class RunResult:
     """What :func:`run_pipeline` wrote, and the headline figures."""
 
     out: Path
-    library: Path
+    libraries: list[Path]
     graphml: Path
     node_link: Path
+    starts: Path
     recommendation: Path
     report: Path
     figures: dict[str, Path] = field(default_factory=dict)
     counts: dict[str, int] = field(default_factory=dict)
-    recommended_pitch: float | None = None
-    note: str = ""
+    recommended: dict[str, Any] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready mapping of paths and figures."""
+        """JSON-ready mapping of paths and figures (``threadmate run --json``)."""
         return {
-            "out": str(self.out), "library": str(self.library), "graphml": str(self.graphml),
-            "node_link": str(self.node_link), "recommendation": str(self.recommendation),
+            "units": {"length": self.recommended.get("units", ""), "angle": "deg",
+                      "work": "mJ", "torque": "N m", "force": "N", "stiffness": "N m/rad"},
+            "out": str(self.out), "libraries": [str(p) for p in self.libraries],
+            "graphml": str(self.graphml), "node_link": str(self.node_link),
+            "starts": str(self.starts), "recommendation": str(self.recommendation),
             "report": str(self.report),
             "figures": {k: str(v) for k, v in self.figures.items()},
-            "counts": self.counts, "recommended_pitch": self.recommended_pitch,
-            "note": self.note,
+            "counts": self.counts, "recommended": self.recommended, "notes": self.notes,
         }
+
+
+def _library_dir(out: Path, compliance: Compliance, many: bool) -> Path:
+    if not many:
+        return out / "library"
+    k = compliance.stiffness
+    return out / f"library-F{compliance.force:g}-k{k[0]:g}-{k[1]:g}"  # type: ignore[index]
 
 
 def run_pipeline(
@@ -75,64 +99,214 @@ def run_pipeline(
     roll: Any = None,
     pitch: Any = None,
     phase: Any = None,
+    compliances: Sequence[Compliance] | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
     chord: float | None = None,
     roll_spread: float | None = None,
-    params: ResistanceParams | None = None,
+    step: float = 5.0,
     progress: Callable[[int, int], None] | None = None,
 ) -> RunResult:
     """Run the whole pipeline into ``out`` (see the module docstring for the layout).
 
-    The library in ``out/library`` is resumed (or reused when complete); a library for
-    another spec or grid is refused by the sweep stage, never mixed. Grid arguments default
-    to the thesis's grid (roll and pitch -4..4 by 1 degree, phase 0..355 by 5).
+    Each library is resumed (or reused when complete); a library for another spec, grid or
+    compliance is refused by the sweep stage, never mixed. Grid arguments default to
+    :data:`RUN_GRID`; ``compliances`` to the default :class:`Compliance` (give several to
+    compare stiffnesses or forces: one library each, one recommendation over all).
     """
     out = Path(out)
-    lib = out / "library"
-    sweep(spec, roll, pitch, phase, out=lib, workers=workers, scheduler=scheduler,
-          chord=chord, progress=progress)
-    counts = summary(lib)
-    graph = from_library(lib, params)
+    grid = {"roll": RUN_GRID["roll"] if roll is None else roll,
+            "pitch": RUN_GRID["pitch"] if pitch is None else pitch,
+            "phase": RUN_GRID["phase"] if phase is None else phase}
+    compliances = list(compliances or [Compliance()])
+    libs = [_library_dir(out, c, len(compliances) > 1) for c in compliances]
+    for comp, lib in zip(compliances, libs, strict=True):
+        sweep(spec, grid["roll"], grid["pitch"], grid["phase"], out=lib, workers=workers,
+              scheduler=scheduler, chord=chord, compliance=comp, step=step,
+              progress=progress)
+    graphs = [from_library(lib) for lib in libs]
+    graph = graphs[0]
+    rec = recommend(graphs, roll_spread)
+    outcomes = start_outcomes(graph)
     graphml = write_graphml(graph, out / "network.graphml")
     node_link = write_node_link(graph, out / "network.json")
-    rec = recommend_pitch(graph, roll_spread)
+    starts_csv = atomic_write_text(out / "starts.csv", outcomes.to_csv(index=False))
     rec_path = write_recommendation(rec, out / "recommendation.json")
+
     figdir = out / "figures"
-    figures = {f"library_{k}": Path(v) for k, v in write_figures(lib, figdir).items()}
+    figures: dict[str, Path] = {}
     figures["recommendation"] = plot_recommendation(rec, figdir / "recommendation.png")
+    signature = _signature_start(outcomes, rec)
+    if signature is not None:
+        path = least_resistance_path(graph, *signature)
+        figures["click_signature"] = plot_click_signature(graph, path,
+                                                          figdir / "click-signature.png")
+    figures["click_vs_tilt"] = plot_click_vs_tilt(outcomes, figdir / "click-vs-tilt.png",
+                                                  spec.units)
+    figures.update({f"library_{k}": Path(v) for k, v in write_figures(libs[0], figdir).items()})
     figures["region_disk"] = plot_region_disk(spec, figdir / "planar-region-disk.png")
     figures["pivot_axes"] = plot_pivot_axes(spec, figdir / "planar-pivot-axes.png")
-    report = _report(spec, counts, format_recommendation(rec), rec.note(), figures, out)
+
+    lib_info = info(libs[0])
+    counts = {f"starts {k}": v for k, v in lib_info["classifications"].items()}
+    counts.update({f"states {k}": v for k, v in lib_info["states"].get("by_class", {}).items()})
+    report = _report(spec, compliances, Grid.from_dict(lib_info["metadata"]["grid"]), step,
+                     rec, outcomes, counts, signature, figures, out)
     report_path = atomic_write_text(out / "report.md", report)
-    return RunResult(out, lib, graphml, node_link, rec_path, report_path, figures,
-                     _flat_counts(counts), rec.pitch, rec.note())
+    recommended = dict(rec.best, units=spec.units)
+    return RunResult(out, libs, graphml, node_link, starts_csv, rec_path, report_path,
+                     figures, counts, recommended, rec.notes)
 
 
-def _flat_counts(counts: dict[str, Any]) -> dict[str, int]:
-    raw = counts.get("counts", counts)
-    return {str(k): int(v) for k, v in raw.items() if isinstance(v, int | float)}
+def _signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, float, float] | None:
+    """A start of the recommended setting whose search snaps, with the median turn (the
+    figure then shows a typical search); the smallest held roll preferred."""
+    best = rec.best
+    rows = outcomes[(outcomes["held_pitch"] == best["held_pitch"]) & outcomes["snapped"]
+                    & (outcomes["turn"] > 0)]
+    if rows.empty:
+        return None
+    rows = rows[rows["held_roll"].abs() == rows["held_roll"].abs().min()]
+    row = rows.iloc[(rows["turn"] - rows["turn"].median()).abs().argsort().iloc[0]]
+    return float(row["held_roll"]), float(row["held_pitch"]), float(row["phase"])
 
 
-def _report(spec: ThreadSpec, counts: dict[str, Any], table: str, note: str,
-            figures: dict[str, Path], out: Path) -> str:
+def _lean(pitch: float) -> str:
+    """Where a held pitch leans the bolt's head, in the nut's frame (conventions.md)."""
+    if pitch == 0:
+        return "upright about Y (no pre-tilt)"
+    side = "+X" if pitch > 0 else "-X"
+    return (f"{abs(pitch):g} deg about the nut's Y axis, right-handed sign {pitch:+g}: the "
+            f"bolt's head leans toward {side} of the nut's frame")
+
+
+def _num(v: float | None, fmt: str) -> str:
+    return "-" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, fmt)
+
+
+def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: float,
+            rec: Recommendation, outcomes: Any, counts: dict[str, int],
+            signature: tuple[float, float, float] | None, figures: dict[str, Path],
+            out: Path) -> str:
     name = spec.designation or "custom spec"
+    u = spec.units
+    best = rec.best
+    ok = outcomes[~outcomes["failed"]]
     lines = [
         f"# threadmate run: {name}",
         "",
-        f"threadmate {__version__}; lengths in {spec.units}, angles in degrees; frames and "
-        "regions per docs/conventions.md.",
+        f"threadmate {__version__}. Lengths in {u}, angles in degrees, forces in N, "
+        "stiffness in N m/rad, torques in N m, work in mJ. Frames, poses and regions follow "
+        "the conventions (docs/conventions.md); the physical model is docs/mechanics.md.",
         "",
-        "## Contact states",
+        "## What to set on the robot",
         "",
-        "| classification | states |",
-        "|---|---|",
+        f"- **Pre-tilt (held pitch): {best['held_pitch']:+g} deg**, that is "
+        f"{_lean(best['held_pitch'])}.",
+        f"- With it, {best['share_snap']:.0%} of the starts with a roll error within "
+        f"+/-{rec.roll_spread:g} deg (every start phase) snap within one counter-clockwise "
+        f"turn, after {_num(best['turn_mean'], '.0f')} deg on average "
+        f"(worst {_num(best['turn_worst'], '.0f')} deg), for "
+        f"{_num(best['work_mean'], '.3g')} mJ of driver work on average (worst "
+        f"{_num(best['work_worst'], '.3g')} mJ) and a peak torque of "
+        f"{_num(best['torque_peak'], '.3g')} N m. The click to listen for: "
+        f"{_num(best['click_mean'], '.4g')} {u} of drop.",
     ]
-    lines += [f"| {k} | {v} |" for k, v in _flat_counts(counts).items()]
-    lines += ["", "## SRCC pitch recommendation", "", note, "", "```", table.rstrip(), "```",
-              "", "## Files", "",
-              "- `library/`: the contact-state library (Parquet)",
-              "- `network.graphml`, `network.json`: the contact-state network",
-              "- `recommendation.json`: the recommendation", ""]
-    lines += [f"- `{p.relative_to(out)}`" for p in figures.values()]
+    if rec.margin is not None:
+        m = rec.margin
+        lines.append(
+            f"- Margin over the next setting ({rec.settings[1]['held_pitch']:+g} deg): "
+            f"{_num(m['share_snap'], '+.0%')} in snap share, "
+            f"{_num(m['turn_mean'], '+.0f')} deg less mean turn, "
+            f"{_num(m['work_mean'], '+.3g')} mJ less mean work.")
+    if rec.azimuth_proof:
+        p = rec.azimuth_proof[0]
+        lines.append(
+            f"- **Whatever the nut's thread-start azimuth** (worst of the four quarter-turn "
+            f"directions): a pre-tilt of {p['tilt_size']:g} deg, worst direction "
+            f"{p['worst_direction']}, {p['share_snap']:.0%} snap within one turn, mean turn "
+            f"{_num(p['turn_mean'], '.0f')} deg. Use this when the robot does not know "
+            "where the nut's thread starts; the pick above assumes it does (the pre-tilt "
+            "about the nut's Y axis as the conventions fix it).")
+    lines += [f"- Limit: {note}." for note in rec.notes]
+    lines += [
+        "",
+        "## What was computed",
+        "",
+        f"- Thread: {name}; pitch {spec.pitch:g} {u}, handedness "
+        f"{'right' if spec.handedness > 0 else 'left'}.",
+        "- Compliance" + (f" ({len(compliances)} settings compared)" if len(compliances) > 1
+                          else "") + ": "
+        + "; ".join(f"axial force {c.force:g} N, rotational stiffness "
+                    f"{c.roll_stiffness:g}/{c.pitch_stiffness:g} N m/rad (roll/pitch), "
+                    + ("held laterally" if c.held_laterally else
+                       f"lateral stiffness {c.lateral_stiffness:g} N/m")
+                    + f", friction {c.friction:g}, compliance centre {c.compliance_z:g} "
+                    f"{u} above the tip" for c in compliances) + ".",
+        f"- Grid: {grid.describe()}. Every configuration is a start: the bolt is dropped "
+        "there, settles to a rest state, and is turned counter-clockwise (the unscrewing "
+        f"sense) in quasi-static continuation (steps of {step:g} deg, events located to "
+        "0.01 deg) until it snaps into the thread.",
+        f"- Work: {WEIGHT_FORMULA}.",
+        "",
+        "## Reading the results",
+        "",
+        "- **stable**: a rest state the contacts hold by themselves (a strict minimum of the "
+        "potential even without the compliance's stiffness).",
+        "- **quasi-stable**: a rest state that needs the compliance to hold.",
+        "- **unstable**: a contact state that is not at rest (first contact, a contact on "
+        "the way, a state the bolt leaves by a jump).",
+        "- **in-phase**: the bolt has dropped into the nut's thread: the snap.",
+        "- A transition is *stable* when it stays on stable rest states, *quasi-stable* when "
+        "it passes quasi-stable ones, *unstable* when it jumps or passes an unstable state "
+        "(every snap is a jump).",
+        "- Columns of the table: *share snap*, the share of starts that snap within one "
+        "turn; *turn* and *work*, to the snap, over those that snap; *click*, the drop of "
+        "the compliance centre at the snap; *torque peak*, the largest driver torque; "
+        "*share unstable*, starts whose search jumps or passes an unstable state before "
+        "the snap.",
+        "",
+        "## Settings ranked",
+        "",
+        format_recommendation(rec).rstrip(),
+        "",
+        f"Starts: {len(outcomes)} ({int(outcomes['failed'].sum())} failed); snap within one "
+        f"turn: {int(ok['snapped'].sum())}; never within one turn: "
+        f"{int((~ok['snapped']).sum())}; search passes an unstable transition: "
+        f"{int(ok['passes_unstable'].sum())}. States by class: "
+        + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
+        "",
+        "## Figures",
+        "",
+    ]
+    captions = {
+        "recommendation": "Snap share and mean turn against the pre-tilt.",
+        "click_signature": (
+            "The click signature a force/torque sensor would see: height of the "
+            "compliance centre, tilt and driver torque along the search from "
+            + (f"held roll {signature[0]:g}, pitch {signature[1]:g}, phase "
+               f"{signature[2]:g} deg" if signature else "a start") + "; the snap dashed red."),
+        "click_vs_tilt": "The click and the turn to the snap against the tilt's size.",
+        "library_stability_map": "Class of the rest state each start reaches, over the held "
+                                 "tilts, at the first grid phase.",
+        "library_phase_strips": "The same over every start phase.",
+        "library_region_combinations": "Which regions touch at rest.",
+        "region_disk": "The planar analysis: regions in contact against phase (upright).",
+        "pivot_axes": "The planar analysis: pivot axes against phase.",
+    }
+    for key, path in figures.items():
+        rel = path.relative_to(out).as_posix()
+        lines += [f"![{captions.get(key, key)}]({rel})", "", f"*{captions.get(key, key)}*", ""]
+    lines += [
+        "## Files and where to look next",
+        "",
+        "- `library/`: every state (Parquet; `threadmate library info`), "
+        "`network.graphml` / `network.json`: the network (open in yEd, Gephi or Cytoscape), "
+        "`starts.csv`: every start's outcome, `recommendation.json`: the ranking.",
+        "- A start of interest: `threadmate path DIR/library --roll R --pitch P --phase PH` "
+        "(the passive search; add `--active` for plans that change the tilt), and "
+        "`threadmate search` to recompute it finely with `--plot`.",
+        "- Other compliances: `threadmate run ... --compare-stiffness 0.5,1,2` compares them; a "
+        "pick at the edge of the grid calls for a wider `--pitch` range.",
+    ]
     return "\n".join(lines) + "\n"

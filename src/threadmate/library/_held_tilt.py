@@ -1,0 +1,218 @@
+"""The states of one held tilt: every start, its settling, and the continuations.
+
+For one held tilt and the grid's phases, in this order:
+
+1. every grid phase is a *start*: the bolt dropped there settles (``Mechanics.settle``);
+   the first contact and the unstable states passed become states too, joined by
+   *settling* transitions;
+2. from every start the counter-clockwise search continues (:class:`Continuation`, the
+   computation of :func:`threadmate.contact.search`) one grid phase at a time: *turning*
+   transitions along continuous branches, *jump* and *snap* transitions at folds, located
+   between grid phases by bisection;
+3. a continuation that reaches, at a grid phase, a state already there (same load-carrying
+   contacts, compliance centre within ``pitch / 1000``, axis within 0.05 degree) joins it:
+   the quasi-static dynamics are deterministic, so from there on the paths are one. A
+   continuation that neither snaps nor joins stops after ``MAX_TURNS`` turns.
+
+The rows follow the state record of :mod:`threadmate.contact` (``STATE_COLUMNS``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from ..contact import (
+    Continuation,
+    Leg,
+    MechanicalState,
+    Mechanics,
+    blank_row,
+    state_id,
+    state_row,
+    state_schema,
+)
+
+__all__ = ["states_of_held_tilt", "MAX_TURNS", "JOIN_TILT"]
+
+#: Turns after which a continuation that neither snapped nor joined another stops.
+MAX_TURNS = 2.0
+#: Largest angle between bolt axes (degrees) of two states taken as one.
+JOIN_TILT = 0.05
+#: Largest distance between compliance centres, in pitches, of two states taken as one.
+JOIN_DISTANCE = 1e-3
+
+
+def _axis(s: MechanicalState) -> np.ndarray:
+    return np.asarray(s.rotation, dtype=float)[:, 2]
+
+
+class _Tilt:
+    """The growing set of states of one held tilt, and the rows that describe them."""
+
+    def __init__(self, mech: Mechanics, roll: float, pitch: float) -> None:
+        self.mech, self.roll, self.pitch = mech, roll, pitch
+        self.rows: dict[str, dict[str, Any]] = {}
+        self.states: dict[str, MechanicalState] = {}
+        self.serial = 0
+        self.floor = 1e-4 * mech.compliance.force
+        self.join_distance = JOIN_DISTANCE * mech.spec.pitch
+
+    def add(self, state: MechanicalState, role: str, config_id: int) -> str:
+        sid = state_id(self.roll, self.pitch, state.phase, self.serial)
+        self.serial += 1
+        self.rows[sid] = state_row(state, config_id=config_id, state_id=sid,
+                                   held_roll=self.roll, held_pitch=self.pitch, role=role)
+        self.states[sid] = state
+        return sid
+
+    def link(self, src: str, dst: str, kind: str, label: str, *, turn: float = 0.0,
+             work_friction: float = 0.0, work_potential: float = 0.0,
+             torque_peak: float = math.nan) -> None:
+        a, b = self.states[src], self.states[dst]
+        cos = float(np.clip(_axis(a) @ _axis(b), -1.0, 1.0))
+        self.rows[src].update(
+            next_id=dst, transition=kind, transition_label=label, transition_turn=turn,
+            work_friction=work_friction, work_potential=work_potential,
+            torque_peak=torque_peak, drop=float(a.centre[2] - b.centre[2]),
+            tilt_change=math.degrees(math.acos(cos)))
+
+    def link_leg(self, src: str, dst: str, leg: Leg) -> None:
+        self.link(src, dst, leg.kind, leg.label, turn=leg.turn,
+                  work_friction=leg.work_friction, work_potential=leg.work_potential,
+                  torque_peak=leg.torque_peak)
+
+    def carrying(self, s: MechanicalState) -> list[str]:
+        """Regions of the contacts that carry load (as the continuation tells events)."""
+        return sorted(c.regions for c in s.touching if c.force > self.floor)
+
+    def same(self, a: MechanicalState, b: MechanicalState) -> bool:
+        """One state reached twice: same load-carrying contacts, same pose within the
+        join tolerances."""
+        if a.classification != b.classification:
+            return False
+        if self.carrying(a) != self.carrying(b):
+            return False
+        if math.dist(a.centre, b.centre) > self.join_distance:
+            return False
+        cos = float(np.clip(_axis(a) @ _axis(b), -1.0, 1.0))
+        return math.degrees(math.acos(cos)) <= JOIN_TILT
+
+    def fail(self, config_id: int, phase: float, role: str, exc: BaseException) -> None:
+        sid = state_id(self.roll, self.pitch, phase, self.serial)
+        self.serial += 1
+        row = blank_row(state_schema())
+        row.update(config_id=config_id, state_id=sid, held_roll=self.roll,
+                   held_pitch=self.pitch, phase=float(phase % 360.0), role=role,
+                   classification="error", error=f"{type(exc).__name__}: {exc}")
+        self.rows[sid] = row
+
+
+def _turns_between(phases: Sequence[float], sign: int) -> list[float]:
+    """Degrees turned from each grid phase to the next in the turning sense."""
+    n = len(phases)
+    if n == 1:
+        return [360.0]
+    return [(sign * (phases[(j + 1) % n] - phases[j])) % 360.0 for j in range(n)]
+
+
+def states_of_held_tilt(mech: Mechanics, roll: float, pitch: float,
+                        phases: Sequence[float], config_ids: Sequence[int], *,
+                        step: float, phase_tolerance: float) -> list[dict[str, Any]]:
+    """State records of one held tilt over the grid's phases (module docstring).
+
+    Parameters
+    ----------
+    mech : Mechanics
+        The thread pair and compliance (built once per worker).
+    roll, pitch : float
+        Held tilt (degrees).
+    phases : sequence of float
+        The grid's phases (degrees, distinct, within [0, 360)).
+    config_ids : sequence of int
+        The configuration of each phase.
+    step, phase_tolerance : float
+        The continuation's step and event tolerance (degrees).
+
+    Returns
+    -------
+    list of dict
+        Rows of the state record; a configuration that fails gives one ``error`` row.
+    """
+    sign = mech.spec.handedness
+    order = sorted(range(len(phases)), key=lambda j: sign * phases[j])
+    grid = [float(phases[j]) for j in order]
+    ids = [int(config_ids[j]) for j in order]
+    turns = _turns_between(grid, sign)
+    tilt = _Tilt(mech, float(roll), float(pitch))
+    at_phase: list[list[str]] = [[] for _ in grid]  # state ids at each grid phase
+    starts: list[str | None] = []
+    for j, phase in enumerate(grid):
+        try:
+            rest = mech.settle(roll, pitch, phase)
+        except Exception as exc:  # noqa: BLE001 - one bad configuration must not stop a sweep
+            tilt.fail(ids[j], phase, "start", exc)
+            starts.append(None)
+            continue
+        prev = None
+        for s in rest.path:
+            sid = tilt.add(s, "first-contact" if s.kind == "first-contact" else "passed",
+                           ids[j])
+            if prev is not None:
+                tilt.link(prev, sid, "settling", "unstable")
+            prev = sid
+        sid = tilt.add(rest.state, "start", ids[j])
+        if prev is not None:
+            tilt.link(prev, sid, "settling", "unstable")
+        starts.append(sid)
+        at_phase[j].append(sid)
+
+    walk = Continuation(mech, roll, pitch, step=step, phase_tolerance=phase_tolerance)
+    for j, start in enumerate(starts):
+        if start is not None:
+            _continue(tilt, walk, start, j, grid, turns, ids[j], at_phase)
+    return list(tilt.rows.values())
+
+
+def _continue(tilt: _Tilt, walk: Continuation, sid: str, j: int, grid: list[float],
+              turns: list[float], config_id: int, at_phase: list[list[str]]) -> None:
+    """Follow the continuation from state ``sid`` at grid phase ``j`` until it snaps,
+    joins a state already known at a grid phase, or has turned ``MAX_TURNS``."""
+    n = len(grid)
+    phase = grid[j]  # unwrapped: the continuation's phases keep growing
+    turned = 0.0
+    while tilt.states[sid].classification != "in-phase" and turned < 360.0 * MAX_TURNS:
+        k = (j + 1) % n
+        try:
+            legs, _, _ = walk.advance(tilt.states[sid], phase, turns[j])
+        except Exception as exc:  # noqa: BLE001 - keep the states found so far
+            tilt.rows[sid]["error"] = f"{type(exc).__name__}: {exc}"
+            return
+        legs = [leg for leg in legs if not (leg.kind == "turning" and leg.after is leg.before)]
+        snapped = bool(legs) and legs[-1].kind == "snap"
+        for i, leg in enumerate(legs):
+            last = i == len(legs) - 1 and not snapped
+            if last:
+                # The state at the next grid phase: a known one, or a new continued one.
+                known = next((o for o in at_phase[k] if tilt.same(tilt.states[o], leg.after)),
+                             None)
+                if known is not None:
+                    tilt.link_leg(sid, known, leg)
+                    return
+                role = "continued" if leg.kind == "turning" else "after-jump"
+                dst = tilt.add(leg.after, role, config_id)
+                at_phase[k].append(dst)
+            elif leg.kind == "turning":
+                dst = tilt.add(leg.after, "before-jump", config_id)
+            else:
+                dst = tilt.add(leg.after, "after-jump", config_id)
+            tilt.link_leg(sid, dst, leg)
+            sid = dst
+        if snapped or not legs:
+            return
+        phase += walk.sign * turns[j]
+        turned += turns[j]
+        j = k
