@@ -1,25 +1,36 @@
-"""Benchmark of the sweep stage: wall time, rate per worker, peak memory, speed-up.
+"""Benchmark of the sweep stage: wall time, cost per grid configuration in python-fcl query
+equivalents, peak memory.
 
 Usage::
 
-    python benchmarks/bench_sweep.py                       # thesis grid, 1 and 2 workers
-    python benchmarks/bench_sweep.py --workers 2           # thesis grid, 2 workers only
-    python benchmarks/bench_sweep.py --max-configs 1000    # a subset, extrapolated
-    python benchmarks/bench_sweep.py --grid fine --max-configs 8000 --workers 2
+    python benchmarks/bench_sweep.py                           # mechanics, 2 held tilts x 72
+    python benchmarks/bench_sweep.py --roll=-4:4:1 --pitch=-4:4:1   # the whole thesis grid
+    python benchmarks/bench_sweep.py --workers 1,2             # speed-up from 1 to 2 workers
+    python benchmarks/bench_sweep.py --model thesis --roll=-4:4:1 --pitch=-4:4:1
 
-``--grid thesis`` is the thesis's 9 x 9 x 72 = 5,832 configurations (roll and pitch
--4..4 by 1, phase 0..355 by 5); ``--grid fine`` is roll and pitch by 0.5 and phase by 1
-(17 x 17 x 360 = 104,040). The pair is 1/4-20 UNC-2A/2B at mean material, at the default
-chord tolerance unless ``--chord`` is given. ``--max-configs`` stops the sweep after about
-that many configurations (whole chunks) and extrapolates the full grid's time from the
-measured rate, saying so.
+The pair is 1/4-20 UNC-2A/2B at mean material, default chord (``--chord`` to change),
+default compliance (:class:`threadmate.contact.Compliance`), continuation step ``--step``
+(default 2 degrees, the sweep's) and events located to 0.01 degree. The grid is a subset of
+the thesis's 9 x 9 held tilts x 72 phases (phase 0..355 by 5): by default the held tilts
+(roll, pitch) = (-3, 1) and (2, 1), each with all 72 phases. The mechanics' library holds,
+per configuration, the drop's first contact, the unstable states passed, the rest state,
+and the counter-clockwise search continued from it grid phase by grid phase with its jumps
+and the snap: everything is in the time measured.
 
-Each run happens in a fresh child process so that its peak memory is its own: the peak
-resident set of the sweeping process (which holds at most the chunks in flight) and of
-its largest worker (one analyser: meshes and BVHs) are reported separately, with their
-sum as the footprint bound (main + workers x largest worker). Targets (issue 4): the
-thesis grid in at most 60 s on 2 cores, peak memory under 2 GB, the fine grid in bounded
-memory (the sweeping process's peak does not grow with the grid).
+**Query equivalents (QE).** In the same run, after the sweep, one yes/no python-fcl
+``collide`` query of the same meshes is timed at the library's own rest poses, lifted and
+lowered by the descent's tolerance (the bodies free but close all round, and just
+colliding: the mean of the two), as in ``bench_mechanics.py``. Two costs per grid
+configuration are reported: the workers' CPU time (user + system of the pool's processes)
+divided by the configurations and by the query time (the cost a core pays, independent of
+how many workers share it), and the wall time on the given workers the same way. Target
+(issue 10): at most 100 QE per grid configuration, all states and events included.
+
+``--model thesis`` runs the thesis's fixed-pivot stages instead (chunks of ``--chunk-size``
+configurations), with query times taken at the stages' last poses.
+
+Each run happens in a fresh child process so that its peak memory and its workers' CPU time
+are its own. Only threadmate's public API is used.
 """
 
 from __future__ import annotations
@@ -35,56 +46,109 @@ import tempfile
 import time
 from pathlib import Path
 
-GRIDS = {
-    "thesis": ("-4:4:1", "-4:4:1", "0:355:5"),
-    "fine": ("-4:4:0.5", "-4:4:0.5", "0:359:1"),
-}
+THESIS = ("-4:4:1", "-4:4:1", "0:355:5")
+THESIS_CONFIGURATIONS = 81 * 72
+
+
+def _query_time(engine, poses, tolerance: float, repeats: int = 20) -> float:
+    """Mean time of one yes/no query at ``poses`` lifted and lowered by ``tolerance``."""
+    import numpy as np
+
+    times = []
+    for pose in poses:
+        for dz in (tolerance, -tolerance):
+            moved = pose.translated([0.0, 0.0, dz])
+            t = time.perf_counter()
+            for _ in range(repeats):
+                engine.collides(moved)
+            times.append((time.perf_counter() - t) / repeats)
+    return float(np.mean(times))
+
+
+def _poses(rows, model: str, most: int = 40) -> list:
+    """Up to ``most`` poses the run produced: the mechanics' rest states, or the thesis's
+    last stages."""
+    import numpy as np
+
+    from threadmate.geometry import Pose
+
+    poses = []
+    if model == "mechanics":
+        rest = rows[(rows["role"] == "start") & (rows["error"] == "")]
+        for _, r in rest.iloc[:: max(1, len(rest) // most)].iterrows():
+            poses.append(Pose(np.reshape(np.asarray(r["rotation"], dtype=float), (3, 3)),
+                              np.array([r["origin_x"], r["origin_y"], r["origin_z"]])))
+        return poses
+    for _, r in rows.iloc[:: max(1, len(rows) // most)].iterrows():
+        for s in ("third", "second", "first"):
+            if r[f"{s}_found"]:
+                rot = np.array([[r[f"{s}_r{i}{j}"] for j in range(3)] for i in range(3)])
+                poses.append(Pose(rot, np.array([r[f"{s}_origin_{a}"] for a in "xyz"])))
+                break
+    return poses
 
 
 def _one(args: argparse.Namespace) -> None:
     """One sweep in this (child) process; prints one JSON line of figures."""
+    from threadmate.contact import Compliance, Mechanics
     from threadmate.geometry import spec_from_designation
-    from threadmate.library import Grid, info, sweep
+    from threadmate.library import Grid, info, load, sweep
 
     spec = spec_from_designation("1/4-20 UNC-2A/2B")
-    roll, pitch, phase = GRIDS[args.grid]
-    grid = Grid.parse(roll, pitch, phase)
-    chunk = args.chunk_size or min(256, max(4, -(-grid.size // (16 * args.workers))))
-    max_chunks = None if not args.max_configs else max(1, args.max_configs // chunk)
+    grid = Grid.parse(args.roll, args.pitch, args.phase)
+    n_tilts = grid.shape[0] * grid.shape[1]
     out = Path(args.out)
+    kwargs = {"model": args.model, "workers": args.workers, "chord": args.chord}
+    if args.model == "mechanics":
+        kwargs["step"] = args.step
+    else:
+        kwargs["chunk_size"] = args.chunk_size or min(
+            256, max(4, -(-grid.size // (16 * args.workers))))
     start = time.perf_counter()
-    sweep(spec, roll, pitch, phase, out=out, workers=args.workers, chunk_size=chunk,
-          chord=args.chord, max_chunks=max_chunks)
+    sweep(spec, args.roll, args.pitch, args.phase, out=out, **kwargs)
     wall = time.perf_counter() - start
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    me = resource.getrusage(resource.RUSAGE_SELF)
+    # workers=1 runs in this process: its CPU time is the work's.
+    cpu = (children.ru_utime + children.ru_stime if args.workers > 1
+           else me.ru_utime + me.ru_stime)
     doc = info(out)
     size = sum(p.stat().st_size for p in out.iterdir())
     to_mb = 1 / 1024  # ru_maxrss is in KiB on Linux
-    main_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * to_mb
-    worker_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * to_mb
+    main_mb = me.ru_maxrss * to_mb
+    worker_mb = children.ru_maxrss * to_mb
+
+    # The query time of the same meshes, in this run, at the run's own poses.
+    mech = Mechanics(spec, Compliance(), chord=args.chord)
+    rows = load(out)
+    q = _query_time(mech.engine, _poses(rows, args.model), mech.tolerance)
+    n = doc["done"]
     print(json.dumps({
-        "grid": args.grid, "grid_size": grid.size, "workers": args.workers,
-        "chunk_size": chunk, "done": doc["done"], "wall_s": wall,
-        "configs_per_s": doc["done"] / wall,
-        "configs_per_s_per_worker": doc["done"] / wall / args.workers,
-        "full_grid_s": wall * grid.size / doc["done"],
-        "extrapolated": doc["done"] < grid.size,
+        "model": args.model, "grid": doc["grid"], "configurations": n,
+        "held_tilts": n_tilts, "workers": args.workers, "step": args.step,
+        "wall_s": wall, "cpu_s": cpu, "query_us": 1e6 * q,
+        "qe_per_config_cpu": cpu / n / q, "qe_per_config_wall": wall / n / q,
+        "ms_per_config_cpu": 1e3 * cpu / n,
+        "thesis_grid_wall_s": wall * THESIS_CONFIGURATIONS / n,
+        "states": doc["states"], "classifications": doc["classifications"],
         "peak_main_mb": main_mb, "peak_worker_mb": worker_mb if args.workers > 1 else 0.0,
-        "footprint_mb": main_mb + (args.workers * worker_mb if args.workers > 1 else 0.0),
         "library_mb": size / 2**20, "parts": doc["parts"],
-        "classifications": doc["classifications"],
     }))
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--grid", choices=sorted(GRIDS), default="thesis")
-    parser.add_argument("--workers", default="1,2",
-                        help="comma list of worker counts (default 1,2)")
-    parser.add_argument("--max-configs", type=int, default=0,
-                        help="stop after about this many configurations and extrapolate")
+    parser.add_argument("--model", choices=("mechanics", "thesis"), default="mechanics")
+    parser.add_argument("--roll", default="-3,2", help="held roll values (default -3,2)")
+    parser.add_argument("--pitch", default="1", help="held pitch values (default 1)")
+    parser.add_argument("--phase", default=THESIS[2], help="phases (default 0:355:5)")
+    parser.add_argument("--workers", default="2",
+                        help="comma list of worker counts (default 2)")
+    parser.add_argument("--step", type=float, default=2.0,
+                        help="mechanics: continuation step in degrees (default 2)")
     parser.add_argument("--chord", type=float, default=None,
                         help="chord tolerance in inches (default: threadmate's default)")
-    parser.add_argument("--chunk-size", type=int, default=None)
+    parser.add_argument("--chunk-size", type=int, default=None, help="thesis model only")
     parser.add_argument("--keep", default=None, help="keep the libraries under this folder")
     parser.add_argument("--_one", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--out", default=None, help=argparse.SUPPRESS)
@@ -98,33 +162,41 @@ def main() -> None:
     results = []
     try:
         for w in (int(x) for x in args.workers.split(",")):
-            out = root / f"{args.grid}-w{w}"
+            out = root / f"{args.model}-w{w}"
             shutil.rmtree(out, ignore_errors=True)
-            cmd = [sys.executable, __file__, "--_one", "--grid", args.grid, "--workers",
-                   str(w), "--out", str(out), "--max-configs", str(args.max_configs)]
+            cmd = [sys.executable, __file__, "--_one", "--model", args.model,
+                   f"--roll={args.roll}", f"--pitch={args.pitch}", f"--phase={args.phase}",
+                   "--workers", str(w), "--out", str(out), "--step", str(args.step)]
             if args.chord is not None:
                 cmd += ["--chord", str(args.chord)]
             if args.chunk_size:
                 cmd += ["--chunk-size", str(args.chunk_size)]
-            proc = subprocess.run(cmd, capture_output=True, text=True, check=True,
+            proc = subprocess.run(cmd, capture_output=True, text=True,
                                   env={**os.environ, "PYTHONUNBUFFERED": "1"})
+            if proc.returncode:
+                sys.exit(f"benchmark run failed:\n{proc.stderr}")
             r = json.loads(proc.stdout.strip().splitlines()[-1])
             results.append(r)
-            note = " (extrapolated from the subset)" if r["extrapolated"] else ""
-            print(f"{r['grid']} grid ({r['grid_size']} configurations), {w} worker(s), "
-                  f"chunks of {r['chunk_size']}: {r['done']} done in {r['wall_s']:.1f} s; "
-                  f"{r['configs_per_s']:.1f} configs/s, "
-                  f"{r['configs_per_s_per_worker']:.1f} configs/s per worker; "
-                  f"full grid {r['full_grid_s']:.0f} s{note}")
+            print(f"{r['model']}: {r['grid']}, {w} worker(s): {r['wall_s']:.1f} s wall, "
+                  f"{r['cpu_s']:.1f} s worker CPU")
+            print(f"  one yes/no query {r['query_us']:.0f} us; per grid configuration "
+                  f"{r['ms_per_config_cpu']:.0f} ms CPU = {r['qe_per_config_cpu']:.0f} query "
+                  f"equivalents (wall on {w}: {r['qe_per_config_wall']:.0f}); target <= 100")
+            print(f"  thesis grid (81 held tilts x 72 phases) on {w} worker(s) at this rate: "
+                  f"about {r['thesis_grid_wall_s'] / 60:.1f} min")
+            if r["states"]:
+                print(f"  states: {r['states']['total']} ({r['states']['by_role']}); "
+                      f"rest states of the starts: {r['classifications']}")
+            else:
+                print(f"  classes: {r['classifications']}")
             print(f"  peak memory: sweeping process {r['peak_main_mb']:.0f} MB, largest worker "
-                  f"{r['peak_worker_mb']:.0f} MB, footprint <= {r['footprint_mb']:.0f} MB; "
-                  f"library {r['library_mb']:.1f} MB in {r['parts']} parts")
-            print(f"  states: {r['classifications']}")
+                  f"{r['peak_worker_mb']:.0f} MB; library {r['library_mb']:.2f} MB in "
+                  f"{r['parts']} parts")
         if len(results) >= 2:
             base = results[0]
             for r in results[1:]:
                 print(f"speed-up {base['workers']} -> {r['workers']} workers: "
-                      f"{r['configs_per_s'] / base['configs_per_s']:.2f}x")
+                      f"{base['wall_s'] / r['wall_s']:.2f}x")
         print(json.dumps(results))
     finally:
         if not args.keep:

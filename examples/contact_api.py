@@ -9,15 +9,16 @@ One analyser per thread pair builds the meshes and collision trees once; each ca
 from __future__ import annotations
 
 from threadmate.contact import ContactAnalyzer, record_schema
-from threadmate.geometry import BoltSpec, NutSpec, ThreadSpec
+from threadmate.geometry import spec_from_designation
 
-# 1/4-20 UNC-2A/2B at mean material (or: spec_from_designation("1/4-20 UNC-2A/2B")).
-spec = ThreadSpec(
-    units="in",
-    pitch=0.05,
-    bolt=BoltSpec(major=0.24485, pitch_diameter=0.21455, minor=0.1887, root_fillet=0.00625),
-    nut=NutSpec(major=0.2500, pitch_diameter=0.21995, minor=0.2015),
-)
+# 1/4-20 UNC-2A/2B at mean material: the midpoint of every ASME B1.1 limit. A pair that is
+# no standard size (or measured parts) is typed in instead as
+# ThreadSpec(units=..., pitch=..., bolt=BoltSpec(...), nut=NutSpec(...)); see
+# docs/conventions.md, "Thread spec file".
+spec = spec_from_designation("1/4-20 UNC-2A/2B")
+print(f"{spec.designation} at mean material ({spec.units}): bolt major/PD/minor "
+      f"{spec.bolt.major:.5f}/{spec.bolt.pitch_diameter:.5f}/{spec.bolt.minor:.5f}, "
+      f"nut {spec.nut.major:.5f}/{spec.nut.pitch_diameter:.5f}/{spec.nut.minor:.5f}")
 
 analyzer = ContactAnalyzer(spec)  # compliance centre at the bolt's tip centre
 

@@ -1,15 +1,20 @@
 """What a design tool does with threadmate's graph stage: library -> network -> path ->
 SRCC pitch recommendation -> GraphML.
 
-Run: ``python examples/design_tool.py [LIBRARY]``. Without LIBRARY a small library of a
-1/4-20 UNC-2A/2B pair (roll 0..1, pitch -1..1, phases every 30 deg) is swept first, in a
-few seconds; the thesis's grid is ``threadmate sweep "1/4-20 UNC-2A/2B" -o LIBRARY``.
+Run: ``python examples/design_tool.py [LIBRARY [OUT]]``. Without LIBRARY a small library
+of a 1/4-20 UNC-2A/2B pair (roll 0..1, pitch -1..1, phases every 30 deg) is swept first
+(a minute or two) into ``OUT/library``; the thesis's grid is
+``threadmate sweep "1/4-20 UNC-2A/2B" -o LIBRARY``.
+
+Everything is written into OUT, by default the folder ``threadmate-design`` in the current
+directory, and kept there: ``network.graphml``, ``recommendation.json``,
+``recommendation.png`` (and ``library/`` when swept here; a second run resumes it). The
+last line printed says where.
 """
 
 from __future__ import annotations
 
 import sys
-import tempfile
 from pathlib import Path
 
 from threadmate import NoPathError, library, network
@@ -46,12 +51,12 @@ def main(lib: Path, out: Path) -> None:
 
 
 if __name__ == "__main__":
-    with tempfile.TemporaryDirectory(prefix="threadmate-design-") as tmp:
-        if len(sys.argv) > 1:
-            lib = Path(sys.argv[1])
-        else:
-            spec = spec_from_designation("1/4-20 UNC-2A/2B")
-            lib = library.sweep(spec, roll="0:1:1", pitch="-1:1:1", phase="0:330:30",
-                                out=Path(tmp) / "library", workers=1)
-        out = Path(tmp) / "out" if len(sys.argv) <= 2 else Path(sys.argv[2])
-        main(lib, out)
+    out = Path(sys.argv[2]) if len(sys.argv) > 2 else Path("threadmate-design")
+    if len(sys.argv) > 1:
+        lib = Path(sys.argv[1])
+    else:
+        spec = spec_from_designation("1/4-20 UNC-2A/2B")
+        lib = library.sweep(spec, roll="0:1:1", pitch="-1:1:1", phase="0:330:30",
+                            out=out / "library", workers=1)
+    main(lib, out)
+    print(f"output kept in {out.resolve()}")

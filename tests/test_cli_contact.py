@@ -120,3 +120,24 @@ def test_bad_spec_exits_2(tmp_path, capsys):
 def test_missing_option_is_a_usage_error(spec_file, capsys):
     rc, out, err = run(["contact", str(spec_file), "--roll", "0", "--pitch", "0"], capsys)
     assert rc == 2 and "--phase" in err
+
+
+# -- issue 11 ------------------------------------------------------------------------------
+@pytest.mark.parametrize("value", ["1e308", "-1001", "nan", "inf"])
+def test_absurd_compliance_z_exits_2_with_range(spec_file, capsys, value):
+    rc, out, err = run(["contact", str(spec_file), "--roll", "4", "--pitch", "0",
+                        "--phase", "185", "--compliance-z", value], capsys)
+    assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
+    assert "--compliance-z" in err
+    if value not in ("nan", "inf"):
+        assert "from -1000 to 1000 in" in err
+
+
+def test_absurd_spec_and_empty_designation(tmp_path, capsys):
+    absurd = tmp_path / "absurd.json"
+    absurd.write_text(json.dumps({**SPEC, "pitch": 1e308}))
+    for spec, text in ((absurd, "from 0.0001 to 1000 in"), ("", "empty thread designation"),
+                       (tmp_path, "is a directory, not a spec file")):
+        rc, out, err = run(["contact", str(spec), "--roll", "4", "--pitch", "0",
+                            "--phase", "185"], capsys)
+        assert rc == 2 and out == "" and text in err and "Traceback" not in err

@@ -89,3 +89,53 @@ def test_existing_files_replaced_whole(capsys, tmp_path, spec_file):
     data = (tmp_path / "bolt.stl").read_bytes()
     assert len(data) == 84 + 50 * struct.unpack("<I", data[80:84])[0]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bolt.stl", "nut.stl"]
+
+
+# -- issue 11 ------------------------------------------------------------------------------
+def test_absurd_outer_radius_exits_2_with_range_and_writes_nothing(capsys, tmp_path,
+                                                                   quarter_20):
+    data = quarter_20.to_dict()
+    data["nut"]["outer_radius"] = 1e300
+    spec = tmp_path / "absurd.json"
+    spec.write_text(json.dumps(data))
+    out_dir = tmp_path / "out"
+    rc, out, err = run(capsys, "mesh", str(spec), "-o", str(out_dir))
+    assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
+    assert "'nut.outer_radius'" in err and "from 0.0001 to 1000 in" in err
+    assert not out_dir.exists()
+
+
+@pytest.mark.parametrize("target", ["/proc/threadmate-x/y", "/proc/threadmate-x"])
+def test_uncreatable_output_exits_2(capsys, spec_file, target):
+    rc, out, err = run(capsys, "mesh", str(spec_file), "-o", target, "--chord", CHORD)
+    assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
+    assert f"-o {target}:" in err and "/proc" in err
+
+
+def test_output_under_a_file_exits_2(capsys, tmp_path, spec_file):
+    blocker = tmp_path / "taken"
+    blocker.write_text("not a folder")
+    rc, out, err = run(capsys, "mesh", str(spec_file), "-o", str(blocker / "sub"),
+                       "--chord", CHORD)
+    assert rc == 2 and out == "" and "Traceback" not in err
+    assert "is not a directory" in err and blocker.read_text() == "not a folder"
+
+
+def test_empty_designation_and_directory(capsys, tmp_path):
+    out_dir = tmp_path / "out"
+    rc, _, err = run(capsys, "mesh", "", "-o", str(out_dir))
+    assert rc == 2 and "empty thread designation" in err
+    rc, _, err = run(capsys, "mesh", str(tmp_path), "-o", str(out_dir))
+    assert rc == 2 and "is a directory, not a spec file" in err
+    assert not out_dir.exists()
+
+
+def test_stl_header_says_the_units(capsys, tmp_path):
+    from threadmate.geometry import stl_units
+
+    rc, _, err = run(capsys, "mesh", "M6x1-6g/6H", "-o", str(tmp_path), "--chord", "0.0025")
+    assert rc == 0, err
+    for name in ("bolt", "nut"):
+        header = (tmp_path / f"{name}.stl").read_bytes()[:80].decode("ascii")
+        assert header.startswith(f"threadmate units=mm {name} M6x1-6g/6H")
+        assert stl_units(tmp_path / f"{name}.stl") == "mm"

@@ -127,3 +127,38 @@ def test_unwritable_figure_location(spec_file, tmp_path, capsys):
     rc, out, err = run(["planar", str(spec_file), "--json", "--plot",
                         str(blocker / "disk.png")], capsys)
     assert rc == 2 and out == "" and "disk.png" in err and "Traceback" not in err
+
+
+# -- issue 11 ------------------------------------------------------------------------------
+def test_absurd_pitch_exits_2_with_range_and_writes_nothing(tmp_path, capsys):
+    spec = tmp_path / "spec" / "absurd.json"
+    spec.parent.mkdir()
+    spec.write_text(json.dumps({**SPEC, "pitch": 1e308}))
+    out_dir = tmp_path / "figs"
+    rc, out, err = run(["planar", str(spec), "--json", "--plot", str(out_dir / "d.png")],
+                       capsys)
+    assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
+    assert "'pitch'" in err and "from 0.0001 to 1000 in" in err
+    assert not out_dir.exists()
+
+
+@pytest.mark.parametrize("option", ["--plot", "--pivot-plot"])
+def test_uncreatable_figure_folder_exits_2(spec_file, capsys, option):
+    rc, out, err = run(["planar", str(spec_file), option, "/proc/threadmate-x/d.png"], capsys)
+    assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
+    assert f"{option} /proc/threadmate-x/d.png" in err
+
+
+def test_figure_path_that_is_a_folder_exits_2(spec_file, tmp_path, capsys):
+    folder = tmp_path / "d.png"
+    folder.mkdir()
+    rc, out, err = run(["planar", str(spec_file), "--plot", str(folder)], capsys)
+    assert rc == 2 and out == "" and "is a directory" in err
+    assert list(folder.iterdir()) == []
+
+
+def test_empty_designation_and_directory(tmp_path, capsys):
+    rc, out, err = run(["planar", ""], capsys)
+    assert rc == 2 and out == "" and "empty thread designation" in err
+    rc, out, err = run(["planar", str(tmp_path)], capsys)
+    assert rc == 2 and out == "" and "is a directory, not a spec file" in err

@@ -189,3 +189,33 @@ def test_real_process_no_traceback():
     spec = doc["spec"]
     clearance = (spec["nut"]["pitch_diameter"] - spec["bolt"]["pitch_diameter"]) / math.sqrt(3)
     assert clearance == pytest.approx(((0.4500 + 0.4565) - (0.4435 + 0.4485)) / 2 / math.sqrt(3))
+
+
+# -- issue 11 ------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("edit", "key"),
+    [
+        (lambda d: d.update(pitch=1e308), "pitch"),
+        (lambda d: d["nut"].update(outer_radius=1e300), "nut.outer_radius"),
+        (lambda d: d["bolt"].update(major=1e300), "bolt.major"),
+    ],
+)
+def test_absurd_spec_numbers_exit_2_with_range(capsys, tmp_path, edit, key):
+    path = tmp_path / "absurd.json"
+    path.write_text(json.dumps(_bad_spec(edit)))
+    rc, out, err = run(capsys, "thread", str(path), "--json")
+    assert rc == 2 and out == "" and "Traceback" not in err
+    assert err.count("\n") == 1 and f"'{key}'" in err and "from 0.0001 to 1000 in" in err
+
+
+@pytest.mark.parametrize("text", ["", "   "])
+def test_empty_designation_says_so(capsys, text):
+    rc, out, err = run(capsys, "thread", text)
+    assert rc == 2 and out == "" and "Traceback" not in err
+    assert "empty thread designation" in err and "not found" not in err
+
+
+def test_directory_as_spec_says_so(capsys, tmp_path):
+    rc, out, err = run(capsys, "thread", str(tmp_path))
+    assert rc == 2 and out == "" and "Traceback" not in err
+    assert f"{tmp_path} is a directory, not a spec file" in err

@@ -1,7 +1,10 @@
 """The sweep stage on the real contact engine (python-fcl): rows, resume, refusal, storage.
 
-Grids are tiny and the chord coarse (1e-4 in) so that the whole file stays fast; the rows
-are checked against the contact analyser called directly in the test process.
+The thesis's model (``model="thesis"``): tiny grids at a coarse chord (1e-4 in), rows checked
+against the contact analyser called directly in the test process. The mechanics (the
+default): two held tilts x 8 phases at the default chord, every start checked against
+``Mechanics.settle`` called here, and every passive path read from the Parquet rows against
+``threadmate.contact.search`` from the same start.
 """
 
 from __future__ import annotations
@@ -19,18 +22,30 @@ import pyarrow.parquet as pq
 import pytest
 
 from threadmate._errors import InputError, LibraryError
-from threadmate.contact import ContactAnalyzer, record_schema
+from threadmate.contact import (
+    ROLES,
+    STATE_COLUMNS,
+    TRANSITION_LABELS,
+    TRANSITIONS,
+    Compliance,
+    ContactAnalyzer,
+    Mechanics,
+    record_schema,
+    search,
+)
 from threadmate.geometry import ThreadSpec
 from threadmate.library import (
     METADATA_FILE,
     Grid,
     SweepInterrupted,
+    configurations,
     info,
     load,
     query,
     summary,
     sweep,
     write_figures,
+    write_library,
 )
 
 CHORD = 1e-4
@@ -68,9 +83,10 @@ def analyzer(quarter_20):
 
 @pytest.fixture(scope="module")
 def library(quarter_20, tmp_path_factory):
-    """One uninterrupted sweep with a two-process pool."""
+    """One uninterrupted sweep of the thesis's model with a two-process pool."""
     out = tmp_path_factory.mktemp("lib") / "quarter-20"
-    sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=4, chord=CHORD)
+    sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=4, chord=CHORD,
+          model="thesis")
     return out
 
 
@@ -135,13 +151,13 @@ def test_read_directly_with_pyarrow_pandas_and_duckdb(library):
 def test_resumed_sweep_equals_uninterrupted(library, quarter_20, tmp_path):
     out = tmp_path / "resumed"
     sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=4, chord=CHORD,
-          max_chunks=2)
+          max_chunks=2, model="thesis")
     partial = info(out)
     assert partial["done"] == 8 and not partial["complete"]
     seen = []
     # Resume with another chunk size and in-process: only the missing 10 are computed.
     sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=1, chunk_size=3, chord=CHORD,
-          progress=lambda done, total: seen.append((done, total)))
+          progress=lambda done, total: seen.append((done, total)), model="thesis")
     assert seen[0] == (8, 18) and seen[-1] == (18, 18)
     assert len(seen) == 1 + math.ceil(10 / 3)
     resumed = load(out)
@@ -149,7 +165,7 @@ def test_resumed_sweep_equals_uninterrupted(library, quarter_20, tmp_path):
     pd.testing.assert_frame_equal(resumed, load(library))
     # Running it again finds nothing to do and writes nothing.
     parts = sorted(out.glob("part-*.parquet"))
-    sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=1, chord=CHORD)
+    sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=1, chord=CHORD, model="thesis")
     assert sorted(out.glob("part-*.parquet")) == parts
 
 
@@ -158,33 +174,37 @@ def test_killed_worker_then_resume_equals_uninterrupted(library, quarter_20, tmp
     factory = functools.partial(KillOnceAnalyzer, marker=str(tmp_path / "killed-once"))
     with pytest.raises(SweepInterrupted, match="run the same sweep again to resume"):
         sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=1, chord=CHORD,
-              analyzer=factory)
+              analyzer=factory, model="thesis")
     assert info(out)["done"] < 18
     sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=1, chord=CHORD,
-          analyzer=factory)
+          analyzer=factory, model="thesis")
     pd.testing.assert_frame_equal(load(out), load(library))
 
 
 def test_mismatched_library_is_refused_not_mixed(library, quarter_20):
     before = sorted(p.name for p in library.iterdir())
     with pytest.raises(LibraryError, match="grid phase values"):
-        sweep(quarter_20, ROLL, PITCH, "0:355:5", out=library, workers=1, chord=CHORD)
+        sweep(quarter_20, ROLL, PITCH, "0:355:5", out=library, workers=1, chord=CHORD,
+              model="thesis")
     with pytest.raises(LibraryError, match="chord"):
-        sweep(quarter_20, ROLL, PITCH, PHASE, out=library, workers=1, chord=5e-5)
+        sweep(quarter_20, ROLL, PITCH, PHASE, out=library, workers=1, chord=5e-5,
+              model="thesis")
     with pytest.raises(LibraryError, match="compliance"):
         sweep(quarter_20, ROLL, PITCH, PHASE, out=library, workers=1, chord=CHORD,
-              compliance_z=0.1)
+              model="thesis", compliance=Compliance(compliance_z=0.1))
+    with pytest.raises(LibraryError, match="model"):
+        sweep(quarter_20, ROLL, PITCH, PHASE, out=library, workers=1, chord=CHORD)
     other = ThreadSpec.from_dict({**quarter_20.to_dict(),
                                   "nut": {**quarter_20.to_dict()["nut"],
                                           "pitch_diameter": 0.2200}})
     with pytest.raises(LibraryError, match=r"spec \(nut.pitch_diameter"):
-        sweep(other, ROLL, PITCH, PHASE, out=library, workers=1, chord=CHORD)
+        sweep(other, ROLL, PITCH, PHASE, out=library, workers=1, chord=CHORD, model="thesis")
     assert sorted(p.name for p in library.iterdir()) == before
 
 
 def test_error_rows_are_recorded_and_the_sweep_goes_on(quarter_20, analyzer, tmp_path):
     out = sweep(quarter_20, "0,4", "0", PHASE, out=tmp_path / "flaky", workers=2,
-                chunk_size=2, chord=CHORD, analyzer=FlakyAnalyzer)
+                chunk_size=2, chord=CHORD, analyzer=FlakyAnalyzer, model="thesis")
     df = load(out)
     assert len(df) == 6
     bad = df[df["phase"] == 185.0]
@@ -261,7 +281,7 @@ def test_summary_counts_and_figures(library, tmp_path):
 
 
 def test_sweep_without_out_returns_the_rows(quarter_20, analyzer):
-    df = sweep(quarter_20, "0", "0", "0,90", workers=1, chord=CHORD)
+    df = sweep(quarter_20, "0", "0", "0,90", workers=1, chord=CHORD, model="thesis")
     assert isinstance(df, pd.DataFrame) and len(df) == 2
     _same_row(df.iloc[1], analyzer.analyze(0, 0, 90).to_record())
 
@@ -270,7 +290,12 @@ def test_bad_requests_raise_input_errors(quarter_20, tmp_path):
     out = tmp_path / "never"
     for kwargs, words in (({"roll": "0:4:0"}, "--roll"), ({"workers": 0}, "--workers"),
                           ({"chord": -1.0}, "--chord"), ({"chord": 0.01}, "too coarse"),
-                          ({"scheduler": 5}, "--scheduler"), ({"chunk_size": 0}, "chunk_size")):
+                          ({"scheduler": 5}, "--scheduler"), ({"chunk_size": 0}, "chunk_size"),
+                          ({"model": "fixed"}, "--model"), ({"step": 0.0}, "step"),
+                          ({"step": 2.0, "phase_tolerance": 5.0}, "phase_tolerance"),
+                          ({"compliance": "stiff"}, "compliance"),
+                          ({"compliance": Compliance(compliance_z=1e3)}, "compliance_z"),
+                          ({"analyzer": FlakyAnalyzer}, "thesis")):
         with pytest.raises(InputError, match=words):
             sweep(quarter_20, **{"roll": "0", "pitch": "0", "phase": "0", "chord": CHORD,
                                  **kwargs}, out=out)
@@ -298,7 +323,262 @@ def test_dask_scheduler_setting_is_read(monkeypatch):
 def test_dask_local_cluster_gives_the_same_rows(library, quarter_20, tmp_path):
     pytest.importorskip("distributed")
     out = sweep(quarter_20, ROLL, PITCH, PHASE, out=tmp_path / "dask", scheduler="local",
-                workers=2, chunk_size=5, chord=CHORD)
+                workers=2, chunk_size=5, chord=CHORD, model="thesis")
     rows = load(out)
     pd.testing.assert_frame_equal(rows, load(library))
     assert np.array_equal(rows["config_id"], np.arange(18))
+
+
+# -- the mechanics (the default model) -----------------------------------------------------
+M_ROLL, M_PITCH, M_PHASE = "-2,2", "-1", "0:315:45"    # 2 held tilts x 8 phases
+M_STEP = 5.0              # continuation step (degrees); a divisor of the grid's 45
+M_PHASE_STEP = 45.0       # the grid's phase step
+M_SIZE = 16
+
+
+def _circular(a: float, b: float) -> float:
+    """Distance between two phases in degrees, modulo 360."""
+    return abs((a - b + 180.0) % 360.0 - 180.0)
+
+
+@pytest.fixture(scope="module")
+def mech(quarter_20):
+    """The mechanics built in the test process (default compliance and chord)."""
+    return Mechanics(quarter_20, Compliance())
+
+
+@pytest.fixture(scope="module")
+def mech_library(quarter_20, tmp_path_factory):
+    """One uninterrupted mechanics sweep with a two-process pool (one chunk per held tilt)."""
+    out = tmp_path_factory.mktemp("mech") / "quarter-20"
+    sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=out, workers=2, step=M_STEP)
+    return out
+
+
+@pytest.fixture(scope="module")
+def mech_rows(mech_library):
+    """The rows as written, read with pandas alone (not through the library API)."""
+    return pd.read_parquet(mech_library)
+
+
+def _path(rows: pd.DataFrame, start_id: str) -> list[str]:
+    """State ids from a state along ``next_id`` to the state that has none."""
+    by_id = rows.set_index("state_id")
+    path = [start_id]
+    while by_id.loc[path[-1], "next_id"]:
+        path.append(by_id.loc[path[-1], "next_id"])
+        assert len(path) <= len(rows), "a passive path runs in a cycle"
+    return path
+
+
+def test_mechanics_rows_follow_the_record_contract(mech_library, mech_rows, quarter_20):
+    meta = json.loads((mech_library / METADATA_FILE).read_text())
+    assert meta["model"] == "mechanics"
+    assert meta["compliance"] == json.loads(json.dumps(Compliance().to_dict()))
+    assert meta["continuation"]["step"] == M_STEP
+    assert meta["continuation"]["phase_tolerance"] == 0.01
+    assert list(mech_rows.columns) == [c.name for c in STATE_COLUMNS]
+    assert mech_rows["state_id"].is_unique
+    assert set(mech_rows["role"]) <= set(ROLES)
+    assert set(mech_rows["transition"]) <= {"", *TRANSITIONS}
+    assert set(mech_rows["transition_label"]) <= {"", *TRANSITION_LABELS}
+    assert (mech_rows["error"] == "").all()
+    # One start per configuration, numbered as the grid numbers them.
+    grid = Grid.parse(M_ROLL, M_PITCH, M_PHASE)
+    starts = mech_rows[mech_rows["role"] == "start"].sort_values("config_id")
+    assert list(starts["config_id"]) == list(range(M_SIZE))
+    for _, row in starts.iterrows():
+        assert grid.configuration(row["config_id"]) == (row["held_roll"], row["held_pitch"],
+                                                        row["phase"])
+    # One Parquet part per held tilt, each holding that tilt only.
+    parts = sorted(mech_library.glob("part-*.parquet"))
+    assert len(parts) == 2
+    for part in parts:
+        tilts = pq.read_table(part, columns=["held_roll", "held_pitch"]).to_pandas()
+        assert len(tilts.drop_duplicates()) == 1
+    doc = info(mech_library)
+    assert doc["done"] == M_SIZE and doc["complete"] and doc["model"] == "mechanics"
+    assert doc["states"]["total"] == len(mech_rows)
+    assert doc["states"]["by_role"] == mech_rows["role"].value_counts().to_dict()
+
+
+def test_every_start_is_a_direct_settle(mech_rows, mech):
+    rows = mech_rows.set_index("state_id")
+    for _, row in mech_rows[mech_rows["role"] == "start"].iterrows():
+        rest = mech.settle(row["held_roll"], row["held_pitch"], row["phase"])
+        s = rest.state
+        assert row["classification"] == s.classification
+        assert (row["roll"], row["pitch"]) == pytest.approx((s.roll, s.pitch), abs=1e-9)
+        assert [row[f"origin_{a}"] for a in "xyz"] == pytest.approx(list(s.origin), abs=1e-12)
+        assert list(row["rotation"]) == pytest.approx(np.ravel(s.rotation).tolist(), abs=1e-12)
+        assert row["centre_z"] == pytest.approx(s.centre[2], abs=1e-12)
+        assert row["potential"] == pytest.approx(s.potential, rel=1e-9)
+        assert list(row["contact_regions"]) == [c.regions for c in s.touching]
+        assert list(row["contact_forces"]) == pytest.approx([c.force for c in s.touching],
+                                                            rel=1e-9, abs=1e-12)
+        assert row["n_contacts"] == len(s.touching)
+        # The first contact and the states passed on the way settle into this start.
+        before = mech_rows[(mech_rows["next_id"] == row["state_id"])
+                           & (mech_rows["transition"] == "settling")]
+        chain = 0
+        while len(before):
+            assert len(before) == 1
+            chain += 1
+            prev = before.iloc[0]
+            assert rows.loc[prev["state_id"], "classification"] == "unstable"
+            before = mech_rows[(mech_rows["next_id"] == prev["state_id"])
+                               & (mech_rows["transition"] == "settling")]
+        assert chain == len(rest.path)
+        if rest.path:
+            assert prev["role"] == "first-contact"
+
+
+def test_passive_transitions_keep_the_held_tilt(mech_rows):
+    by_id = mech_rows.set_index("state_id")
+    moves = mech_rows[mech_rows["next_id"] != ""]
+    assert len(moves) > 0
+    assert moves["next_id"].isin(by_id.index).all()
+    nxt = by_id.loc[moves["next_id"]]
+    assert np.array_equal(nxt["held_roll"].to_numpy(), moves["held_roll"].to_numpy())
+    assert np.array_equal(nxt["held_pitch"].to_numpy(), moves["held_pitch"].to_numpy())
+    # Every transition has a kind and a label, and no work is negative friction.
+    assert (moves["transition"] != "").all() and (moves["transition_label"] != "").all()
+    assert (moves["work_friction"] >= 0).all()
+    # States without a successor are where a search ends: the snap's in-phase state.
+    ends = mech_rows[mech_rows["next_id"] == ""]
+    assert set(ends["classification"]) == {"in-phase"}
+
+
+def test_passive_path_from_every_start_ends_in_the_snap(mech_rows):
+    by_id = mech_rows.set_index("state_id")
+    for _, start in mech_rows[mech_rows["role"] == "start"].iterrows():
+        path = _path(mech_rows, start["state_id"])
+        end = by_id.loc[path[-1]]
+        assert end["classification"] == "in-phase"
+        kinds = [by_id.loc[sid, "transition"] for sid in path[:-1]]
+        if start["classification"] == "in-phase":
+            assert kinds == []
+            continue
+        assert kinds[-1] == "snap" and "settling" not in kinds
+        # Turns along the path add up to where it ends.
+        turned = sum(by_id.loc[sid, "transition_turn"] for sid in path[:-1])
+        assert _circular(start["phase"] + turned, end["phase"]) < 1e-6
+
+
+@pytest.mark.parametrize(("roll", "phase"), [(2.0, 315.0), (-2.0, 315.0), (2.0, 135.0)])
+def test_passive_path_agrees_with_search(mech_rows, mech, roll, phase):
+    start = mech_rows[(mech_rows["role"] == "start") & (mech_rows["held_roll"] == roll)
+                      & (mech_rows["phase"] == phase)].iloc[0]
+    path = _path(mech_rows, start["state_id"])
+    by_id = mech_rows.set_index("state_id")
+    run = search(mech, roll, -1.0, phase, step=M_STEP, phase_tolerance=0.01)
+    assert run.snap is not None
+    end = by_id.loc[path[-1]]
+    assert end["classification"] == "in-phase"
+    assert _circular(end["phase"], run.snap.phase) <= M_PHASE_STEP
+    snap_row = by_id.loc[path[-2]]
+    assert snap_row["transition"] == "snap"
+    assert snap_row["drop"] == pytest.approx(run.snap.drop, rel=0.05)
+    work = sum(by_id.loc[sid, "work_friction"] + by_id.loc[sid, "work_potential"]
+               for sid in path[:-1])
+    joins = sum(by_id.loc[sid, "role"] == "start" for sid in path[1:])
+    if joins == 0:
+        # The same walk as the search's: the same snap and the same work.
+        assert _circular(end["phase"], run.snap.phase) <= 0.02
+        assert work == pytest.approx(run.work, rel=1e-6)
+    else:
+        assert work == pytest.approx(run.work, rel=0.05)
+
+
+def test_mechanics_summary_query_and_figures(mech_library, mech_rows, mech, tmp_path):
+    starts = mech_rows[mech_rows["role"] == "start"]
+    doc = summary(mech_library, phase=140)
+    assert doc["model"] == "mechanics" and doc["units"] == "in"
+    assert doc["done"] == M_SIZE == doc["configurations"]
+    assert {k: v for k, v in doc["counts"].items() if v} == \
+        starts["classification"].value_counts().to_dict()
+    assert "no-contact" not in doc["counts"]
+    assert doc["states"]["total"] == len(mech_rows)
+    assert doc["states"]["by_role"] == mech_rows["role"].value_counts().to_dict()
+    assert doc["states"]["by_class"] == mech_rows["classification"].value_counts().to_dict()
+    for role, counts in doc["states"]["by_role_and_class"].items():
+        assert counts == mech_rows.loc[mech_rows["role"] == role,
+                                       "classification"].value_counts().to_dict()
+    moves = mech_rows[mech_rows["transition"] != ""]
+    assert sum(sum(v.values()) for v in doc["states"]["transitions"].values()) == len(moves)
+    assert doc["at_phase"]["phase"] == 135.0
+    assert sum(doc["at_phase"]["counts"].values()) == 2
+    configs = configurations(mech_library)
+    assert list(configs["config_id"]) == list(range(M_SIZE))
+    assert list(configs.columns) == ["config_id", "roll", "pitch", "phase", "classification",
+                                     "n_contacts", "region_combination"]
+
+    q = query(mech_library, 2.3, -1, 136)
+    assert q["snapped"] and q["model"] == "mechanics" and q["units"] == "in"
+    assert q["grid"] == {"roll": 2.0, "pitch": -1.0, "phase": 135.0}
+    assert q["record"]["role"] == "start"
+    assert q["record"]["classification"] == mech.settle(2, -1, 135).classification
+
+    figures = write_figures(mech_library, tmp_path / "figs", phase=135)
+    import matplotlib.image as mpimg
+    for path in figures.values():
+        img = mpimg.imread(path)
+        assert img.ndim == 3 and img.shape[0] > 100 and img.shape[1] > 100
+
+
+def test_mechanics_resume_refuses_other_settings(mech_library, quarter_20):
+    before = sorted(p.name for p in mech_library.iterdir())
+    for kwargs, words in (({"compliance": Compliance(force=20.0)}, "compliance"),
+                          ({"compliance": Compliance(stiffness=(1.0, 2.0))}, "compliance"),
+                          ({"compliance": Compliance(friction=0.1)}, "compliance"),
+                          ({"step": 2.0}, "continuation settings"),
+                          ({"model": "thesis"}, "model")):
+        with pytest.raises(LibraryError, match=words):
+            sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=mech_library, workers=1,
+                  **{"step": M_STEP, **kwargs})
+    assert sorted(p.name for p in mech_library.iterdir()) == before
+
+
+def test_partial_mechanics_sweep_resumes_exactly(mech_library, quarter_20, tmp_path):
+    out = tmp_path / "partial"
+    sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=out, workers=2, step=M_STEP,
+          max_chunks=1)
+    partial = info(out)
+    assert partial["done"] == 8 and not partial["complete"] and partial["parts"] == 1
+    seen = []
+    sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=out, workers=1, step=M_STEP,
+          progress=lambda done, total: seen.append((done, total)))
+    assert seen == [(8, M_SIZE), (M_SIZE, M_SIZE)]
+    resumed = load(out)
+    pd.testing.assert_frame_equal(resumed, load(mech_library))
+    assert (resumed["role"] == "start").sum() == M_SIZE
+
+
+def test_write_library_round_trips_rows(mech_library, library, quarter_20, tmp_path):
+    rows = load(mech_library)
+    out = write_library(rows, tmp_path / "written", quarter_20, M_ROLL, M_PITCH, M_PHASE,
+                        step=M_STEP)
+    again = load(out)
+    pd.testing.assert_frame_equal(again, rows)
+    assert again.attrs["threadmate"]["model"] == "mechanics"
+    assert info(out)["complete"]
+    # The written library is the same request as the sweep's: a resume finds nothing to do.
+    sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=out, workers=1, step=M_STEP)
+    pd.testing.assert_frame_equal(load(out), rows)
+    # The thesis's rows, as plain dicts.
+    thesis = load(library)
+    out = write_library(thesis.to_dict("records"), tmp_path / "thesis", quarter_20, ROLL,
+                        PITCH, PHASE, model="thesis", chord=CHORD)
+    pd.testing.assert_frame_equal(load(out), thesis)
+
+
+def test_write_library_refuses_rows_missing_a_column(mech_library, quarter_20, tmp_path):
+    rows = load(mech_library).drop(columns=["next_id"])
+    out = tmp_path / "never"
+    with pytest.raises(InputError, match="next_id"):
+        write_library(rows, out, quarter_20, M_ROLL, M_PITCH, M_PHASE, step=M_STEP)
+    assert not out.exists()
+    with pytest.raises(InputError, match="model"):
+        write_library(load(mech_library), out, quarter_20, M_ROLL, M_PITCH, M_PHASE,
+                      model="fixed")
+    assert not out.exists()

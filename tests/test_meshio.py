@@ -10,7 +10,15 @@ import pytest
 import trimesh
 
 from threadmate._errors import InputError, MeshError
-from threadmate.geometry import bolt_mesh, load_mesh, mesh_deviation, nut_mesh, read_stl, write_stl
+from threadmate.geometry import (
+    ThreadSpec,
+    bolt_mesh,
+    load_mesh,
+    mesh_deviation,
+    nut_mesh,
+    read_stl,
+    write_stl,
+)
 
 CHORD = 1e-4  # coarse meshes keep these tests fast
 
@@ -209,3 +217,41 @@ def test_unsupported_format_and_body_refused(bolt_stl, tmp_path):
         load_mesh(step, "bolt")
     with pytest.raises(MeshError, match="bolt"):
         load_mesh(bolt_stl, "screw")  # type: ignore[arg-type]
+
+
+# -- issue 11: STL files that say their units ---------------------------------------------
+def test_header_puts_the_units_first_even_for_long_designations(quarter_20):
+    from dataclasses import replace
+
+    from threadmate.geometry import stl_header
+
+    header = stl_header("bolt", quarter_20, 5e-6)
+    assert header == "threadmate units=in bolt spec chord=5e-06"
+    long = replace(quarter_20, designation="X" * 200)
+    header = stl_header("nut", long, 5e-6)
+    assert len(header) <= 80 and header.startswith("threadmate units=in nut XXX")
+    assert header.endswith("... chord=5e-06")
+
+
+def test_units_in_the_header_are_read_back_and_used(meshes, quarter_20, tmp_path):
+    from threadmate.geometry import stl_header, stl_units
+
+    mm = meshes[0].mesh.copy()
+    mm.apply_scale(25.4)
+    mm_spec = ThreadSpec.from_dict({**quarter_20.to_dict(), "units": "mm"}
+                                   | _scaled(quarter_20, 25.4))
+    path = write_stl(mm, tmp_path / "bolt_mm.stl", stl_header("bolt", mm_spec))
+    assert stl_units(path) == "mm"
+    # No units given: the header's mm are scaled into the inch spec, not refused.
+    m = load_mesh(path, "bolt", spec=quarter_20)
+    assert m.volume == pytest.approx(meshes[0].mesh.volume, rel=1e-5)
+    # A file without the word declares no units; an ASCII STL neither.
+    plain = write_stl(meshes[0].mesh, tmp_path / "plain.stl", "exported by CAD units: in")
+    assert stl_units(plain) is None
+    assert stl_units(tmp_path / "missing.stl") is None
+
+
+def _scaled(spec, k):
+    d = spec.to_dict()
+    return {"pitch": d["pitch"] * k,
+            **{b: {key: v * k for key, v in d[b].items()} for b in ("bolt", "nut")}}

@@ -1,26 +1,26 @@
-"""Helpers shared by the commands: spec resolution, JSON output."""
+"""Helpers shared by the commands: spec resolution, JSON output, output paths."""
 
 from __future__ import annotations
 
 import contextlib
-import json
 import math
 import os
 import shutil
 import sys
 import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import click
-import numpy as np
 
 from .._errors import InputError
+from .._json import json_text, to_jsonable
 from ..geometry import ThreadSpec, load_spec
 
 __all__ = ["resolve_spec", "is_spec_path", "emit_json", "to_jsonable", "SPEC_HELP",
            "check_angle", "check_configuration_options", "writable_output",
-           "writable_directory"]
+           "writable_directory", "write_failed"]
 
 SPEC_HELP = (
     "DESIGNATION|SPEC is a thread designation such as '1/4-20 UNC-2A/2B', '#10-24 UNC', "
@@ -47,29 +47,9 @@ def resolve_spec(text: str, condition: str = "mean") -> ThreadSpec:
     return spec_from_designation(text, condition=condition)
 
 
-def to_jsonable(obj: Any) -> Any:
-    """Convert numpy scalars/arrays, tuples and paths into plain JSON types."""
-    if isinstance(obj, dict):
-        return {str(k): to_jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [to_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return to_jsonable(obj.tolist())
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, np.floating | float):
-        value = float(obj)
-        return value if math.isfinite(value) else None
-    if isinstance(obj, Path):
-        return str(obj)
-    return obj
-
-
 def emit_json(doc: Any) -> None:
     """Write exactly one JSON document to stdout."""
-    sys.stdout.write(json.dumps(to_jsonable(doc), indent=2) + "\n")
+    sys.stdout.write(json_text(doc))
     sys.stdout.flush()
 
 
@@ -117,17 +97,17 @@ def _probe(folder: Path, what: str) -> None:
         else:
             shutil.rmtree(tempfile.mkdtemp(prefix=".threadmate-probe-", dir=folder))
     except OSError as exc:
-        raise InputError(f"cannot write into {folder}: {_describe(exc)}") from None
+        raise InputError(f"{folder} does not accept new files ({_describe(exc)})") from None
 
 
 def _existing_ancestor(path: Path) -> Path:
     """The nearest ancestor of ``path`` that exists (refusing one that is not a folder)."""
-    for parent in path.parents:
-        if parent.exists() or parent == Path(parent.anchor or "."):
+    for parent in path.parents:  # a relative path ends at ".", an absolute one at "/"
+        if parent.exists():
             if not parent.is_dir():
                 raise InputError(f"cannot create {path}: {parent} is not a directory")
             return parent
-    return Path(".")  # pragma: no cover - a relative path ends at "."
+    return Path(".")
 
 
 def writable_directory(path: str | os.PathLike[str], option: str = "-o") -> Path:
@@ -172,7 +152,7 @@ def writable_output(path: str | os.PathLike[str], option: str = "-o") -> Path:
 
 
 @contextlib.contextmanager
-def _named(option: str, path: Path):  # type: ignore[no-untyped-def]
+def _named(option: str, path: Path) -> Iterator[None]:
     """Prefix an InputError raised inside with the option (``-o /x: ...``)."""
     try:
         yield

@@ -11,7 +11,9 @@ import math
 import click
 
 from .._errors import InputError
+from .._validate import MAX_LENGTH, check_length
 from ..contact import MAX_TILT, ContactAnalyzer, ContactResult
+from ..geometry import DEFAULT_CHORD
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._main import cli
 
@@ -91,10 +93,11 @@ spec's units.
 @click.option("--phase", type=float, required=True,
               help="Spin of the bolt about its axis in degrees (counter-clockwise from above).")
 @click.option("--chord", type=float, default=None,
-              help="Chord tolerance of the meshes in the spec's units "
-                   "(default 5e-6 in, 1.27e-4 mm).")
+              help=f"Chord tolerance of the meshes in the spec's units "
+                   f"(default {DEFAULT_CHORD['in']:g} in, {DEFAULT_CHORD['mm']:g} mm).")
 @click.option("--compliance-z", type=float, default=0.0, show_default=True,
-              help="Compliance centre on the bolt axis, bolt frame (0: the tip centre).")
+              help=f"Compliance centre on the bolt axis, bolt frame, in the spec's units "
+                   f"(0: the tip centre; within +/-{MAX_LENGTH:g}).")
 @click.option("--condition", type=click.Choice(["mean", "max", "min"]), default="mean",
               show_default=True, help="Material condition at which a designation expands.")
 @click.option("--json", "as_json", is_flag=True,
@@ -103,9 +106,8 @@ def contact(spec_text: str, roll: float, pitch: float, phase: float, chord: floa
             compliance_z: float, condition: str, as_json: bool) -> None:
     """Run the three contact stages for one configuration."""
     check_configuration_options(roll, pitch, phase, chord)
-    if not math.isfinite(compliance_z):
-        raise InputError(f"--compliance-z {compliance_z:g} must be a finite length")
     spec = resolve_spec(spec_text, condition)
+    check_length("--compliance-z", compliance_z, spec.units, signed=True)
     if chord is not None and chord > spec.pitch / 10:
         raise InputError(f"--chord {chord:g} is too coarse for pitch {spec.pitch:g} "
                          f"{spec.units}: give at most a tenth of the pitch")

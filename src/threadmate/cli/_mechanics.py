@@ -19,7 +19,15 @@ import numpy as np
 
 from .._errors import InputError, NoPathError
 from .._figures import new_figure, save_figure
-from ..contact import MAX_TILT, Compliance, RestState, SearchResult, search, settle
+from ..contact import (
+    CONTINUATION_STEP,
+    MAX_TILT,
+    Compliance,
+    RestState,
+    SearchResult,
+    search,
+    settle,
+)
 from ..geometry import ThreadSpec
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._library import _progress_bar
@@ -293,7 +301,7 @@ N/m, lengths in the spec's units, angles in degrees, work in mJ.
 @_mechanics_options
 @click.option("--turns", type=float, default=1.0, show_default=True,
               help=f"How far to search, in turns of 360 degrees (> 0, at most {MAX_TURNS:g}).")
-@click.option("--step", type=float, default=2.0, show_default=True,
+@click.option("--step", type=float, default=CONTINUATION_STEP, show_default=True,
               help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).")
 @click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Write the snap signature (compliance centre height, tilt of the bolt "

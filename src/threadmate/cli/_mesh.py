@@ -8,8 +8,8 @@ from typing import Any
 import click
 
 from .._io import atomic_path
-from ..geometry import DEFAULT_CHORD, thread_meshes, write_stl
-from ._common import SPEC_HELP, emit_json, resolve_spec
+from ..geometry import DEFAULT_CHORD, stl_header, thread_meshes, write_stl
+from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory, write_failed
 from ._main import cli
 
 __all__ = ["mesh", "mesh_document"]
@@ -22,16 +22,17 @@ def mesh_document(text: str, out_dir: str | Path, chord: float | None = None,
     Both files are written through temporary files and renamed only once both are
     complete, so a failure leaves neither half-written. Returns the ``--json`` document.
     """
+    out = writable_directory(out_dir)
     spec = resolve_spec(text, condition)
     bolt, nut = thread_meshes(spec, chord)
-    out = Path(out_dir)
     paths = {"bolt": out / "bolt.stl", "nut": out / "nut.stl"}
-    label = spec.designation or "spec"
-    # Both land under temporary names first; the renames happen only after both writes.
-    with atomic_path(paths["bolt"]) as tmp_bolt, atomic_path(paths["nut"]) as tmp_nut:
-        for tmp, name, tb in ((tmp_bolt, "bolt", bolt), (tmp_nut, "nut", nut)):
-            write_stl(tb.mesh, tmp, f"threadmate {name} {label} units={spec.units} "
-                                    f"chord={tb.chord:g}")
+    try:
+        # Both land under temporary names first; the renames happen only after both writes.
+        with atomic_path(paths["bolt"]) as tmp_bolt, atomic_path(paths["nut"]) as tmp_nut:
+            for tmp, name, tb in ((tmp_bolt, "bolt", bolt), (tmp_nut, "nut", nut)):
+                write_stl(tb.mesh, tmp, stl_header(name, spec, tb.chord))
+    except OSError as exc:
+        raise write_failed(out, exc) from None
     return {
         "units": spec.units,
         "designation": spec.designation,

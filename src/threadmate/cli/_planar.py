@@ -19,7 +19,7 @@ from ..planar import (
     plot_pivot_axes,
     plot_region_disk,
 )
-from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._common import SPEC_HELP, emit_json, resolve_spec, writable_output, write_failed
 from ._main import cli
 
 __all__ = ["planar"]
@@ -65,10 +65,13 @@ def planar(spec_text: str, phase: float, condition: str, as_json: bool, plot: Pa
     # Refuse bad figure names before any work, so that nothing is half done.
     if plot is not None:
         figure_format(plot)
-        if pivot_plot is None:
-            pivot_plot = _pivot_path(plot)
+        writable_output(plot, "--plot")
+    pivot_option = "--pivot-plot"
+    if plot is not None and pivot_plot is None:
+        pivot_plot, pivot_option = _pivot_path(plot), "--plot"
     if pivot_plot is not None:
         figure_format(pivot_plot)
+        writable_output(pivot_plot, pivot_option)
         if plot is not None and plot.resolve() == pivot_plot.resolve():
             raise InputError(f"--plot and --pivot-plot name the same file: {plot}")
     spec = resolve_spec(spec_text, condition)
@@ -76,10 +79,12 @@ def planar(spec_text: str, phase: float, condition: str, as_json: bool, plot: Pa
     window = in_phase_window(spec)
     critical = critical_phases(spec)
     figures: list[Path] = []
-    if plot is not None:
-        figures.append(plot_region_disk(spec, plot))
-    if pivot_plot is not None:
-        figures.append(plot_pivot_axes(spec, pivot_plot))
+    for path, draw in ((plot, plot_region_disk), (pivot_plot, plot_pivot_axes)):
+        if path is not None:
+            try:
+                figures.append(draw(spec, path))
+            except OSError as exc:
+                raise write_failed(path, exc) from None
     if as_json:
         doc = {"units": spec.units}
         if spec.designation:

@@ -9,6 +9,7 @@ from pathlib import Path
 import click
 
 from .._errors import InputError
+from ..contact import CONTINUATION_STEP
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID, run_pipeline
 from ._common import SPEC_HELP, emit_json, resolve_spec
 from ._library import _RANGE_HELP, _progress_bar
@@ -49,7 +50,7 @@ on held roll {RUN_GRID['roll']}, pitch {RUN_GRID['pitch']}, phase {RUN_GRID['pha
               help="Also compare these rotational stiffnesses [N m/rad] (one library each).")
 @click.option("--compare-force", default=None, metavar="F1,F2,...",
               help="Also compare these axial forces [N] (one library each).")
-@click.option("--step", type=float, default=5.0, show_default=True,
+@click.option("--step", type=float, default=CONTINUATION_STEP, show_default=True,
               help="Continuation step of the search [deg].")
 @click.option("--workers", type=int, default=None, help="Worker processes (default: all cores).")
 @click.option("--scheduler", default=None, help="Dask scheduler address, or 'local'.")

@@ -68,7 +68,7 @@ from ._rest_state import (
     SearchResult,
 )
 from ._result import CLASSIFICATIONS, STAGES, Contact, ContactResult, StageResult, record_schema
-from ._search import Continuation, Leg, check_continuation, search
+from ._search import CONTINUATION_STEP, Continuation, Leg, check_continuation, search
 from ._settle import Mechanics, settle
 
 __all__ = [
@@ -84,6 +84,7 @@ __all__ = [
     "SearchResult",
     "search",
     "settle",
+    "CONTINUATION_STEP",
     "Continuation",
     "Leg",
     "check_continuation",

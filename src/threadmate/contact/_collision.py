@@ -40,6 +40,8 @@ __all__ = ["CollisionPair"]
 MAX_PAIRS = 200_000
 #: Angular sectors of the nut for :meth:`CollisionPair.collides_outside`.
 SECTORS = 36
+#: Multiplier of the bolt face in a pair's integer key (above any nut face count).
+_KEY = 1 << 31
 
 
 def _pair_ids(bolt: fcl.CollisionObject, nut: fcl.CollisionObject,
@@ -51,7 +53,10 @@ def _pair_ids(bolt: fcl.CollisionObject, nut: fcl.CollisionObject,
     fcl.collide(bolt, nut, request, result)
     if not result.contacts:
         return np.empty((0, 2), dtype=np.int64)
-    ids = np.unique(np.array([(c.b1, c.b2) for c in result.contacts], dtype=np.int64), axis=0)
+    # One integer key per pair (bolt face major): a 1-D unique sorts them as the rows'
+    # lexicographic unique would, at a fraction of its cost.
+    key = np.unique(np.array([c.b1 * _KEY + c.b2 for c in result.contacts], dtype=np.int64))
+    ids = np.column_stack([key // _KEY, key % _KEY])
     if nut_ids is not None:
         ids[:, 1] = nut_ids[ids[:, 1]]
     return ids

@@ -37,10 +37,14 @@ from ._compliance import Compliance
 from ._rest_state import MechanicalState, SearchEvent, SearchResult
 from ._settle import Mechanics, axis_turn, mechanics
 
-__all__ = ["Continuation", "Leg", "check_continuation", "search"]
+__all__ = ["CONTINUATION_STEP", "Continuation", "Leg", "check_continuation", "search"]
 
 #: Tilt of the bolt axis within one step above which the step is a jump (degrees).
 JUMP_TILT = 0.5
+#: The continuation's default step (degrees): the thesis's phase step. Folds and contact
+#: changes inside a step are located by bisection; a step this size is what the library's
+#: sweep and ``threadmate search`` both take by default, so that they agree.
+CONTINUATION_STEP = 5.0
 
 
 def _tilt_between(a: MechanicalState, b: MechanicalState) -> float:
@@ -119,7 +123,8 @@ class Continuation:
         How closely events are located in phase (degrees).
     """
 
-    def __init__(self, mech: Mechanics, roll: float, pitch: float, *, step: float = 2.0,
+    def __init__(self, mech: Mechanics, roll: float, pitch: float, *,
+                 step: float = CONTINUATION_STEP,
                  phase_tolerance: float = 0.01) -> None:
         self.mech = mech
         self.roll, self.pitch = float(roll), float(pitch)
@@ -243,7 +248,8 @@ class Continuation:
 
 
 def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: float, *,
-           compliance: Compliance | None = None, turns: float = 1.0, step: float = 2.0,
+           compliance: Compliance | None = None, turns: float = 1.0,
+           step: float = CONTINUATION_STEP,
            phase_tolerance: float = 0.01, chord: float | None = None,
            progress: Callable[[int, int], None] | None = None) -> SearchResult:
     """Simulate the counter-clockwise search from a start (see the module docstring).
@@ -302,7 +308,7 @@ def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: flo
                         mech.engine.queries - q0)
 
 
-def check_continuation(*, turns: float = 1.0, step: float = 2.0,
+def check_continuation(*, turns: float = 1.0, step: float = CONTINUATION_STEP,
                        phase_tolerance: float = 0.01) -> None:
     """Refuse continuation settings out of range (InputError naming the setting)."""
     for name, value, lo, hi in (("turns", turns, 0.0, 10.0), ("step", step, 0.0, 10.0),

@@ -205,6 +205,7 @@ class Mechanics:
         span = max(span or 0.0, self.tolerance)
         top = zc if known_free else zc + span
         start, cap = top, self.spec.pitch / 16
+        free: list[float] = []  # the free tops passed, highest first (see the wedges below)
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
             # longer cross a little lower, so one enumeration below cannot tell.
@@ -214,6 +215,8 @@ class Mechanics:
                     span = min(2 * span, cap)
                     continue
                 known_free = True
+            if not free or top < free[-1]:
+                free.append(top)
             low = top - span - self.near
             pairs = eng.pairs(self._pose(rotation, xy, low))
             if len(pairs) == 0:
@@ -241,8 +244,17 @@ class Mechanics:
             if start - touch > 2 * self.near and self._embedded(rotation, xy, touch):
                 # A thin wedge of one body (where a thread runs out on an end face) passed
                 # whole into the other within a step: python-fcl sees crossing triangles,
-                # never containment. Again from the start, in steps a quarter as long.
-                top, known_free, cap = start, False, cap / 4
+                # never containment. Again, in steps a quarter as long, from the last free
+                # top above the step that passed it: the first one embedded tells which
+                # step that was (an exact check, no query), and the tops above it are
+                # free without a wedge inside (from the start when there is none).
+                resume, known_free = start, False
+                for k, t in enumerate(free):
+                    if self._embedded(rotation, xy, t):
+                        del free[k:]
+                        break
+                    resume, known_free = t, True
+                top, cap = resume, cap / 4
                 span = min(span, cap)
                 if cap < self.tolerance:
                     raise RuntimeError("lowering the bolt keeps passing into the nut")
@@ -260,11 +272,22 @@ class Mechanics:
         pose = self._pose(rotation, xy, zc)
         an = self.analyzer
         depth = 2 * an.deviation + self.tolerance
-        for body, points in ((an.bolt, pose.to_bolt(self._nut_top)),
-                             (an.nut, pose.to_fixed(self._bolt_tip))):
-            # Only points within the body's slab and on the material's side of its
-            # profile's extreme radius can be inside (the bolt's material lies within
-            # r_hi, the nut's beyond r_lo): most are not, and the exact test is dearer.
+        # Only points within the other body's slab can be inside it: their height there
+        # first (one product per point), the whole transform for those alone.
+        rot, origin = pose.rotation, pose.origin
+        bolt_z = (self._nut_top - origin) @ rot[:, 2]
+        nut_z = self._bolt_tip @ rot[2] + origin[2]
+        bolt, nut = an.bolt, an.nut
+        m = self.tolerance  # a margin: rounding differs from the full transform's
+        candidates = (
+            (bolt, pose.to_bolt(self._nut_top[(bolt_z >= bolt.z_min - m)
+                                              & (bolt_z <= bolt.z_max + m)])),
+            (nut, pose.to_fixed(self._bolt_tip[(nut_z >= nut.z_min - m)
+                                               & (nut_z <= nut.z_max + m)])))
+        for body, points in candidates:
+            # Only points on the material's side of the profile's extreme radius can be
+            # inside (the bolt's material lies within r_hi, the nut's beyond r_lo): most
+            # are not, and the exact test is dearer.
             z, r2 = points[:, 2], points[:, 0] ** 2 + points[:, 1] ** 2
             prof = body.profile
             if body.kind == "bolt":

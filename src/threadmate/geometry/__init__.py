@@ -22,7 +22,7 @@ from ._mesh import (
     nut_mesh,
     thread_meshes,
 )
-from ._meshio import load_mesh, read_stl, write_stl
+from ._meshio import load_mesh, read_stl, stl_header, stl_units, write_stl
 from ._profile import BOLT_REGIONS, NUT_REGIONS, Profile, bolt_profile, nut_profile, wrap_t
 from ._spec import UNITS, BoltSpec, NutSpec, ThreadSpec, load_spec, save_spec
 
@@ -59,6 +59,8 @@ __all__ = [
     "read_stl",
     "save_spec",
     "spec_from_designation",
+    "stl_header",
+    "stl_units",
     "thread_limits",
     "thread_meshes",
     "wrap_t",

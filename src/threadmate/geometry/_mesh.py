@@ -49,6 +49,8 @@ import trimesh
 from numpy.typing import NDArray
 
 from .._errors import InputError
+from .._units import MM_PER_UNIT
+from .._validate import check_number
 from ._body import ThreadBody, bolt_body, nut_body
 from ._profile import Profile
 from ._spec import ThreadSpec
@@ -65,7 +67,7 @@ __all__ = [
 TWO_PI = 2.0 * math.pi
 
 #: Default chord tolerance per unit: 5e-6 in (the thesis's CAD models used 1e-4 in).
-DEFAULT_CHORD: dict[str, float] = {"in": 5e-6, "mm": 5e-6 * 25.4}
+DEFAULT_CHORD: dict[str, float] = {"in": 5e-6, "mm": 5e-6 * MM_PER_UNIT["in"]}
 
 # Share of the chord given to the profile polyline of a fillet arc at the major-diameter
 # corner (bolt crest fillet, nut root fillet). There the polyline and the circumferential
@@ -206,8 +208,8 @@ def _chord(spec: ThreadSpec, chord: float | None) -> float:
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     if chord is None:
         return DEFAULT_CHORD[spec.units]
-    if isinstance(chord, bool) or not isinstance(chord, int | float) \
-            or not math.isfinite(chord) or chord <= 0:
+    chord = check_number("chord", chord)
+    if chord <= 0:
         raise InputError(f"chord must be a positive length, got {chord!r}")
     if chord < spec.pitch * _FINEST_CHORD:
         raise InputError(f"chord {chord:g} {spec.units} is too fine (the meshes would have "

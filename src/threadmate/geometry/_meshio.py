@@ -3,7 +3,8 @@
 Binary STL follows the thesis's Figure 3.3: an 80-byte header, the facet count as a
 little-endian uint32, then per facet 50 bytes: the unit normal and the three vertices as
 twelve float32 and a uint16 attribute (unused, 0). STL carries no units; threadmate writes
-the spec's units into the header.
+the spec's units into the header (:func:`stl_header`: ``threadmate units=in bolt ...``),
+where :func:`stl_units` and :func:`load_mesh` read them back.
 
 A user mesh (a bolt or nut exported from CAD) is accepted only if it is a closed volume
 (every edge shared by exactly two triangles), consistently wound, of plausible size for
@@ -16,6 +17,7 @@ else raises :class:`~threadmate._errors.MeshError` with one message naming the p
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
@@ -24,11 +26,12 @@ import trimesh
 
 from .._errors import MeshError
 from .._io import atomic_write_bytes
+from .._units import MM_PER_UNIT
 
 if TYPE_CHECKING:
     from ._spec import ThreadSpec
 
-__all__ = ["write_stl", "read_stl", "load_mesh", "STL_FACET"]
+__all__ = ["write_stl", "read_stl", "load_mesh", "stl_header", "stl_units", "STL_FACET"]
 
 #: One binary-STL facet (the thesis's Figure 3.3): 50 bytes.
 STL_FACET = np.dtype([
@@ -38,7 +41,8 @@ STL_FACET = np.dtype([
 ])
 
 _FORMATS = {".stl": "stl", ".obj": "obj", ".ply": "ply"}
-_MM_PER_IN = 25.4
+# "units=in" or "units=mm" as a word of a binary STL header (written by stl_header).
+_UNITS_RE = re.compile(rb"(?:^|\s)units=(in|mm)(?=\s|$)")
 # A user mesh's radius may differ from the spec's by tolerances and modelling choices,
 # not by a factor: outside this band its size is implausible.
 _SIZE_BAND = (0.8, 1.25)
@@ -64,6 +68,39 @@ def write_stl(mesh: trimesh.Trimesh, path: str | os.PathLike[str],
         ``path``.
     """
     return atomic_write_bytes(path, stl_bytes(mesh, header))
+
+
+def stl_header(body: str, spec: ThreadSpec, chord: float | None = None) -> str:
+    """The 80-character header threadmate writes into a body's binary STL.
+
+    ``threadmate units=<in|mm> <body> <designation or "spec"> chord=<chord>``: the units
+    come first so that a long designation can never push them past the 80 bytes, and
+    CAD users (and :func:`stl_units`) can read them with any hex viewer.
+    """
+    label = spec.designation or "spec"
+    tail = f" chord={chord:g}" if chord is not None else ""
+    head = f"threadmate units={spec.units} {body} "
+    room = 80 - len(head) - len(tail)
+    if len(label) > room:
+        label = label[:max(room - 3, 0)] + "..."
+    return f"{head}{label}{tail}"[:80]
+
+
+def stl_units(path: str | os.PathLike[str]) -> str | None:
+    """The length units (``"in"`` or ``"mm"``) a binary STL's header declares, or None.
+
+    Reads the ``units=...`` word that :func:`stl_header` writes; other files (ASCII STL,
+    CAD exports) declare none.
+    """
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(80)
+    except OSError:
+        return None
+    if head.lstrip().lower().startswith(b"solid"):
+        return None  # ASCII STL: its first line names the solid, not the units
+    match = _UNITS_RE.search(head.rstrip(b" \0"))
+    return match.group(1).decode("ascii") if match else None
 
 
 def stl_bytes(mesh: trimesh.Trimesh, header: str = "threadmate") -> bytes:
@@ -106,7 +143,8 @@ def load_mesh(path: str | os.PathLike[str], body: Literal["bolt", "nut"],
         inch spec with a mesh 25.4 times too large is refused as "looks like mm").
     units : {"in", "mm"}, optional
         The file's length units when they differ from the spec's: the mesh is scaled
-        into the spec's units. Default: the spec's units.
+        into the spec's units. Default: the units a threadmate STL declares in its
+        header (:func:`stl_units`), else the spec's units.
 
     Returns
     -------
@@ -129,14 +167,15 @@ def load_mesh(path: str | os.PathLike[str], body: Literal["bolt", "nut"],
         raise MeshError(f"{path}: unsupported mesh format {path.suffix!r} "
                         "(give .stl, .obj or .ply)")
     mesh = _read(path, kind)
+    if units is None and kind == "stl":
+        units = stl_units(path)
     name = f"{body} mesh {path.name}"
     _check_closed(mesh, name)
     if mesh.volume < 0:
         mesh.invert()  # consistently wound but inside out: see the module docstring
     if spec is not None:
         if units is not None and units != spec.units:
-            factor = _MM_PER_IN if units == "in" else 1.0 / _MM_PER_IN
-            mesh.apply_scale(factor)
+            mesh.apply_scale(MM_PER_UNIT[units] / MM_PER_UNIT[spec.units])
         _check_size(mesh, body, spec, name)
     _check_frame(mesh, body, name)
     return mesh
@@ -209,9 +248,10 @@ def _check_size(mesh: trimesh.Trimesh, body: str, spec: ThreadSpec, name: str) -
     if lo <= ratio <= hi:
         return
     hint = ""
-    if spec.units == "in" and lo <= ratio / _MM_PER_IN <= hi:
+    mm_per_in = MM_PER_UNIT["in"]
+    if spec.units == "in" and lo <= ratio / mm_per_in <= hi:
         hint = ": it looks like mm (give units='mm' or convert it)"
-    elif spec.units == "mm" and lo <= ratio * _MM_PER_IN <= hi:
+    elif spec.units == "mm" and lo <= ratio * mm_per_in <= hi:
         hint = ": it looks like inches (give units='in' or convert it)"
     raise MeshError(f"{name} has implausible size for the spec: its {what} is {got:.6g} "
                     f"but the spec's is {expected:.6g} {spec.units}{hint}")

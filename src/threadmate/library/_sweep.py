@@ -34,7 +34,7 @@ import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
 from .._version import __version__
-from ..contact import Compliance, blank_row, check_continuation
+from ..contact import CONTINUATION_STEP, Compliance, blank_row, check_continuation
 from ..geometry import ThreadSpec
 from ._grid import Grid, Values
 from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_TURNS, states_of_held_tilt
@@ -80,7 +80,7 @@ class Job:
     chord: float
     model: str
     compliance: Compliance
-    step: float = 2.0
+    step: float = CONTINUATION_STEP
     phase_tolerance: float = 0.01
     analyzer: Callable[..., Any] | None = None
 
@@ -377,7 +377,7 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
           *, out: str | os.PathLike[str] | None = None, workers: int | None = None,
           scheduler: str | None = None, chunk_size: int | None = None,
           chord: float | None = None, model: str = "mechanics",
-          compliance: Compliance | None = None, step: float = 2.0,
+          compliance: Compliance | None = None, step: float = CONTINUATION_STEP,
           phase_tolerance: float = 0.01, progress: ProgressCallback | None = None,
           max_chunks: int | None = None,
           analyzer: Callable[..., Any] | None = None) -> Path | pd.DataFrame:
@@ -495,7 +495,7 @@ def write_library(records: pd.DataFrame | list[dict[str, Any]],
                   out: str | os.PathLike[str], spec: ThreadSpec, roll: Values = None,
                   pitch: Values = None, phase: Values = None, *, model: str = "mechanics",
                   compliance: Compliance | None = None, chord: float | None = None,
-                  step: float = 2.0, phase_tolerance: float = 0.01,
+                  step: float = CONTINUATION_STEP, phase_tolerance: float = 0.01,
                   rows_per_part: int = 500_000) -> Path:
     """Write a library from rows computed elsewhere (a study, a benchmark, a test).
 

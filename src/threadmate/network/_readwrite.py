@@ -30,12 +30,19 @@ __all__ = ["LIST_ATTRIBUTES", "read_graphml", "write_graphml", "write_node_link"
 
 
 #: Node attributes that hold lists (written as JSON text, read back as lists).
-LIST_ATTRIBUTES = ("rotation", "contact_regions", "contact_forces", "contact_points",
-                   "contact_normals")
+LIST_ATTRIBUTES = ("contact_regions", "contact_forces")
 
 
 def _scalar(value: Any) -> Any:
     """A plain Python scalar (None for missing values); lists become JSON text."""
+    kind = type(value)
+    if kind is float:  # the common cases first: this runs once per attribute
+        return value if math.isfinite(value) else None
+    if kind is str:
+        return value
+    if kind is np.ndarray:
+        return json.dumps(value.tolist(), allow_nan=False) if value.dtype.kind != "f" \
+            or np.isfinite(value).all() else json.dumps([_scalar(v) for v in value])
     if isinstance(value, bool | np.bool_):
         return bool(value)
     if isinstance(value, int | np.integer):

@@ -24,7 +24,7 @@ from typing import Any
 
 from .._io import atomic_write_text
 from .._version import __version__
-from ..contact import Compliance
+from ..contact import CONTINUATION_STEP, Compliance
 from ..geometry import ThreadSpec
 from ..library import Grid, info, sweep, write_figures
 from ..network import (
@@ -49,10 +49,10 @@ __all__ = ["DEFAULT_DESIGNATION", "RUN_GRID", "RunResult", "run_pipeline"]
 #: The built-in default of ``threadmate run``: the thesis's thread pair.
 DEFAULT_DESIGNATION = "1/4-20 UNC-2A/2B"
 #: The default grid of ``threadmate run``: held roll and pitch -2..2 by 1 degree (a square
-#: grid, so that the azimuth-proof pick exists) and start phases every 15 degrees. The
+#: grid, so that the azimuth-proof pick exists) and start phases every 10 degrees. The
 #: thesis's grid (-4..4 by 1, phases by 5) is ``--roll -4:4:1 --pitch -4:4:1 --phase
 #: 0:355:5``.
-RUN_GRID = {"roll": "-2:2:1", "pitch": "-2:2:1", "phase": "0:345:15"}
+RUN_GRID = {"roll": "-2:2:1", "pitch": "-2:2:1", "phase": "0:350:10"}
 
 
 @dataclass(frozen=True)
@@ -104,7 +104,7 @@ def run_pipeline(
     scheduler: str | None = None,
     chord: float | None = None,
     roll_spread: float | None = None,
-    step: float = 5.0,
+    step: float = CONTINUATION_STEP,
     progress: Callable[[int, int], None] | None = None,
 ) -> RunResult:
     """Run the whole pipeline into ``out`` (see the module docstring for the layout).
@@ -180,6 +180,15 @@ def _lean(pitch: float) -> str:
             f"bolt's head leans toward {side} of the nut's frame")
 
 
+def _lead(value: float | None, scale: float, ahead: str, behind: str) -> str:
+    """A lead over the next setting in words (``value`` > 0: the pick is ahead)."""
+    if value is None:
+        return "not comparable"
+    if not behind:
+        return f"{scale * value:.0f} {ahead}"
+    return f"{abs(value):.3g} {ahead if value >= 0 else behind}"
+
+
 def _num(v: float | None, fmt: str) -> str:
     return "-" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, fmt)
 
@@ -213,12 +222,19 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
         f"{_num(best['click_mean'], '.4g')} {u} of drop.",
     ]
     if rec.margin is not None:
-        m = rec.margin
+        m, nxt = rec.margin, rec.settings[1]
         lines.append(
-            f"- Margin over the next setting ({rec.settings[1]['held_pitch']:+g} deg): "
-            f"{_num(m['share_snap'], '+.0%')} in snap share, "
-            f"{_num(m['turn_mean'], '+.0f')} deg less mean turn, "
-            f"{_num(m['work_mean'], '+.3g')} mJ less mean work.")
+            f"- Margin over the next setting (held pitch {nxt['held_pitch']:+g} deg"
+            + (f", {nxt['force']:g} N, {nxt['stiffness'][0]:g} N m/rad" if len(compliances) > 1
+               else "") + "): "
+            + _lead(m["share_snap"], 100, "percentage points more starts snap", "") + "; "
+            + _lead(m["turn_mean"], 1, "deg less mean turn", "deg more mean turn") + "; "
+            + _lead(m["work_mean"], 1, "mJ less mean work", "mJ more mean work") + ".")
+        if m["share_snap"] == 0 and m["turn_mean"] is not None and best["turn_mean"] \
+                and abs(m["turn_mean"]) < 0.05 * best["turn_mean"]:
+            lines.append("- The two settings are equivalent within this grid's resolution "
+                         "(same snap share, mean turns within 5 %): either will do; prefer "
+                         "the one nearer upright.")
     if rec.azimuth_proof:
         p = rec.azimuth_proof[0]
         lines.append(
@@ -296,7 +312,7 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
     }
     for key, path in figures.items():
         rel = path.relative_to(out).as_posix()
-        lines += [f"![{captions.get(key, key)}]({rel})", "", f"*{captions.get(key, key)}*", ""]
+        lines += [f"![{key.replace('_', ' ')}]({rel})", "", f"*{captions.get(key, key)}*", ""]
     lines += [
         "## Files and where to look next",
         "",

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import brentq
 
-from .._errors import InputError
+from .._validate import check_number
 from ._crossings import SIDE_STEP, OutlinePair, Stretch, outline_pair, profile_inverse
 
 if TYPE_CHECKING:
@@ -253,13 +253,7 @@ def critical_phases(spec: ThreadSpec) -> list[CriticalPhase]:
 # -- implementation ----------------------------------------------------------------------
 
 def _normalise(phase: float) -> float:
-    try:
-        value = float(phase)
-    except (TypeError, ValueError):
-        raise InputError(f"phase must be a number of degrees, got {phase!r}") from None
-    if not math.isfinite(value):
-        raise InputError(f"phase must be a finite number of degrees, got {value!r}")
-    value %= 360.0
+    value = check_number("phase (degrees)", phase) % 360.0
     return 0.0 if value >= 360.0 else value
 
 
