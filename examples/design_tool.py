@@ -1,5 +1,5 @@
 """What a design tool does with threadmate's graph stage: library -> network -> path ->
-SRCC pitch recommendation -> GraphML.
+every start's outcome -> SRCC recommendation -> GraphML.
 
 Run: ``python examples/design_tool.py [LIBRARY [OUT]]``. Without LIBRARY a small library
 of a 1/4-20 UNC-2A/2B pair (roll 0..1, pitch -1..1, phases every 30 deg) is swept first
@@ -8,7 +8,8 @@ of a 1/4-20 UNC-2A/2B pair (roll 0..1, pitch -1..1, phases every 30 deg) is swep
 
 Everything is written into OUT, by default the folder ``threadmate-design`` in the current
 directory, and kept there: ``network.graphml``, ``recommendation.json``,
-``recommendation.png`` (and ``library/`` when swept here; a second run resumes it). The
+``recommendation.png``, ``starts.csv`` (and ``library/`` when swept here; a second run
+resumes it). The
 last line printed says where.
 """
 
@@ -18,36 +19,43 @@ import sys
 from pathlib import Path
 
 from threadmate import NoPathError, library, network
+from threadmate.contact import Compliance
 from threadmate.geometry import spec_from_designation
 
 
 def main(lib: Path, out: Path) -> None:
-    # 1. The network, with the resistance parameters of the insertion cell.
-    params = network.ResistanceParams(axial_force=8.0,          # N
-                                      rotational_stiffness=0.8,  # N m/rad of the SRCC
-                                      friction=0.12)
-    g = network.from_library(lib, params)
+    # 1. The network of the library's states (its compliance is in the library).
+    g = network.from_library(lib)
     print(f"{g.number_of_nodes()} states, {g.number_of_edges()} transitions, "
           f"{len(network.snap_targets(g))} in-phase (snap) states")
 
-    # 2. The least-resistance path from a first touch (snapped to the grid if need be).
+    # 2. The passive search from one start, read off the network (the nearest start of
+    #    the grid: the request is off it).
     try:
-        p = network.least_resistance_path(g, roll=0.4, pitch=-1, phase=95)
-        print(p.message)
-        print(f"path to the snap: {len(p.path) - 1} steps, {p.cost:.3g} mJ, "
-              f"{'safe' if p.safe else 'passes an unstable state'}: {' -> '.join(p.path)}")
+        p = network.least_resistance_path(g, roll=0.4, pitch=-1, phase=95, nearest=True)
+        print(f"from {p.start}: snap after {p.turn:.1f} deg at phase {p.snap['phase']:.2f} "
+              f"deg, click {p.snap['drop']:.4g} in, driver's work {p.cost:.3g} mJ"
+              + ("; passes an unstable transition" if p.passes_unstable else ""))
     except NoPathError as exc:
         print(f"no path: {exc}")
 
-    # 3. Which SRCC pitch setting to use for a roll error of at most 1 degree.
-    rec = network.recommend_pitch(g, roll_spread=1.0)
-    print(network.format_recommendation(rec))
+    # 3. Every start at once: which snap within a turn, how far, at what cost.
+    starts = network.start_outcomes(g)
+    print(f"{int(starts['snapped'].sum())} of {len(starts)} starts snap within one turn")
 
-    # 4. Files for other tools: GraphML (yEd, Gephi, Cytoscape), JSON, a figure.
+    # 4. Which SRCC pre-tilt to use for a roll error of at most 1 degree.
+    rec = network.recommend(g, roll_spread=1.0)
+    print(network.format_recommendation(rec))
+    for note in rec.notes:
+        print("note:", note)
+
+    # 5. Files for other tools: GraphML (yEd, Gephi, Cytoscape), JSON, CSV, a figure.
     network.write_graphml(g, out / "network.graphml")
     network.write_recommendation(rec, out / "recommendation.json")
     network.plot_recommendation(rec, out / "recommendation.png")
-    print(f"wrote {out / 'network.graphml'}, recommendation.json and recommendation.png")
+    starts.to_csv(out / "starts.csv", index=False)
+    print(f"wrote {out / 'network.graphml'}, recommendation.json, recommendation.png and "
+          "starts.csv")
 
 
 if __name__ == "__main__":
@@ -57,6 +65,8 @@ if __name__ == "__main__":
     else:
         spec = spec_from_designation("1/4-20 UNC-2A/2B")
         lib = library.sweep(spec, roll="0:1:1", pitch="-1:1:1", phase="0:330:30",
-                            out=out / "library", workers=1)
+                            out=out / "library", compliance=Compliance(force=8.0,
+                                                                         stiffness=0.8,
+                                                                         friction=0.12))
     main(lib, out)
     print(f"output kept in {out.resolve()}")

@@ -180,9 +180,9 @@ def synthetic_rows() -> pd.DataFrame:
     # (0, +1): a cycle that never snaps
     r, p = 0.0, 1.0
     s = [b.drop(r, p, ph, "quasi-stable", z0[r, p]) for ph in phases]
-    for i in range(4):
+    for i, peak in enumerate((0.0058, 0.0051, 0.0053, 0.005)):  # the largest on 0 -> 90
         b.link(s[i], s[(i + 1) % 4], "turning", "quasi-stable", turn=90, wf=1.0, wp=0.0,
-               peak=0.005)
+               peak=peak)
     # (1, +1): a second sheet; the snap beyond one turn from 90
     r, p = 1.0, 1.0
     b.drop(r, p, 0.0, "in-phase", z0[r, p] - 0.005, torque=0.0065)
@@ -202,12 +202,14 @@ def synthetic_rows() -> pd.DataFrame:
 
 
 def synthetic_library(out: Path, spec: Any, rows: pd.DataFrame | None = None,
-                      pitch: list[float] | None = None) -> Path:
-    """Write the hand-made rows (or a subset: ``rows`` on the held pitches ``pitch``) as a
-    library with the public writer."""
+                      roll: list[float] | None = None, pitch: list[float] | None = None
+                      ) -> Path:
+    """Write the hand-made rows (or a subset: ``rows`` on the held rolls ``roll`` and
+    pitches ``pitch``) as a library with the public writer."""
     rows = synthetic_rows() if rows is None else rows
-    return write_library(rows, out, spec, SYNTH_GRID["roll"], pitch or SYNTH_GRID["pitch"],
-                         SYNTH_GRID["phase"], compliance=SYNTH_COMPLIANCE)
+    return write_library(rows, out, spec, roll or SYNTH_GRID["roll"],
+                         pitch or SYNTH_GRID["pitch"], SYNTH_GRID["phase"],
+                         compliance=SYNTH_COMPLIANCE)
 
 
 # -- the independent reading --------------------------------------------------------------
@@ -240,7 +242,7 @@ def walk_starts(rows: pd.DataFrame, jump_penalty: float = 0.0) -> pd.DataFrame:
     for sid, start in by_id[by_id["role"] == "start"].iterrows():
         path, seen = [sid], {sid}
         turn = work = 0.0
-        click, unstable, reaches = math.nan, False, False
+        click, unstable, reaches = 0.0, False, False
         peaks = [start["driver_torque"]]
         node = start
         while True:
@@ -248,11 +250,14 @@ def walk_starts(rows: pd.DataFrame, jump_penalty: float = 0.0) -> pd.DataFrame:
                 reaches = True
                 break
             nxt = node["next_id"]
-            if not nxt or nxt in seen:
+            if not nxt:
+                break
+            peaks.append(node["torque_peak"])
+            if nxt in seen:  # a cycle: the driver turns round it for ever, never snapping
+                unstable = unstable or node["transition_label"] == "unstable"
                 break
             turn += node["transition_turn"]
             work += expected_weight(node, jump_penalty)
-            peaks.append(node["torque_peak"])
             if node["transition"] == "snap":
                 click = node["drop"]
             elif node["transition_label"] == "unstable":
@@ -260,8 +265,6 @@ def walk_starts(rows: pd.DataFrame, jump_penalty: float = 0.0) -> pd.DataFrame:
             path.append(nxt)
             seen.add(nxt)
             node = by_id.loc[nxt]
-        if reaches and len(path) == 1:
-            click = 0.0
         finite = [float(t) for t in peaks if np.isfinite(t)]
         out.append({
             "node": sid, "held_roll": start["held_roll"], "held_pitch": start["held_pitch"],

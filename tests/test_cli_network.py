@@ -1,158 +1,284 @@
-"""``threadmate network``, ``path`` and ``recommend``: documents, files, exit statuses 2 and 3,
-nothing half-written."""
+"""``threadmate network``, ``path`` and ``recommend`` on mechanics libraries: the JSON
+documents against a reading of the Parquet rows (tests/_libraries.py), the files written,
+bad input (exit 2, one message, no traceback) and no path (exit 3)."""
 
 from __future__ import annotations
 
-import itertools
 import json
-import math
 
 import networkx as nx
-import pyarrow as pa
+import pandas as pd
 import pytest
 
-from threadmate.cli import main
-from threadmate.library import Grid
-from threadmate.library._store import FORMAT, library_schema, write_metadata, write_part
-from threadmate.network import node_id
+from _cli import run_cli
+from _libraries import (
+    expected_weight,
+    library_rows,
+    mechanics_library,
+    setting_figures,
+    synthetic_library,
+    walk_starts,
+)
+from threadmate.contact import thesis_schema
+from threadmate.library import write_library
+from threadmate.network import METRICS
 
-
-def run(capsys, *args: str) -> tuple[int, str, str]:
-    """Run the real entry point in-process; return (exit status, stdout, stderr)."""
-    with pytest.raises(SystemExit) as exc:
-        main(list(args))
-    out, err = capsys.readouterr()
-    return exc.value.code, out, err
-
-
-def write_library(path, classes: dict[tuple[float, float, float], str]):
-    """A library directory with the real schema and metadata, rows built by hand."""
-    rolls = sorted({k[0] for k in classes})
-    pitches = sorted({k[1] for k in classes})
-    phases = sorted({k[2] for k in classes})
-    grid = Grid(rolls, pitches, phases)
-    schema = library_schema()
-    blank = {f.name: (math.nan if pa.types.is_floating(f.type) else 0 if pa.types.is_integer(
-        f.type) else False if pa.types.is_boolean(f.type) else "") for f in schema}
-    rows = []
-    for (r, p, ph), c in classes.items():
-        i, j, k = grid.roll.index(r), grid.pitch.index(p), grid.phase.index(ph)
-        rows.append({**blank, "config_id": grid.config_id(i, j, k), "roll": r, "pitch": p,
-                     "phase": ph, "classification": c, "final_origin_z": 0.0,
-                     "third_found": True, "third_c1_x": 0.1, "third_c1_y": 0.0})
-    spec = {"units": "in", "pitch": 0.05, "bolt": {"pitch_diameter": 0.2146}}
-    meta = {"format": FORMAT, "format_version": 1, "spec": spec, "grid": grid.to_dict(),
-            "mesh": {"chord": 1e-4}, "contact": {"compliance_z": 0.0}, "units": "in",
-            "threadmate_version": "test"}
-    write_metadata(path, meta)
-    write_part(path, 0, pa.Table.from_pylist(rows, schema=schema))
-    return path
+SETTING_KEYS = ("share_snap", "turn_mean", "turn_worst", "work_mean", "work_worst",
+                "click_mean", "torque_peak")
 
 
 @pytest.fixture(scope="module")
-def library(tmp_path_factory):
-    """Two rolls x three pitches x four phases; one in-phase state per ring except at
-    pitch +1 roll 0, which has none and cannot settle anywhere (its finals are NaN)."""
-    classes = {}
-    for r, p in itertools.product((0.0, 1.0), (-1.0, 0.0, 1.0)):
-        for k, ph in enumerate((0.0, 90.0, 180.0, 270.0)):
-            snap = k == (int(p) + 1) % 4 and not (r == 0.0 and p == 1.0)
-            classes[(r, p, ph)] = "in-phase" if snap else ("unstable" if k == 3 else "stable")
-    return write_library(tmp_path_factory.mktemp("cli-net") / "lib", classes)
+def real_lib(tmp_path_factory):
+    return mechanics_library(tmp_path_factory)
 
 
-def test_network_writes_graphml_and_node_link(library, tmp_path, capsys):
-    out, link = tmp_path / "n.graphml", tmp_path / "n.json"
-    rc, stdout, stderr = run(capsys, "network", str(library), "-o", str(out),
-                             "--json-graph", str(link), "--friction", "0.1", "--json")
-    assert rc == 0, stderr
-    doc = json.loads(stdout)
-    g = nx.read_graphml(out)
-    assert doc["nodes"] == g.number_of_nodes() == 24
-    # 4 turning edges per ring minus the one leaving each of the 5 in-phase states
-    assert doc["edge_kinds"] == {"turning": 24 - 5} == {
-        "turning": sum(d["kind"] == "turning" for *_, d in g.edges(data=True))}
-    assert json.loads(g.graph["parameters"])["friction"] == 0.1
-    assert nx.node_link_graph(json.loads(link.read_text()), edges="edges").number_of_edges() \
-        == g.number_of_edges()
+@pytest.fixture(scope="module")
+def synth_lib(tmp_path_factory, quarter_20):
+    return synthetic_library(tmp_path_factory.mktemp("cli-synthetic") / "lib", quarter_20)
 
 
-def test_path_json_document(library, capsys):
-    rc, stdout, stderr = run(capsys, "path", str(library), "--roll", "0.2", "--pitch", "-1",
-                             "--phase", "95", "--json")
-    assert rc == 0, stderr
-    doc = json.loads(stdout)
-    # the in-phase state of pitch -1 is at phase 0: 90 -> 180 -> 270 -> 0
-    assert doc["start"] == node_id(0, -1, 90) and doc["snapped"] is True
-    assert "nearest" in doc["message"]
-    assert doc["path"] == [node_id(0, -1, ph) for ph in (90, 180, 270, 0)]
-    assert doc["labels"] == ["stable", "unstable", "stable"]
-    assert doc["cost"] == pytest.approx(sum(doc["weights"]))
-    c = 0.15 * 10.0 * 0.1 * 25.4 * math.pi / 2
-    assert doc["cost"] == pytest.approx(3 * c + 10.0 * 0.05 * 25.4)
+@pytest.fixture(scope="module")
+def thesis_lib(tmp_path_factory, quarter_20):
+    out = tmp_path_factory.mktemp("cli-thesis") / "lib"
+    return write_library(pd.DataFrame(columns=thesis_schema().names), out, quarter_20, 0, 0,
+                         "0:180:180", model="thesis")
 
 
-def test_path_text_and_alternatives(library, capsys):
-    rc, stdout, stderr = run(capsys, "path", str(library), "--roll", "1", "--pitch", "0",
-                             "--phase", "180", "--k", "3")
-    assert rc == 0, stderr
-    assert "least-resistance path" in stdout and node_id(1, 0, 90) in stdout
-    assert "only 1 distinct paths exist" in stdout
+def one_error(err: str) -> str:
+    """The single message of a refused command."""
+    assert "Traceback" not in err
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1, err
+    return lines[0]
 
 
-def test_recommend_json_and_files(library, tmp_path, capsys):
-    fig, out = tmp_path / "rec.svg", tmp_path / "rec.json"
-    rc, stdout, stderr = run(capsys, "recommend", str(library), "--roll-spread", "0.5",
-                             "--plot", str(fig), "-o", str(out), "--json")
-    assert rc == 0, stderr
-    doc = json.loads(stdout)
-    assert doc == {**json.loads(out.read_text()), "library": str(library), "figure": str(fig)}
-    assert fig.read_text().lstrip().startswith("<?xml")
-    by_pitch = {s["pitch"]: s for s in doc["settings"]}
-    assert by_pitch[1.0]["reachable"] == 0 and by_pitch[1.0]["expected_cost"] is None
-    # at roll 0: pitch -1 costs (3c + P) / ... by hand: starts 0, 90, 180, 270 need
-    # 0, 3, 2, 1 steps; the steps into 270 pay the penalty P (from 90 and 180)
-    c = 0.15 * 10.0 * 0.1 * 25.4 * math.pi / 2
-    pen = 10.0 * 0.05 * 25.4
-    assert by_pitch[-1.0]["expected_cost"] == pytest.approx((6 * c + 2 * pen) / 4)
-    assert by_pitch[-1.0]["share_safe"] == 0.5          # only 0 and 270 avoid the unstable
-    # pitch 0 (snap at 90): from 0: c, 90: 0, 180: 3c + P (through 270), 270: 2c
-    assert by_pitch[0.0]["expected_cost"] == pytest.approx((6 * c + pen) / 4)
-    assert doc["recommended_pitch"] == 0.0 and doc["next_best_pitch"] == -1.0
+# -- network ------------------------------------------------------------------------------
+@pytest.mark.parametrize("which", ["real_lib", "synth_lib"])
+def test_network_json_and_files(request, which, tmp_path, capsys):
+    lib = request.getfixturevalue(which)
+    rows = library_rows(lib)
+    walked = walk_starts(rows)
+    rc, out, err = run_cli(capsys, "network", lib, "-o", tmp_path / "net.graphml",
+                           "--json-graph", tmp_path / "net.json", "--starts-csv",
+                           tmp_path / "starts.csv", "--json")
+    assert rc == 0, err
+    doc = json.loads(out)
+    assert doc["units"] == {"length": "in", "angle": "deg", "cost": "mJ"}
+    assert doc["nodes"] == len(rows) and doc["edges"] == int((rows["next_id"] != "").sum())
+    assert doc["edge_kinds"] == rows.loc[rows["next_id"] != "", "transition"] \
+        .value_counts().to_dict()
+    assert doc["starts"] == len(walked)
+    ok = walked[~walked["failed"]]
+    assert sorted(doc["never_snap"]) == sorted(ok.index[~ok["snapped"]])
+    assert sorted(doc["failed_starts"]) == sorted(walked.index[walked["failed"]])
+    assert sorted(doc["passes_unstable"]) == sorted(ok.index[ok["passes_unstable"]])
+    assert doc["snap_within_one_turn"] == int(ok["snapped"].sum())
+    snapped = ok[ok["snapped"]]
+    assert doc["cost_to_snap"].keys() == set(snapped.index)
+    for node, cost in doc["cost_to_snap"].items():
+        assert cost == pytest.approx(snapped.loc[node, "work"], abs=1e-12)
+    graph = nx.read_graphml(tmp_path / "net.graphml")
+    assert graph.number_of_nodes() == len(rows)
+    link = json.loads((tmp_path / "net.json").read_text())
+    assert len(link["nodes"]) == len(rows)
+    csv = pd.read_csv(tmp_path / "starts.csv").set_index("node").loc[walked.index]
+    assert list(csv["snapped"]) == list(walked["snapped"])
+    assert csv["turn"].to_numpy() == pytest.approx(walked["turn"].to_numpy(), nan_ok=True)
 
 
-def test_recommend_table(library, capsys):
-    rc, stdout, _ = run(capsys, "recommend", str(library))
-    assert rc == 0 and "<- recommended" in stdout and "Recommended SRCC pitch" in stdout
+def test_network_active_counts_the_moves(synth_lib, tmp_path, capsys):
+    rc, out, err = run_cli(capsys, "network", synth_lib, "-o", tmp_path / "a.graphml",
+                           "--active", "--move-penalty", "2", "--json")
+    assert rc == 0, err
+    doc = json.loads(out)
+    assert doc["active"] is True and doc["edge_kinds"]["tilt-step"] > 0
+    graph = nx.read_graphml(tmp_path / "a.graphml")
+    steps = [d for _, _, d in graph.edges(data=True) if d["kind"] == "tilt-step"]
+    assert len(steps) == doc["edge_kinds"]["tilt-step"]
+    assert all(d["active"] is True and d["weight"] >= 2.0 for d in steps)
+    # Passive outcomes do not change with the active moves in the graph.
+    assert "r+0_p+1_ph000.000_s1" in doc["never_snap"]
 
 
-def test_no_path_exits_3(library, capsys):
-    rc, stdout, stderr = run(capsys, "path", str(library), "--roll", "0", "--pitch", "1",
-                             "--phase", "0", "--json")
-    assert rc == 3 and stdout == "" and "no path" in stderr
+# -- path ---------------------------------------------------------------------------------
+@pytest.mark.parametrize("start", [(0, -1, 60), (1, 1, 210), (1, 0, 0)])
+def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
+    rows = library_rows(real_lib)
+    by_id = rows.set_index("state_id")
+    walked = walk_starts(rows)
+    node = walked.index[(walked["held_roll"] == start[0]) & (walked["held_pitch"] == start[1])
+                        & (walked["phase"] == start[2])][0]
+    w = walked.loc[node]
+    args = ["path", real_lib, "--roll", start[0], "--pitch", start[1], "--phase", start[2],
+            "--json"]
+    rc, out, err = run_cli(capsys, *args)
+    if not w["reaches"]:
+        assert rc == 3 and "no path" in one_error(err)
+        return
+    assert rc == 0, err
+    doc = json.loads(out)
+    assert {"units", "start", "path", "labels", "cost", "snap"} <= set(doc)
+    assert set(doc["snap"]) >= {"phase", "turn", "drop"}
+    assert doc["units"]["cost"] == "mJ" and doc["units"]["length"] == "in"
+    assert doc["start"]["node"] == node and doc["start"]["moved"] is False
+    assert doc["path"] == w["path"]
+    assert doc["labels"] == list(by_id.loc[w["path"][:-1], "transition_label"])
+    assert doc["cost"] == pytest.approx(sum(expected_weight(by_id.loc[n])
+                                            for n in w["path"][:-1]), abs=1e-12)
+    assert doc["snap"]["phase"] == pytest.approx(w["snap_phase"])
+    assert doc["snap"]["turn"] == pytest.approx(w["turn"])
+    assert doc["snap"]["drop"] == pytest.approx(w["click"])
+    assert doc["within_one_turn"] == bool(w["snapped"]) and doc["active"] is False
+
+
+def test_path_text_lists_each_transition(synth_lib, capsys):
+    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "1", "--pitch", "0",
+                           "--phase", "0")
+    assert rc == 0, err
+    assert "least-resistance path: 7 transitions" in out
+    assert "passes an unstable transition" in out
+    assert out.count("->") == 7 and "jump" in out and "snap" in out
+
+
+def test_path_off_the_grid_needs_nearest(synth_lib, capsys):
+    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0.3", "--pitch", "-1",
+                           "--phase", "85", "--json")
+    assert rc == 2 and out == ""
+    msg = one_error(err)
+    assert msg.startswith("threadmate: error:") and "--nearest" in msg
+    assert "roll 0, pitch -1, phase 90" in msg
+    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0.3", "--pitch", "-1",
+                           "--phase", "85", "--nearest", "--json")
+    assert rc == 0, err
+    doc = json.loads(out)
+    assert doc["start"] == {"node": "r+0_p-1_ph090.000_s3", "roll": 0.3, "pitch": -1.0,
+                            "phase": 85.0, "moved": True}
+    assert doc["snap"]["turn"] == pytest.approx(200.01)
+
+
+def test_no_path_exits_3(synth_lib, capsys):
+    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0", "--pitch", "1",
+                           "--phase", "180", "--json")
+    assert rc == 3 and out == ""
+    assert one_error(err).startswith("threadmate: no path:")
+    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "1", "--pitch", "-1",
+                           "--phase", "180")
+    assert rc == 3 and "failed" in one_error(err)
+    # With active moves the robot can leave the cycle by changing the held tilt.
+    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0", "--pitch", "1",
+                           "--phase", "180", "--active", "--k", "3", "--json")
+    assert rc == 0, err
+    doc = json.loads(out)
+    assert doc["active"] is True and doc["active_moves"] >= 1
+    assert "tilt-step" in doc["kinds"] and len(doc["alternatives"]) == 2
+    costs = [doc["cost"]] + [a["cost"] for a in doc["alternatives"]]
+    assert costs == sorted(costs)
+    assert len({tuple(p["path"]) for p in [doc, *doc["alternatives"]]}) == 3
+
+
+@pytest.mark.parametrize("k", ["0", "1000", "-3"])
+def test_path_bad_k(synth_lib, capsys, k):
+    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0", "--pitch", "0",
+                           "--phase", "180", "--k", k)
+    assert rc == 2 and out == "" and "--k" in one_error(err)
+
+
+@pytest.mark.parametrize("extra", [["--roll", "nan"], ["--pitch", "50"],
+                                   ["--jump-penalty", "-1"], ["--move-penalty", "inf"]])
+def test_path_bad_numbers(synth_lib, capsys, extra):
+    args = {"--roll": "0", "--pitch": "0", "--phase": "180"}
+    args.update(dict(zip(extra[::2], extra[1::2], strict=True)))
+    flat = [x for kv in args.items() for x in kv]
+    rc, out, err = run_cli(capsys, "path", synth_lib, *flat)
+    assert rc == 2 and out == ""
+    assert one_error(err).startswith("threadmate: error:")
+
+
+# -- recommend ----------------------------------------------------------------------------
+@pytest.mark.parametrize("which", ["real_lib", "synth_lib"])
+def test_recommend_json(request, which, tmp_path, capsys):
+    lib = request.getfixturevalue(which)
+    walked = walk_starts(library_rows(lib))
+    rc, out, err = run_cli(capsys, "recommend", lib, "--json", "--plot", tmp_path / "r.png",
+                           "-o", tmp_path / "r.json")
+    assert rc == 0, err
+    doc = json.loads(out)
+    assert doc["units"]["work"] == "mJ" and doc["units"]["length"] == "in"
+    assert doc["metrics"] == METRICS
+    for s in doc["settings"]:
+        assert set(SETTING_KEYS) <= set(s), s
+        want = setting_figures(walked, s["held_pitch"])
+        for key in SETTING_KEYS:
+            if want[key] is None:
+                assert s[key] is None
+            else:
+                assert s[key] == pytest.approx(want[key], rel=1e-9, abs=1e-12), key
+    assert doc["recommended"] == doc["settings"][0]
+    pitches = sorted(s["held_pitch"] for s in doc["settings"])
+    assert doc["at_edge"] == (doc["recommended"]["held_pitch"] in (pitches[0], pitches[-1]))
+    assert (tmp_path / "r.png").stat().st_size > 1000
+    written = json.loads((tmp_path / "r.json").read_text())
+    assert written["settings"] == doc["settings"]
+
+
+def test_recommend_text_and_roll_spread(synth_lib, capsys):
+    rc, out, err = run_cli(capsys, "recommend", synth_lib, "--roll-spread", "0")
+    assert rc == 0, err
+    table = [line for line in out.splitlines() if line.startswith("| ")]
+    assert table[1].startswith("| +0 |")  # pitch 0 first: every start there snaps, soonest
+    rc, out, err = run_cli(capsys, "recommend", synth_lib, "--roll-spread", "0", "--json")
+    walked = walk_starts(library_rows(synth_lib))
+    for s in json.loads(out)["settings"]:
+        want = setting_figures(walked, s["held_pitch"], roll_spread=0.0)
+        assert s["share_snap"] == pytest.approx(want["share_snap"])
+        assert s["starts"] == want["starts"]
+
+
+# -- refused libraries --------------------------------------------------------------------
+def _commands(lib, tmp_path):
+    return [["network", lib, "-o", tmp_path / "x.graphml"],
+            ["path", lib, "--roll", "0", "--pitch", "0", "--phase", "0"],
+            ["recommend", lib]]
+
+
+def test_missing_library_exits_2(tmp_path, capsys):
+    for args in _commands(tmp_path / "nowhere", tmp_path):
+        rc, out, err = run_cli(capsys, *args)
+        assert rc == 2 and out == "", args
+        assert one_error(err).startswith("threadmate: error:")
+    assert not (tmp_path / "x.graphml").exists()
+
+
+def test_thesis_library_exits_2(thesis_lib, tmp_path, capsys):
+    for args in _commands(thesis_lib, tmp_path):
+        rc, out, err = run_cli(capsys, *args)
+        assert rc == 2 and out == "", args
+        assert "mechanics" in one_error(err)
+    assert not (tmp_path / "x.graphml").exists()
 
 
 @pytest.mark.parametrize("args", [
-    ("path", "{missing}", "--roll", "0", "--pitch", "0", "--phase", "0"),
-    ("path", "{lib}", "--roll", "60", "--pitch", "0", "--phase", "0"),
-    ("path", "{lib}", "--roll", "9", "--pitch", "0", "--phase", "0"),
-    ("path", "{lib}", "--roll", "nan", "--pitch", "0", "--phase", "0"),
-    ("path", "{lib}", "--roll", "0", "--pitch", "0", "--phase", "0", "--k", "0"),
-    ("recommend", "{lib}", "--roll-spread", "-2"),
-    ("recommend", "{lib}", "--plot", "{tmp}/fig.gif"),
-    ("network", "{notlib}", "-o", "{tmp}/n.graphml"),
-    ("network", "{lib}", "-o", "{tmp}/n.txt"),
-    ("network", "{lib}", "-o", "{tmp}/n.graphml", "--friction", "-1"),
+    ["network", "{lib}", "-o", "{tmp}/net.txt"],
+    ["network", "{lib}", "-o", "{tmp}"],
+    ["recommend", "{lib}", "--plot", "{tmp}/fig.bmp"],
+    ["recommend", "{lib}", "--roll-spread", "-1"],
 ])
-def test_bad_input_exits_2_and_writes_nothing(library, tmp_path, capsys, args):
-    notlib = tmp_path / "notlib"
-    notlib.mkdir()
-    (notlib / "x.parquet").write_bytes(b"junk")
-    out_dir = tmp_path / "out"
-    out_dir.mkdir()
-    fill = {"missing": str(tmp_path / "missing"), "lib": str(library), "notlib": str(notlib),
-            "tmp": str(out_dir)}
-    rc, stdout, stderr = run(capsys, *(a.format(**fill) for a in args))
-    assert rc == 2, stderr
-    assert stderr.startswith("threadmate: error:") and "Traceback" not in stderr
-    assert stdout == "" and list(out_dir.iterdir()) == []
+def test_bad_outputs_exit_2(synth_lib, tmp_path, capsys, args):
+    args = [a.format(lib=synth_lib, tmp=tmp_path) for a in args]
+    rc, out, err = run_cli(capsys, *args)
+    assert rc == 2 and out == ""
+    assert one_error(err).startswith("threadmate: error:")
+    assert [p.name for p in tmp_path.iterdir()] == []
+
+
+def test_nan_free_documents(synth_lib, tmp_path, capsys):
+    """Missing numbers are null in every document, never NaN."""
+    def refuse(name):
+        raise AssertionError(name)
+
+    for args in (["network", synth_lib, "-o", tmp_path / "n.graphml", "--json"],
+                 ["path", synth_lib, "--roll", "0", "--pitch", "0", "--phase", "0", "--json"],
+                 ["recommend", synth_lib, "--json"]):
+        rc, out, err = run_cli(capsys, *args)
+        assert rc == 0, err
+        json.loads(out, parse_constant=refuse)

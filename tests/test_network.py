@@ -1,474 +1,575 @@
-"""The graph stage on hand-built library tables of known structure (and one real sweep):
-edge rules, the weight formula by hand, Dijkstra against a Bellman-Ford and a path
-enumeration written here, the recommendation by hand, GraphML read back by networkx."""
+"""The contact-state network over mechanics libraries.
+
+On ONE small real library (tests/_libraries.py: the mechanics through python-fcl) and on
+hand-made libraries of known structure written with the public ``write_library``, every
+figure is checked against a reading of the Parquet rows written here with pandas alone:
+the edges and weights (the documented formula), every passive path (held tilt kept, snap
+reached, cost = sum of the weights), every start's outcome, the recommendation's figures,
+the active moves (formula, and a Bellman-Ford over an edge list built here), GraphML and
+node-link JSON read back, and a few paths against ``threadmate.contact.search``.
+"""
 
 from __future__ import annotations
 
-import itertools
 import json
 import math
+import xml.etree.ElementTree as ET
 
 import networkx as nx
 import numpy as np
 import pandas as pd
 import pytest
 
+from _libraries import (
+    DESIGNATION,
+    SYNTH_COMPLIANCE,
+    SYNTH_GRID,
+    compliance_of,
+    expected_weight,
+    library_rows,
+    mechanics_library,
+    metres,
+    setting_figures,
+    synthetic_library,
+    synthetic_rows,
+    walk_starts,
+)
 from threadmate import LibraryError, NoPathError
 from threadmate._errors import InputError
+from threadmate.contact import TRANSITION_LABELS, search, thesis_schema
+from threadmate.geometry import spec_from_designation
+from threadmate.library import load, write_library
 from threadmate.network import (
-    ResistanceParams,
+    MAX_K,
+    METRICS,
+    WEIGHT_FORMULA,
     build_network,
-    cost_to_snap,
+    from_library,
     k_best_paths,
     least_resistance_path,
-    node_id,
     read_graphml,
-    recommend_pitch,
-    resolve_start,
-    unsafe_starts,
+    recommend,
+    start_node,
+    start_outcomes,
     write_graphml,
     write_node_link,
 )
 
-PITCH_IN = 0.05                  # 1/4-20: 20 threads per inch
-PD_IN = 0.2146                   # bolt pitch diameter (in): friction radius without contacts
-MM = 25.4
+GRAPHML_NS = "{http://graphml.graphdrawing.org/xmlns}"
 
 
-def table(rows: list[dict], units: str = "in", grid: dict | None = None) -> pd.DataFrame:
-    """A library table with the library's column names and metadata in ``attrs``."""
-    df = pd.DataFrame(rows)
-    spec = {"units": units, "pitch": PITCH_IN if units == "in" else 1.0,
-            "bolt": {"pitch_diameter": PD_IN if units == "in" else 5.35}}
-    df.attrs["threadmate"] = {"units": units, "spec": spec,
-                              "contact": {"compliance_z": 0.0}}
-    if grid is not None:
-        df.attrs["threadmate"]["grid"] = grid
-    return df
+# -- fixtures -----------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def real_lib(tmp_path_factory):
+    return mechanics_library(tmp_path_factory)
 
 
-def ring(classes: list[str], roll: float = 0.0, pitch: float = 0.0, z: float = 0.0,
-         step: float | None = None) -> list[dict]:
-    """One orientation, phases evenly over a turn, given classifications, flat heights."""
-    step = 360.0 / len(classes) if step is None else step
-    return [{"roll": roll, "pitch": pitch, "phase": i * step, "classification": c,
-             "final_origin_z": z} for i, c in enumerate(classes)]
+@pytest.fixture(scope="module")
+def real_rows(real_lib):
+    return library_rows(real_lib)
 
 
-def random_table(seed: int, n_roll: int = 3, n_pitch: int = 3, n_phase: int = 8,
-                 ) -> pd.DataFrame:
-    rng = np.random.default_rng(seed)
-    rows = []
-    classes = ["stable", "quasi-stable", "unstable", "no-contact", "in-phase", "error"]
-    probs = [0.45, 0.1, 0.25, 0.05, 0.1, 0.05]
-    for i, j, k in itertools.product(range(n_roll), range(n_pitch), range(n_phase)):
-        roll, pitch = i - (n_roll - 1) / 2, j - (n_pitch - 1) / 2
-        rows.append({
-            "roll": roll, "pitch": pitch, "phase": k * 360.0 / n_phase,
-            "classification": rng.choice(classes, p=probs),
-            "final_roll": roll + rng.normal(0, 1.2), "final_pitch": pitch + rng.normal(0, 1.2),
-            "final_origin_z": rng.normal(0, 0.003), "n_contacts": int(rng.integers(0, 4)),
-            "region_combination": "base/surface + -F/+F + base/surface",
-            "interference": abs(rng.normal(0, 1e-4)),
-        })
-    return table(rows)
+@pytest.fixture(scope="module")
+def real_graph(real_lib):
+    return from_library(real_lib)
 
 
-def bellman_ford(edges: list[tuple[str, str, float]], nodes: list[str], targets: set[str]
-                 ) -> dict[str, float]:
-    """Cost to the nearest target by plain relaxation (independent of networkx)."""
+@pytest.fixture(scope="module")
+def synth_lib(tmp_path_factory, quarter_20):
+    return synthetic_library(tmp_path_factory.mktemp("synthetic") / "lib", quarter_20)
+
+
+@pytest.fixture(scope="module")
+def synth_rows(synth_lib):
+    return library_rows(synth_lib)
+
+
+@pytest.fixture(scope="module")
+def synth_graph(synth_lib):
+    return from_library(synth_lib)
+
+
+@pytest.fixture(scope="module")
+def synth_active(synth_lib):
+    return from_library(synth_lib, active=True)
+
+
+@pytest.fixture(params=["real", "synthetic"])
+def case(request):
+    """(library path, its rows, its network) of either library."""
+    if request.param == "real":
+        names = ("real_lib", "real_rows", "real_graph")
+    else:
+        names = ("synth_lib", "synth_rows", "synth_graph")
+    return tuple(request.getfixturevalue(n) for n in names)
+
+
+def _starts(rows: pd.DataFrame) -> pd.DataFrame:
+    return rows[rows["role"] == "start"]
+
+
+# -- the graph against the rows -----------------------------------------------------------
+def test_nodes_and_passive_edges_are_the_rows(case):
+    _, rows, graph = case
+    assert graph.graph["model"] == "mechanics" and graph.graph["cost_units"] == "mJ"
+    assert graph.graph["units"] == "in" and graph.graph["weight_formula"] == WEIGHT_FORMULA
+    assert sorted(graph.nodes) == sorted(rows["state_id"])
+    linked = rows[rows["next_id"] != ""]
+    assert sorted(graph.edges) == sorted(zip(linked["state_id"], linked["next_id"],
+                                             strict=True))
+    for _, row in rows.iterrows():
+        d = graph.nodes[row["state_id"]]
+        for key in ("held_roll", "held_pitch", "phase", "classification", "role"):
+            assert d[key] == row[key], (row["state_id"], key)
+        assert list(d["contact_regions"]) == list(row["contact_regions"])
+        if not row["next_id"]:
+            assert graph.out_degree(row["state_id"]) == 0
+            continue
+        e = graph.edges[row["state_id"], row["next_id"]]
+        assert e["kind"] == row["transition"] and e["label"] == row["transition_label"]
+        assert e["label"] in TRANSITION_LABELS and e["active"] is False
+        assert e["turn"] == pytest.approx(row["transition_turn"])
+        assert e["weight"] == pytest.approx(expected_weight(row), abs=1e-12)
+        assert e["weight"] >= 0
+        # A passive edge never changes the held tilt.
+        nxt = graph.nodes[row["next_id"]]
+        assert (nxt["held_roll"], nxt["held_pitch"]) == (row["held_roll"], row["held_pitch"])
+
+
+def test_one_state_is_one_node(real_rows, real_graph):
+    """Continuations that reach a state already known at a grid phase join its node: no
+    two rest states of a held tilt at a grid phase are the same state (same load-carrying
+    contacts, compliance centre within pitch/1000, axis within 0.05 deg), and some starts'
+    searches do merge."""
+    force = 10.0
+    rest = real_rows[real_rows["role"].isin(["start", "continued"])]
+    for _, group in rest.groupby(["held_roll", "held_pitch", "phase"]):
+        states = list(group.itertuples())
+        for i, a in enumerate(states):
+            for b in states[i + 1:]:
+                carry_a = sorted(r for r, f in zip(a.contact_regions, a.contact_forces,
+                                                   strict=True) if f > 1e-4 * force)
+                carry_b = sorted(r for r, f in zip(b.contact_regions, b.contact_forces,
+                                                   strict=True) if f > 1e-4 * force)
+                axis_a = np.reshape(a.rotation, (3, 3))[:, 2]
+                axis_b = np.reshape(b.rotation, (3, 3))[:, 2]
+                angle = math.degrees(math.acos(min(1.0, float(axis_a @ axis_b))))
+                gap = math.dist((a.centre_x, a.centre_y, a.centre_z),
+                                (b.centre_x, b.centre_y, b.centre_z))
+                assert not (a.classification == b.classification and carry_a == carry_b
+                            and gap <= 0.05 / 1000 and angle <= 0.05), (a.state_id,
+                                                                          b.state_id)
+    turning_in = [n for n in real_graph if sum(
+        1 for _, _, d in real_graph.in_edges(n, data=True) if d["kind"] != "settling") > 0
+        and real_graph.nodes[n]["role"] == "start"]
+    assert turning_in  # a start's search continues into another start's rest state
+
+
+def test_synthetic_weights_by_hand(synth_graph):
+    """Turning work clipped at 0 when the potential falls faster than friction takes;
+    settling, snap and (by default) jump cost nothing."""
+    e = synth_graph.edges["r+0_p-1_ph090.000_s3", "r+0_p-1_ph180.000_s5"]
+    assert (e["kind"], e["work_friction"], e["work_potential"]) == ("turning", 0.5, -0.8)
+    assert e["weight"] == 0.0
+    assert synth_graph.edges["r+0_p-1_ph000.000_s1", "r+0_p-1_ph090.000_s3"]["weight"] \
+        == pytest.approx(1.0)
+    kinds = {d["kind"]: d["weight"] for _, _, d in synth_graph.edges(data=True)
+             if d["kind"] != "turning"}
+    assert kinds == {"settling": 0.0, "snap": 0.0, "jump": 0.0}
+
+
+def test_jump_penalty_is_added_to_each_jump(synth_lib):
+    plain = least_resistance_path(from_library(synth_lib), 1, 0, 0)
+    costly = least_resistance_path(from_library(synth_lib, jump_penalty=2.5), 1, 0, 0)
+    assert plain.path == costly.path and plain.kinds.count("jump") == 1
+    assert costly.cost == pytest.approx(plain.cost + 2.5)
+    assert plain.cost == pytest.approx(0.7 + 0.5 + 1.1 + 1.1 + 0.45)
+    for bad in (-1.0, math.nan, math.inf):
+        with pytest.raises(InputError, match="jump_penalty"):
+            from_library(synth_lib, jump_penalty=bad)
+
+
+# -- every passive path -------------------------------------------------------------------
+def test_every_passive_path_keeps_its_tilt_snaps_and_costs_its_weights(case):
+    _, rows, graph = case
+    by_id = rows.set_index("state_id")
+    walked = walk_starts(rows)
+    assert len(walked) == len(_starts(rows))
+    for sid, w in walked.iterrows():
+        r, p, ph = w["held_roll"], w["held_pitch"], w["phase"]
+        if not w["reaches"]:
+            with pytest.raises(NoPathError, match="failed" if w["failed"] else "never snaps"):
+                least_resistance_path(graph, r, p, ph)
+            continue
+        res = least_resistance_path(graph, r, p, ph)
+        assert res.start == sid and res.path == w["path"] and not res.moved
+        held = {(graph.nodes[n]["held_roll"], graph.nodes[n]["held_pitch"]) for n in res.path}
+        assert held == {(r, p)}
+        assert by_id.loc[res.path[-1], "classification"] == "in-phase"
+        assert all(by_id.loc[n, "classification"] != "in-phase" for n in res.path[:-1])
+        weights = [expected_weight(by_id.loc[n]) for n in res.path[:-1]]
+        assert res.weights == pytest.approx(weights, abs=1e-12)
+        assert res.cost == pytest.approx(sum(weights), abs=1e-12)
+        assert res.labels == list(by_id.loc[res.path[:-1], "transition_label"])
+        assert res.turn == pytest.approx(by_id.loc[res.path[:-1], "transition_turn"].sum())
+        assert res.snap["phase"] == pytest.approx(by_id.loc[res.path[-1], "phase"])
+        assert res.snap["turn"] == pytest.approx(w["turn"])
+        assert res.snap["drop"] == pytest.approx(w["click"])
+        if len(res.path) > 1:
+            assert res.kinds[-1] == "snap"
+
+
+def test_synthetic_paths_by_hand(synth_graph):
+    res = least_resistance_path(synth_graph, 1, 1, 90)
+    assert res.turn == pytest.approx(380.01) and res.to_dict()["within_one_turn"] is False
+    assert res.snap["phase"] == pytest.approx(110.01)
+    inphase = least_resistance_path(synth_graph, 0, 0, 90)
+    assert inphase.path == ["r+0_p+0_ph090.000_s3"] and inphase.cost == 0.0
+    assert inphase.turn == 0.0
+    with pytest.raises(NoPathError, match="never snaps"):
+        least_resistance_path(synth_graph, 0, 1, 180)
+    with pytest.raises(NoPathError, match="failed.*no contact"):
+        least_resistance_path(synth_graph, 1, -1, 180)
+    jumpy = least_resistance_path(synth_graph, 1, 0, 0)
+    assert jumpy.kinds == ["turning", "jump", "turning", "turning", "turning", "turning",
+                           "snap"]
+    assert jumpy.passes_unstable is True
+
+
+# -- every start at once ------------------------------------------------------------------
+def test_start_outcomes_equal_a_walk_over_the_rows(case):
+    _, rows, graph = case
+    out = start_outcomes(graph).set_index("node")
+    walked = walk_starts(rows)
+    assert sorted(out.index) == sorted(walked.index)
+    out = out.loc[walked.index]
+    for col in ("held_roll", "held_pitch", "phase", "classification", "failed", "reaches",
+                "snapped", "passes_unstable"):
+        assert list(out[col]) == list(walked[col]), col
+    for col in ("turn", "work", "click", "snap_phase", "torque_peak"):
+        np.testing.assert_allclose(out[col].to_numpy(float), walked[col].to_numpy(float),
+                                   rtol=1e-9, atol=1e-12, err_msg=col)
+
+
+def test_synthetic_outcomes_by_hand(synth_graph):
+    out = start_outcomes(synth_graph).set_index(["held_roll", "held_pitch", "phase"])
+    assert list(out.loc[(0.0, 1.0), "reaches"]) == [False] * 4           # the cycle
+    assert out.loc[(1.0, 1.0, 90.0), ["reaches", "snapped"]].tolist() == [True, False]
+    assert out.loc[(1.0, -1.0, 180.0), "failed"]
+    assert out.loc[(0.0, 0.0, 0.0), ["snapped", "turn", "work"]].tolist() == [True, 0.0, 0.0]
+    assert out.loc[(1.0, 0.0, 0.0), "passes_unstable"]
+    assert not out.loc[(1.0, 0.0, 90.0), "passes_unstable"]
+    # The largest torque round the cycle, whichever start of it the walk met first.
+    assert list(out.loc[(0.0, 1.0), "torque_peak"]) == pytest.approx([0.0058] * 4)
+
+
+# -- the passive path is the search -------------------------------------------------------
+@pytest.mark.slow
+@pytest.mark.parametrize("start", [(1.0, 0.0, 0.0), (0.0, -1.0, 300.0), (1.0, 1.0, 270.0)])
+def test_passive_path_agrees_with_search(real_lib, real_graph, start):
+    meta = load(real_lib, columns=["config_id"]).attrs["threadmate"]
+    step = float(meta["continuation"]["step"])
+    phases = meta["grid"]["phase"]
+    phase_step = max(b - a for a, b in zip(phases, phases[1:], strict=False))
+    run = search(spec_from_designation(DESIGNATION), *start,
+                 compliance=compliance_of(real_lib), step=step,
+                 phase_tolerance=float(meta["continuation"]["phase_tolerance"]),
+                 chord=float(meta["mesh"]["chord"]))
+    try:
+        path = least_resistance_path(real_graph, *start)
+    except NoPathError:
+        assert run.snap is None, start
+        return
+    assert run.snap is not None, start
+    gap = abs((path.snap["phase"] - run.snap.phase + 180.0) % 360.0 - 180.0)
+    assert gap <= phase_step, (start, path.snap, run.snap)
+    turned = (run.snap.phase - start[2]) % 360.0 if path.turn else 0.0
+    assert abs(path.turn - turned) <= phase_step, (start, path.turn, turned)
+
+
+# -- the recommendation -------------------------------------------------------------------
+def _check_recommendation(rec, rows, spread=math.inf):
+    walked = walk_starts(rows)
+    pitches = sorted(set(walked.loc[walked["held_roll"].abs() <= spread, "held_pitch"]))
+    assert sorted(s["held_pitch"] for s in rec.settings) == pitches
+    for s in rec.settings:
+        want = setting_figures(walked, s["held_pitch"], spread)
+        assert set(METRICS) <= set(s)
+        assert s["starts"] == want["starts"]
+        for key in METRICS:
+            if want[key] is None:
+                assert s[key] is None, (s["held_pitch"], key)
+            else:
+                assert s[key] == pytest.approx(want[key], rel=1e-9, abs=1e-12), key
+    keys = [(-s["share_snap"], s["turn_mean"] if s["turn_mean"] is not None else math.inf,
+             s["work_mean"] if s["work_mean"] is not None else math.inf)
+            for s in rec.settings]
+    assert keys == sorted(keys)
+    assert rec.at_edge == (len(pitches) > 1 and rec.best["held_pitch"] in (pitches[0],
+                                                                            pitches[-1]))
+    assert rec.pitch_range == (pitches[0], pitches[-1])
+    if len(rec.settings) > 1:
+        a, b = rec.settings[:2]
+        assert rec.margin["share_snap"] == pytest.approx(a["share_snap"] - b["share_snap"])
+        if a["turn_mean"] is not None and b["turn_mean"] is not None:
+            assert rec.margin["turn_mean"] == pytest.approx(b["turn_mean"] - a["turn_mean"])
+
+
+def test_recommend_figures_recomputed_from_the_rows(case):
+    _, rows, graph = case
+    rec = recommend(graph)
+    _check_recommendation(rec, rows)
+    doc = json.loads(json.dumps(rec.to_dict(), allow_nan=False))
+    assert doc["recommended"] == doc["settings"][0]
+    assert all(set(METRICS) <= set(s) for s in doc["settings"])
+    narrow = recommend(graph, roll_spread=0)
+    _check_recommendation(narrow, rows, spread=0.0)
+    # Pre-tilt size 0 (upright) has one direction: its figures are the pitch-0 setting's.
+    upright = [p for p in rec.azimuth_proof if p["tilt_size"] == 0.0]
+    if upright:
+        zero = next(s for s in rec.settings if s["held_pitch"] == 0.0)
+        assert {k: upright[0][k] for k in METRICS} == {k: zero[k] for k in METRICS}
+
+
+def test_recommend_synthetic_by_hand(synth_graph, synth_lib, synth_rows, tmp_path,
+                                     quarter_20):
+    rec = recommend(synth_graph)
+    assert [s["held_pitch"] for s in rec.settings] == [0.0, -1.0, 1.0]
+    by_pitch = {s["held_pitch"]: s for s in rec.settings}
+    assert by_pitch[1.0]["share_snap"] == pytest.approx(3 / 8)
+    assert by_pitch[-1.0]["starts"] == 7 and by_pitch[-1.0]["failed"] == 1
+    assert by_pitch[0.0]["turn_mean"] == pytest.approx(750.06 / 8)
+    assert by_pitch[0.0]["click_mean"] == pytest.approx(0.005)
+    assert by_pitch[0.0]["share_unstable"] == pytest.approx(1 / 8)
+    assert rec.at_edge is False
+    assert rec.margin["turn_mean"] == pytest.approx(1130.07 / 7 - 750.06 / 8)
+    # Without pitch +1 the best pitch, 0, is the edge of the range searched.
+    lower = synth_rows[synth_rows["held_pitch"] < 1]
+    path = synthetic_library(tmp_path / "lower", quarter_20, rows=lower, pitch=[-1.0, 0.0])
+    edge = recommend(from_library(path))
+    assert edge.best["held_pitch"] == 0.0 and edge.at_edge is True
+    assert any("edge" in note for note in edge.notes)
+    assert rec.roll_spread == 1.0  # no spread given: every held roll, 0 and 1
+    # One held roll: the starts span no roll error at all, whatever the pitches span.
+    upright = synth_rows[synth_rows["held_roll"] == 0]
+    path = synthetic_library(tmp_path / "upright", quarter_20, rows=upright, roll=[0.0])
+    assert recommend(from_library(path)).roll_spread == 0.0
+    with pytest.raises(InputError, match="roll-spread"):
+        recommend(synth_graph, roll_spread=-1)
+
+
+def test_recommend_compares_compliances(synth_lib, synth_rows, tmp_path, quarter_20):
+    stiff = write_library(synth_rows, tmp_path / "stiff", quarter_20, SYNTH_GRID["roll"],
+                          SYNTH_GRID["pitch"], SYNTH_GRID["phase"],
+                          compliance=type(SYNTH_COMPLIANCE)(force=10.0, stiffness=2.0))
+    rec = recommend([from_library(synth_lib), from_library(stiff)])
+    assert sorted((s["stiffness"][0], s["held_pitch"]) for s in rec.settings) == [
+        (k, p) for k in (1.0, 2.0) for p in (-1.0, 0.0, 1.0)]
+    for s in rec.settings:
+        assert s["force"] == 10.0
+        want = setting_figures(walk_starts(synth_rows), s["held_pitch"])
+        assert s["share_snap"] == pytest.approx(want["share_snap"])
+
+
+def test_a_thesis_library_is_refused(tmp_path, quarter_20):
+    names = thesis_schema().names
+    lib = write_library(pd.DataFrame(columns=names), tmp_path / "thesis", quarter_20, 0, 0,
+                        "0:180:180", model="thesis")
+    with pytest.raises(LibraryError, match="mechanics"):
+        from_library(lib)
+
+
+# -- active moves -------------------------------------------------------------------------
+def _expected_tilt_steps(rows: pd.DataFrame, move_penalty: float, force: float,
+                         units: str) -> dict[tuple[str, str], float]:
+    """Every rest state at a grid phase (not in phase, not failed) to the first contact
+    of each neighbouring held tilt (one grid step in roll or in pitch) at that phase."""
+    rolls = sorted(set(rows["held_roll"]))
+    pitches = sorted(set(rows["held_pitch"]))
+    first = {(r["held_roll"], r["held_pitch"], round(r["phase"], 6)): r
+             for _, r in rows[rows["role"] == "first-contact"].iterrows()}
+    out = {}
+    rest = rows[rows["role"].isin(["start", "continued"])
+                & ~rows["classification"].isin(["in-phase", "error"])]
+    for _, r in rest.iterrows():
+        i, j = rolls.index(r["held_roll"]), pitches.index(r["held_pitch"])
+        for ii, jj in ((i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)):
+            if not (0 <= ii < len(rolls) and 0 <= jj < len(pitches)):
+                continue
+            target = first.get((rolls[ii], pitches[jj], round(r["phase"], 6)))
+            if target is None:
+                continue
+            lift = max(0.0, metres(target["centre_z"] - r["centre_z"], units))
+            out[(r["state_id"], target["state_id"])] = 1e3 * force * lift + move_penalty
+    return out
+
+
+def _bellman_ford(edges: dict[tuple[str, str], float], nodes, targets) -> dict[str, float]:
     dist = {n: (0.0 if n in targets else math.inf) for n in nodes}
-    for _ in range(len(nodes)):
+    for _ in range(len(dist)):
         changed = False
-        for u, v, w in edges:
+        for (u, v), w in edges.items():
             if dist[v] + w < dist[u] - 1e-15:
-                dist[u], changed = dist[v] + w, True
+                dist[u] = dist[v] + w
+                changed = True
         if not changed:
             break
     return dist
 
 
-def edge_list(g: nx.DiGraph) -> list[tuple[str, str, float]]:
-    return [(u, v, d["weight"]) for u, v, d in g.edges(data=True)]
+@pytest.mark.parametrize("move_penalty", [None, 0.0, 3.0])
+def test_active_moves(synth_lib, synth_rows, move_penalty):
+    graph = from_library(synth_lib, active=True, move_penalty=move_penalty)
+    force = SYNTH_COMPLIANCE.force
+    default = 1e3 * force * 0.05 * 0.0254  # F x one pitch of 1/4-20, mJ
+    penalty = default if move_penalty is None else move_penalty
+    assert graph.graph["move_penalty"] == pytest.approx(penalty)
+    want = _expected_tilt_steps(synth_rows, penalty, force, "in")
+    got = {(u, v): d for u, v, d in graph.edges(data=True) if d["active"]}
+    assert set(got) == set(want) and len(want) > 0
+    for key, d in got.items():
+        assert d["kind"] == "tilt-step" and d["weight"] == pytest.approx(want[key], abs=1e-12)
+    assert any(w > penalty + 1e-9 for w in want.values())         # some lift
+    assert any(w == pytest.approx(penalty) for w in want.values())  # some drop: no lift
+    assert all(d["kind"] != "tilt-step" for _, _, d in graph.edges(data=True)
+               if not d["active"])
+
+    # Passively nothing changes: the same outcomes, the same paths, no active edge used.
+    passive = from_library(synth_lib)
+    pd.testing.assert_frame_equal(start_outcomes(graph), start_outcomes(passive))
+    res = least_resistance_path(graph, 1, 0, 0)
+    assert res.path == least_resistance_path(passive, 1, 0, 0).path and res.moves == 0
+    with pytest.raises(NoPathError):
+        least_resistance_path(graph, 0, 1, 0)            # the cycle, passively
+    with pytest.raises(InputError, match="active"):
+        least_resistance_path(passive, 0, 1, 0, active=True)
+
+    # With them, the least-resistance cost to the snap from every start is a Bellman-Ford
+    # over an edge list built here.
+    edges = {(r["state_id"], r["next_id"]): expected_weight(r)
+             for _, r in synth_rows[synth_rows["next_id"] != ""].iterrows()}
+    edges.update(want)
+    targets = set(synth_rows.loc[synth_rows["classification"] == "in-phase", "state_id"])
+    dist = _bellman_ford(edges, synth_rows["state_id"], targets)
+    for _, s in synth_rows[synth_rows["role"] == "start"].iterrows():
+        args = (s["held_roll"], s["held_pitch"], s["phase"])
+        if math.isinf(dist[s["state_id"]]):
+            with pytest.raises(NoPathError):
+                least_resistance_path(graph, *args, active=True)
+            continue
+        best = least_resistance_path(graph, *args, active=True)
+        assert best.cost == pytest.approx(dist[s["state_id"]], abs=1e-9)
+        assert best.cost == pytest.approx(sum(edges[e] for e in zip(best.path, best.path[1:],
+                                                                     strict=False)))
+        assert graph.nodes[best.path[-1]]["classification"] == "in-phase"
+    plan = least_resistance_path(graph, 0, 1, 0, active=True)
+    assert plan.moves >= 1 and "tilt-step" in plan.kinds
+    alt = k_best_paths(graph, 4, 0, 1, 0, active=True)
+    costs = [alt.cost] + [a.cost for a in alt.alternatives]
+    assert len(alt.alternatives) == 3 and costs == sorted(costs)
+    assert len({tuple(a.path) for a in [alt, *alt.alternatives]}) == 4
 
 
-def check_path(g: nx.DiGraph, result) -> None:
-    """Each step a real edge, cost the sum of the weights, the end in phase."""
-    assert g.nodes[result.path[-1]]["classification"] == "in-phase"
-    assert not any(g.nodes[n]["in_phase"] for n in result.path[:-1])
-    total = 0.0
-    for (u, v), label, w in zip(itertools.pairwise(result.path), result.labels,
-                                result.weights, strict=True):
-        assert g.has_edge(u, v)
-        assert g.edges[u, v]["label"] == label and g.edges[u, v]["weight"] == w
-        total += w
-    assert result.cost == pytest.approx(total, rel=1e-12, abs=1e-15)
+def test_active_moves_on_the_real_library(real_lib, real_rows):
+    graph = from_library(real_lib, active=True)
+    meta = load(real_lib, columns=["config_id"]).attrs["threadmate"]
+    force = meta["compliance"]["force"]
+    want = _expected_tilt_steps(real_rows, graph.graph["move_penalty"], force, "in")
+    got = {(u, v): d["weight"] for u, v, d in graph.edges(data=True) if d["active"]}
+    assert set(got) == set(want)
+    for key, w in got.items():
+        assert w == pytest.approx(want[key], abs=1e-12)
 
 
-# --- nodes and edges ----------------------------------------------------------------------
-
-def test_node_ids():
-    assert node_id(1, -2, 135) == "r+1.0_p-2.0_ph135.0"
-    assert node_id(-0.0, 0.5, 360.0) == "r+0.0_p+0.5_ph0.0"
-    assert node_id(0.1 * 3, -1.5, -5) == "r+0.3_p-1.5_ph355.0"
-
-
-def test_turning_edges_step_counter_clockwise_and_wrap():
-    rows = ring(["stable"] * 4 + ["unstable", "stable"], step=60.0)
-    g = build_network(table(rows))
-    turning = {(u, v) for u, v, d in g.edges(data=True) if d["kind"] == "turning"}
-    expected = {(node_id(0, 0, 60 * k), node_id(0, 0, 60 * ((k + 1) % 6))) for k in range(6)}
-    assert turning == expected
-    for u, v in turning:
-        assert g.edges[u, v]["turn"] == pytest.approx(60.0)
-        assert g.edges[u, v]["label"] == g.nodes[v]["classification"]
+def test_k_best_paths(synth_graph):
+    one = k_best_paths(synth_graph, 3, 0, -1, 90)
+    assert one.alternatives == []           # passively the dynamics are deterministic
+    for bad in (0, MAX_K + 1, True, 2.0):
+        with pytest.raises(InputError, match="--k"):
+            k_best_paths(synth_graph, bad, 0, -1, 90)
 
 
-def test_in_phase_absorbs_and_error_isolated():
-    g = build_network(table(ring(["stable", "in-phase", "error", "stable"])))
-    assert g.out_degree(node_id(0, 0, 90)) == 0                 # the snap ends the search
-    assert g.degree(node_id(0, 0, 180)) == 0                    # no analysis, no transition
-    assert g.edges[node_id(0, 0, 0), node_id(0, 0, 90)]["label"] == "stable"
-
-
-def test_non_uniform_phase_grid_wraps_with_its_own_step():
-    rows = [{"roll": 0.0, "pitch": 0.0, "phase": ph, "classification": "stable"}
-            for ph in (0.0, 10.0, 200.0)]
-    g = build_network(table(rows))
-    assert g.edges[node_id(0, 0, 200), node_id(0, 0, 0)]["turn"] == pytest.approx(160.0)
-    assert g.edges[node_id(0, 0, 10), node_id(0, 0, 200)]["turn"] == pytest.approx(190.0)
-
-
-@pytest.mark.parametrize(("final", "expected"), [
-    ((0.6, -0.2), (1.0, 0.0)),       # more than half a step up in roll only
-    ((0.4, 0.3), None),              # within half a step on both axes: no settling
-    ((-2.5, 3.0), (-1.0, 1.0)),      # far away: one diagonal step, not a jump
-    ((0.0, -0.5), (0.0, -1.0)),      # exactly half a step counts
-])
-def test_settling_steps_toward_the_resting_orientation(final, expected):
-    rows = []
-    for r, p in itertools.product((-1.0, 0.0, 1.0), repeat=2):
-        row = {"roll": r, "pitch": p, "phase": 0.0, "classification": "stable",
-               "final_roll": r, "final_pitch": p}
-        if r == 0 and p == 0:
-            row["final_roll"], row["final_pitch"] = final
-        rows.append(row)
-    g = build_network(table(rows))
-    out = [(g.nodes[v]["roll"], g.nodes[v]["pitch"]) for _, v, d
-           in g.out_edges(node_id(0, 0, 0), data=True) if d["kind"] == "settling"]
-    assert out == ([] if expected is None else [expected])
-    # states already at their rest never settle
-    assert all(d["kind"] != "settling" for u, _, d in g.edges(data=True)
-               if u != node_id(0, 0, 0))
-
-
-def test_settling_stops_at_the_grid_edge():
-    rows = [{"roll": r, "pitch": 0.0, "phase": 0.0, "classification": "stable",
-             "final_roll": 5.0, "final_pitch": 0.0} for r in (0.0, 1.0)]
-    g = build_network(table(rows))
-    assert list(g.edges) == [(node_id(0, 0, 0), node_id(1, 0, 0))]
-
-
-# --- weights ------------------------------------------------------------------------------
-
-def test_weight_formula_by_hand_in_inches():
-    """F*rise + k/2*dtheta^2 + mu*F*r*dphi + P, with lengths converted at 25.4 mm/in."""
-    rows = [
-        {"roll": 0.0, "pitch": 0.0, "phase": 0.0, "classification": "stable",
-         "final_roll": 0.5, "final_pitch": -0.25, "final_origin_z": -0.002,
-         "third_found": True, "third_c1_x": 0.1, "third_c1_y": 0.0,
-         "third_c2_x": 0.0, "third_c2_y": -0.12, "third_c3_x": np.nan, "third_c3_y": np.nan},
-        {"roll": 0.0, "pitch": 0.0, "phase": 90.0, "classification": "unstable",
-         "final_roll": -0.3, "final_pitch": 0.15, "final_origin_z": 0.001,
-         "third_found": True, "third_c1_x": 0.11, "third_c1_y": 0.0,
-         "third_c2_x": np.nan, "third_c2_y": np.nan, "third_c3_x": np.nan,
-         "third_c3_y": np.nan},
-    ]
-    params = ResistanceParams(axial_force=12.0, rotational_stiffness=2.0, friction=0.2,
-                              unstable_penalty=7.5)
-    g = build_network(table(rows), params)
-    d = g.edges[node_id(0, 0, 0), node_id(0, 0, 90)]
-    work = 12.0 * (0.001 - -0.002) * MM                               # N x mm = mJ
-    dtheta = math.radians(math.hypot(-0.3 - 0.5, 0.15 - -0.25))
-    elastic = 0.5 * 2000.0 * dtheta ** 2                             # N mm/rad
-    friction = 0.2 * 12.0 * (0.11 * MM) * math.pi / 2                 # mean of 0.1, 0.12 in
-    assert d["work"] == pytest.approx(work, rel=1e-12)
-    assert d["elastic"] == pytest.approx(elastic, rel=1e-12)
-    assert d["friction"] == pytest.approx(friction, rel=1e-12)
-    assert d["penalty"] == 7.5 and d["label"] == "unstable"
-    assert d["weight"] == pytest.approx(work + elastic + friction + 7.5, rel=1e-12)
-    # back: the height drops (no work), the destination is stable (no penalty), the
-    # friction radius is now the unstable state's single contact at 0.11 in
-    back = g.edges[node_id(0, 0, 90), node_id(0, 0, 0)]
-    assert back["work"] == 0.0 and back["penalty"] == 0.0
-    assert back["friction"] == pytest.approx(0.2 * 12.0 * 0.11 * MM * 3 * math.pi / 2)
-
-
-def test_default_penalty_is_force_times_pitch_and_mm_needs_no_conversion():
-    g = build_network(table(ring(["stable", "unstable"])))
-    d = g.edges[node_id(0, 0, 0), node_id(0, 0, 180)]
-    assert d["penalty"] == pytest.approx(10.0 * PITCH_IN * MM)
-    rows = ring(["stable", "stable"])
-    rows[1]["final_origin_z"] = 0.02                                   # mm
-    g = build_network(table(rows, units="mm"), ResistanceParams(friction=0.0))
-    assert g.edges[node_id(0, 0, 0), node_id(0, 0, 180)]["weight"] == pytest.approx(0.2)
-
-
-@pytest.mark.parametrize("seed", [1, 2, 3])
-def test_weights_are_never_negative(seed):
-    g = build_network(random_table(seed))
-    weights = np.array([d["weight"] for *_, d in g.edges(data=True)])
-    assert len(weights) > 0 and np.all(np.isfinite(weights)) and np.all(weights >= 0)
-
-
-def test_parameters_are_validated():
-    for bad in ({"axial_force": 0.0}, {"friction": -0.1}, {"rotational_stiffness": math.nan},
-                {"unstable_penalty": -1.0}):
+# -- starts -------------------------------------------------------------------------------
+def test_start_node_on_and_off_the_grid(synth_graph):
+    assert start_node(synth_graph, 0, -1, 90) == ("r+0_p-1_ph090.000_s3", False)
+    assert start_node(synth_graph, 0, -1, 450) == ("r+0_p-1_ph090.000_s3", False)
+    with pytest.raises(InputError, match="nearest is roll 0, pitch -1, phase 90"):
+        start_node(synth_graph, 0.2, -1, 80)
+    assert start_node(synth_graph, 0.2, -1, 80, nearest=True) == ("r+0_p-1_ph090.000_s3",
+                                                                   True)
+    res = least_resistance_path(synth_graph, 0.2, -1, 80, nearest=True)
+    assert res.moved and res.requested == {"roll": 0.2, "pitch": -1.0, "phase": 80.0}
+    for bad in (math.nan, math.inf, True):
         with pytest.raises(InputError):
-            ResistanceParams(**bad)
+            start_node(synth_graph, bad, 0, 0)
 
 
-# --- paths --------------------------------------------------------------------------------
+# -- files --------------------------------------------------------------------------------
+def test_graphml_booleans_and_lists_round_trip(real_lib, real_rows, tmp_path):
+    graph = from_library(real_lib, active=True)
+    start_outcomes(graph)  # the caches it keeps on the graph are not written
+    path = write_graphml(graph, tmp_path / "net.graphml")
+    root = ET.parse(path).getroot()
+    booleans = {k.get("id") for k in root.iter(f"{GRAPHML_NS}key")
+                if k.get("attr.type") == "boolean"}
+    assert booleans  # "active" on edges and graph
+    values = [d.text for d in root.iter(f"{GRAPHML_NS}data") if d.get("key") in booleans]
+    assert values and set(values) <= {"true", "false"} and set(values) >= {"true", "false"}
+    assert not [d.text for d in root.iter(f"{GRAPHML_NS}data")
+                if (d.text or "").strip().lower() in ("nan", "inf", "-inf")]
 
-@pytest.mark.parametrize("seed", [4, 5, 6, 7])
-def test_cost_to_snap_matches_bellman_ford(seed):
-    g = build_network(random_table(seed))
-    targets = {n for n, d in g.nodes(data=True) if d["classification"] == "in-phase"}
-    expected = bellman_ford(edge_list(g), list(g.nodes), targets)
-    got = cost_to_snap(g)
-    for n in g.nodes:
-        if math.isinf(expected[n]):
-            assert math.isinf(got[n])
-        else:
-            assert got[n] == pytest.approx(expected[n], rel=1e-12, abs=1e-12)
-    reachable = [n for n in g.nodes if math.isfinite(expected[n]) and n not in targets]
-    assert reachable
-    for n in reachable[:12]:
-        result = least_resistance_path(g, n)
-        check_path(g, result)
-        assert result.cost == pytest.approx(expected[n], rel=1e-12, abs=1e-12)
-
-
-def _all_paths_to_snap(g: nx.DiGraph, start: str) -> list[float]:
-    """Costs of every simple path from start to its first in-phase state, by DFS."""
-    out = []
-
-    def dfs(node: str, seen: set[str], cost: float) -> None:
-        if g.nodes[node]["in_phase"]:
-            out.append(cost)
-            return
-        for nxt, d in g.succ[node].items():
-            if nxt not in seen:
-                dfs(nxt, seen | {nxt}, cost + d["weight"])
-    dfs(start, {start}, 0.0)
-    return sorted(out)
-
-
-def test_k_best_paths_match_enumeration_on_a_tiny_grid():
-    df = random_table(11, n_roll=2, n_pitch=2, n_phase=4)
-    df.loc[:, "classification"] = df["classification"].replace({"error": "stable"})
-    df.loc[3, "classification"] = "in-phase"
-    g = build_network(df)
-    starts = [n for n in g.nodes if not g.nodes[n]["in_phase"] and _all_paths_to_snap(g, n)]
-    assert max(len(_all_paths_to_snap(g, n)) for n in starts) >= 5
-    for start in starts:
-        costs = _all_paths_to_snap(g, start)
-        got = k_best_paths(g, 5, start)
-        assert [p.cost for p in got] == pytest.approx(costs[:5], rel=1e-12)
-        assert len({tuple(p.path) for p in got}) == len(got)
-        for p in got:
-            check_path(g, p)
-        assert got[0].cost == pytest.approx(least_resistance_path(g, start).cost, rel=1e-12)
-
-
-def test_unsafe_starts_on_a_known_ring():
-    # turning 0 -> 90 (unstable) -> 180 (in phase); 270 -> 0. From 90 the step into the
-    # snap is stable; from 0 and 270 every path enters the unstable state at 90.
-    g = build_network(table(ring(["stable", "unstable", "in-phase", "stable"])))
-    assert sorted(unsafe_starts(g)) == sorted([node_id(0, 0, 0), node_id(0, 0, 270)])
-    # a second orientation whose ring has no unstable state offers a safe detour by settling
-    rows = ring(["stable", "unstable", "in-phase", "stable"])
-    rows[0].update(final_roll=1.0, final_pitch=0.0)
-    rows += ring(["stable", "stable", "in-phase", "stable"], roll=1.0)
-    g = build_network(table(rows))
-    # 270 -> 0 (stable) -> settle to roll 1 -> 90 -> 180: every start now has a safe path
-    assert unsafe_starts(g) == []
-
-
-def test_penalty_steers_the_path_around_unstable_states():
-    rows = ring(["stable", "unstable", "in-phase", "stable"])
-    rows[0].update(final_roll=1.0, final_pitch=0.0)
-    rows += ring(["stable", "stable", "in-phase", "stable"], roll=1.0)
-    rows[5]["final_origin_z"] = 0.02     # the detour lifts the load 0.02 in: 5.08 mJ of work
-    start = node_id(0, 0, 0)
-    high = build_network(table(rows), ResistanceParams(unstable_penalty=100.0))
-    path = least_resistance_path(high, start)
-    assert path.safe and path.kinds == ["settling", "turning", "turning"]
-    c = 0.15 * 10.0 * (PD_IN / 2 * MM) * math.pi / 2
-    assert path.cost == pytest.approx(2 * c + 10.0 * 0.02 * MM)
-    low = build_network(table(rows), ResistanceParams(unstable_penalty=0.0))
-    path = least_resistance_path(low, start)
-    assert not path.safe and path.path == [start, node_id(0, 0, 90), node_id(0, 0, 180)]
-    # leaving the state that rests at roll 1 for one resting at roll 0 flexes the
-    # compliance by 1 degree: k/2 * (pi/180)^2 with k = 1000 N mm/rad
-    assert path.cost == pytest.approx(2 * c + 500.0 * math.radians(1.0) ** 2)
-
-
-def test_start_off_grid_snaps_and_says_so():
-    g = build_network(random_table(8))
-    node, snapped, message = resolve_start(g, 0.4, -0.6, 358.0)
-    assert node == node_id(0, -1, 0) and snapped and node in message
-    assert resolve_start(g, 1, 1, 45)[1:] == (False, f"start {node_id(1, 1, 45)} is a state "
-                                                     "of the grid")
-    with pytest.raises(InputError, match="outside the library's grid"):
-        resolve_start(g, 7.0, 0.0, 0.0)
-    with pytest.raises(InputError):
-        resolve_start(g, math.nan, 0.0, 0.0)
-
-
-def test_no_path_raises():
-    g = build_network(table(ring(["stable", "unstable", "stable"])))
-    with pytest.raises(NoPathError, match="no state of the library is in phase"):
-        least_resistance_path(g, roll=0, pitch=0, phase=0)
-    rows = ring(["in-phase", "stable"]) + ring(["stable", "stable"], roll=1.0)
-    g = build_network(table(rows))
-    with pytest.raises(NoPathError, match="no sequence"):
-        least_resistance_path(g, roll=1, pitch=0, phase=0)
-    assert least_resistance_path(g, roll=0, pitch=0, phase=180).path[-1] == node_id(0, 0, 0)
-
-
-def test_bad_tables_are_refused():
-    with pytest.raises(LibraryError, match="classification"):
-        build_network(pd.DataFrame({"roll": [0.0], "pitch": [0.0], "phase": [0.0]}))
-    df = table(ring(["stable", "in-phase"]))
-    df.attrs = {}
-    with pytest.raises(LibraryError, match="units"):
-        build_network(df)
-    with pytest.raises(LibraryError, match="twice"):
-        build_network(table(ring(["stable"]) * 2))
-    grid = {"roll": [0.0], "pitch": [0.0], "phase": [0.0, 180.0]}
-    with pytest.raises(LibraryError, match="not on the library's grid"):
-        build_network(table(ring(["stable", "stable", "stable"]), grid=grid))
-    with pytest.raises(LibraryError, match="no states"):
-        build_network(table(ring(["stable"])).iloc[:0])
-
-
-# --- recommendation -----------------------------------------------------------------------
-
-def test_recommendation_by_hand():
-    """Friction-only weights on two pitch settings of one roll (plus a roll outside the
-    spread): c = mu F r dphi per 90-degree step, P the unstable penalty."""
-    a = ring(["in-phase", "stable", "stable", "stable"], pitch=-1.0)
-    b = ring(["stable", "unstable", "in-phase", "stable"], pitch=1.0)
-    far = ring(["stable", "stable", "stable", "in-phase"], roll=3.0, pitch=1.0)
-    params = ResistanceParams(rotational_stiffness=0.0, unstable_penalty=4.0)
-    g = build_network(table(a + b + far), params)
-    c = 0.15 * 10.0 * (PD_IN / 2 * MM) * math.pi / 2
-    rec = recommend_pitch(g, roll_spread=1.0)
-    sa, sb = rec.settings
-    # pitch -1: from 0, 90, 180, 270 the snap is 0, 3, 2, 1 steps away
-    assert sa.expected_cost == pytest.approx(1.5 * c) and sa.worst_cost == pytest.approx(3 * c)
-    assert sa.share_safe == 1.0 and sa.starts == 4
-    # pitch +1: 2c+P, c, 0, 3c+P; the starts at 0 and 270 must pass the unstable state
-    assert sb.expected_cost == pytest.approx((6 * c + 8.0) / 4)
-    assert sb.worst_cost == pytest.approx(3 * c + 4.0) and sb.share_safe == 0.5
-    assert rec.pitch == -1.0 and rec.next_pitch == 1.0 and rec.roll == 0.0
-    assert rec.margin == pytest.approx(2.0)                     # P / 2
-    assert not rec.roll_matters and len(rec.sensitivity) == 6
-    # halving or doubling the penalty cannot make +1 cheaper: the pick is robust
-    assert rec.robust
-    doc = json.loads(json.dumps(rec.to_dict()))
-    assert doc["recommended_pitch"] == -1.0 and len(doc["settings"]) == 2
-    # the roll outside the spread joins the starts when the spread grows
-    assert recommend_pitch(g, sensitivity=False).settings[1].starts == 8
-    with pytest.raises(InputError):
-        recommend_pitch(g, roll_spread=-1.0)
-
-
-def test_recommendation_figure(tmp_path):
-    from threadmate.network import plot_recommendation, write_recommendation
-
-    g = build_network(random_table(9, n_phase=6))
-    rec = recommend_pitch(g, sensitivity=False)
-    png = plot_recommendation(rec, tmp_path / "rec.png")
-    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    doc = json.loads(write_recommendation(rec, tmp_path / "rec.json").read_text())
-    assert doc["recommended_pitch"] in (-1.0, 0.0, 1.0)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["rec.json", "rec.png"]
-
-
-# --- export -------------------------------------------------------------------------------
-
-def test_graphml_reads_back_with_scalar_types(tmp_path):
-    g = build_network(random_table(10))
-    path = write_graphml(g, tmp_path / "net.graphml")
-    h = nx.read_graphml(path)
-    assert isinstance(h, nx.DiGraph)
-    assert set(h.nodes) == set(g.nodes) and set(h.edges) == set(g.edges)
-    types = {"roll": float, "phase": float, "classification": str, "n_contacts": int,
-             "in_phase": bool, "region_combination": str}
-    for n, d in h.nodes(data=True):
-        assert isinstance(n, str)
-        for key, t in types.items():
-            assert type(d[key]) is t, (key, d[key])
-        for v in d.values():
-            assert type(v) in (str, int, float, bool)
-            assert not (isinstance(v, float) and math.isnan(v))
-    for u, v, d in h.edges(data=True):
-        assert d["weight"] == pytest.approx(g.edges[u, v]["weight"], rel=1e-12)
-        assert d["kind"] in ("turning", "settling")
-        assert d["label"] in ("stable", "quasi-stable", "unstable")
-    meta = h.graph
-    assert meta["units"] == "in" and meta["cost_units"] == "mJ"
-    assert json.loads(meta["spec"])["pitch"] == PITCH_IN
-    assert json.loads(meta["parameters"])["friction"] == 0.15
-    assert "threadmate_version" in meta
     back = read_graphml(path)
-    assert math.isnan(back.nodes[node_id(-1, -1, 0)]["pivot_offset"])
-    assert cost_to_snap(back) == pytest.approx(cost_to_snap(g))
+    plain = nx.read_graphml(path)            # any GraphML reader gets booleans
+    assert sorted(back.nodes) == sorted(real_rows["state_id"])
+    assert {d["active"] for _, _, d in plain.edges(data=True)} == {True, False}
+    assert back.number_of_edges() == graph.number_of_edges()
+    by_id = real_rows.set_index("state_id")
+    for n, d in back.nodes(data=True):
+        row = by_id.loc[n]
+        # The list attributes come back as lists (the pose and the contact points stay in
+        # the library, one row per node).
+        assert d["contact_regions"] == list(row["contact_regions"])
+        assert isinstance(d["contact_forces"], list)
+        np.testing.assert_array_equal(d["contact_forces"], row["contact_forces"])  # NaN too
+        assert d["held_pitch"] == row["held_pitch"] and d["phase"] == row["phase"]
+        for key in ("driver_torque", "potential", "centre_z"):
+            if np.isfinite(row[key]):
+                assert d[key] == row[key]
+            else:
+                assert math.isnan(d[key])
+    for u, v, d in back.edges(data=True):
+        assert d["weight"] == graph.edges[u, v]["weight"]
+        assert d["active"] == graph.edges[u, v]["active"]
+    assert json.loads(back.graph["compliance"])["force"] == 10.0
 
 
-def test_node_link_json(tmp_path):
-    g = build_network(random_table(12))
-    path = write_node_link(g, tmp_path / "net.json")
-    doc = json.loads(path.read_text())
-    h = nx.node_link_graph(doc, edges="edges")
-    assert set(h.edges) == set(g.edges) and h.is_directed()
-    assert h.nodes[node_id(0, 0, 0)]["pivot_offset"] is None        # NaN -> null
+def test_node_link_json_has_no_nan(synth_active, tmp_path):
+    least_resistance_path(synth_active, 0, 1, 0, active=True)
+    start_outcomes(synth_active)  # the caches it keeps on the graph are not written
+    path = write_node_link(synth_active, tmp_path / "net.json")
+
+    def refuse(name):
+        raise AssertionError(f"{name} in the JSON")
+
+    doc = json.loads(path.read_text(), parse_constant=refuse)
+    back = nx.node_link_graph(doc, edges="edges")
+    assert sorted(back.nodes) == sorted(synth_active.nodes)
+    assert back.number_of_edges() == synth_active.number_of_edges()
+    err = back.nodes["r+1_p-1_ph180.000_s4"]
+    assert err["classification"] == "error" and err["centre_z"] is None
+    assert doc["graph"]["active"] is True
+    assert not [k for k in doc["graph"] if k.startswith("_")]
+    assert json.loads(doc["graph"]["grid"])["phase"] == SYNTH_GRID["phase"]
 
 
-# --- a real sweep -------------------------------------------------------------------------
-
-@pytest.fixture(scope="module")
-def real_library(quarter_20, tmp_path_factory):
-    from threadmate.library import sweep
-
-    out = tmp_path_factory.mktemp("net") / "lib"
-    return sweep(quarter_20, roll="0", pitch="-1:1:1", phase="0:330:30", out=out, workers=1,
-                 chord=1e-4)
-
-
-def test_real_library_network(real_library):
-    from threadmate.library import load
-    from threadmate.network import from_library
-
-    df = load(real_library)
-    g = from_library(real_library)
-    assert g.number_of_nodes() == len(df) == 36
-    assert g.graph["units"] == "in"
-    counts = df["classification"].value_counts().to_dict()
-    assert sum(d["in_phase"] for _, d in g.nodes(data=True)) == counts.get("in-phase", 0)
-    targets = {n for n, d in g.nodes(data=True) if d["in_phase"]}
-    assert targets, counts
-    expected = bellman_ford(edge_list(g), list(g.nodes), targets)
-    got = cost_to_snap(g)
-    for n in g.nodes:
-        assert got[n] == pytest.approx(expected[n], rel=1e-12, abs=1e-12) \
-            if math.isfinite(expected[n]) else math.isinf(got[n])
-        if math.isfinite(expected[n]) and n not in targets:
-            check_path(g, least_resistance_path(g, n))
-    # each node keeps its library row's values
-    row = df.iloc[5]
-    d = g.nodes[node_id(row["roll"], row["pitch"], row["phase"])]
-    assert d["classification"] == row["classification"]
-    assert d["third_origin_z"] == row["third_origin_z"] or math.isnan(row["third_origin_z"])
+def test_build_network_needs_library_rows(synth_rows):
+    with pytest.raises(InputError, match="metadata"):
+        build_network(synth_rows)
+    broken = synthetic_rows()
+    broken.loc[0, "next_id"] = "r+9_p+9_ph000.000_s0"
+    with pytest.raises(LibraryError, match="does\\s+not hold|incomplete"):
+        frame = broken.copy()
+        frame.attrs["threadmate"] = {"model": "mechanics", "units": "in",
+                                     "compliance": {"force": 10.0}, "spec": {"pitch": 0.05},
+                                     "grid": {}}
+        build_network(frame)

@@ -14,7 +14,7 @@ from typing import Any
 import click
 
 from .._errors import InputError
-from ..contact import ROLES
+from ..contact import CONTINUATION_STEP, ROLES
 from ..library import (
     CLASS_ORDER,
     METADATA_FILE,
@@ -171,7 +171,7 @@ N/m, lengths in the spec's units, angles in degrees.
               help="mechanics: rest states, settling and the simulated search; thesis: the "
                    "thesis's fixed-pivot stages.")
 @compliance_options
-@click.option("--step", type=float, default=2.0, show_default=True,
+@click.option("--step", type=float, default=CONTINUATION_STEP, show_default=True,
               help=f"Mechanics: continuation step in degrees of phase (> 0, at most "
                    f"{MAX_STEP:g}).")
 @click.option("--phase-tolerance", type=float, default=0.01, show_default=True,

@@ -10,6 +10,7 @@ from typing import Any
 import click
 
 from .._errors import InputError
+from .._io import atomic_write_text
 from ..network import (
     MAX_K,
     WEIGHT_FORMULA,
@@ -23,7 +24,7 @@ from ..network import (
     write_node_link,
     write_recommendation,
 )
-from ._common import check_angle, echo_err, emit_json
+from ._common import check_angle, echo_err, emit_json, writable_output
 from ._main import cli
 
 __all__ = ["network_command", "path_command", "recommend_command"]
@@ -32,13 +33,12 @@ _FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 
 
 def _out_file(path: str, option: str, suffixes: tuple[str, ...] | None = None) -> Path:
-    """Refuse an output path that is a folder or has a wrong suffix, before any work."""
+    """Refuse an output path that has a wrong suffix or cannot be written, before any
+    work."""
     out = Path(path)
-    if out.is_dir():
-        raise InputError(f"{option} {path}: is a folder; give a file name")
     if suffixes is not None and out.suffix.lower() not in suffixes:
         raise InputError(f"{option} {path}: expected a file ending in {' or '.join(suffixes)}")
-    return out
+    return writable_output(out, option)
 
 
 def _graph_options(func: Any) -> Any:
@@ -55,7 +55,7 @@ def _graph_options(func: Any) -> Any:
     return func
 
 
-def _summary(graph: Any) -> dict[str, Any]:
+def _summary(graph: Any) -> tuple[dict[str, Any], Any]:
     """Counts and the outcome of every start."""
     kinds: dict[str, int] = {}
     labels: dict[str, int] = {}
@@ -114,8 +114,6 @@ def network_command(library: str, output: str, json_graph: str | None,
     if link is not None:
         written.append(write_node_link(graph, link))
     if csv is not None:
-        from .._io import atomic_write_text
-
         written.append(atomic_write_text(csv, outcomes.to_csv(index=False)))
     doc.update(library=library, graphml=str(out),
                node_link=str(link) if link is not None else None,

@@ -11,7 +11,7 @@ import click
 from .._errors import InputError
 from ..contact import CONTINUATION_STEP
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID, run_pipeline
-from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
 from ._library import _RANGE_HELP, _progress_bar
 from ._main import cli
 from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_options
@@ -71,8 +71,7 @@ def run_command(spec_text: str, out: Path, roll: str | None, pitch: str | None,
         raise InputError(f"--workers {workers} must be at least 1")
     if roll_spread is not None and not (0 <= roll_spread <= 45):
         raise InputError(f"--roll-spread {roll_spread:g} must be within 0..45 degrees")
-    if out.exists() and not out.is_dir():
-        raise InputError(f"-o {out} exists and is not a folder")
+    writable_directory(out, "-o")
     base = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
                                    compliance_z)
     forces = _values(compare_force, "--compare-force")

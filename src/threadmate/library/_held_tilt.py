@@ -11,7 +11,9 @@ For one held tilt and the grid's phases, in this order:
    between grid phases by bisection;
 3. a continuation that reaches, at a grid phase, a state already there (same load-carrying
    contacts, compliance centre within ``pitch / 1000``, axis within 0.05 degree) joins it:
-   the quasi-static dynamics are deterministic, so from there on the paths are one. A
+   the quasi-static dynamics are deterministic, so from there on the paths are one. So
+   does one that reaches, either side of a jump between grid phases, a state another
+   continuation passed (the same, and within the continuation's phase tolerance). A
    continuation that neither snaps nor joins stops after ``MAX_TURNS`` turns.
 
 The rows follow the state record of :mod:`threadmate.contact` (``STATE_COLUMNS``).
@@ -60,6 +62,7 @@ class _Tilt:
         self.serial = 0
         self.floor = 1e-4 * mech.compliance.force
         self.join_distance = JOIN_DISTANCE * mech.spec.pitch
+        self.events: list[str] = []  # states either side of a jump between grid phases
 
     def add(self, state: MechanicalState, role: str, config_id: int) -> str:
         sid = state_id(self.roll, self.pitch, state.phase, self.serial)
@@ -100,6 +103,16 @@ class _Tilt:
             return False
         cos = float(np.clip(_axis(a) @ _axis(b), -1.0, 1.0))
         return math.degrees(math.acos(cos)) <= JOIN_TILT
+
+    def known_event(self, s: MechanicalState, phase_tolerance: float) -> str | None:
+        """A state already known either side of a jump, within ``phase_tolerance`` of
+        ``s``'s phase and the same as ``s`` (:meth:`same`)."""
+        for o in self.events:
+            t = self.states[o]
+            gap = abs((t.phase - s.phase + 180.0) % 360.0 - 180.0)
+            if gap <= phase_tolerance and self.same(t, s):
+                return o
+        return None
 
     def fail(self, config_id: int, phase: float, role: str, exc: BaseException) -> None:
         sid = state_id(self.roll, self.pitch, phase, self.serial)
@@ -205,10 +218,17 @@ def _continue(tilt: _Tilt, walk: Continuation, sid: str, j: int, grid: list[floa
                 role = "continued" if leg.kind == "turning" else "after-jump"
                 dst = tilt.add(leg.after, role, config_id)
                 at_phase[k].append(dst)
-            elif leg.kind == "turning":
-                dst = tilt.add(leg.after, "before-jump", config_id)
             else:
-                dst = tilt.add(leg.after, "after-jump", config_id)
+                # Either side of a jump between grid phases: another continuation may have
+                # passed it already (starts between the same two grid phases share their
+                # last branch); then the paths are one from here on.
+                known = tilt.known_event(leg.after, walk.phase_tolerance)
+                if known is not None:
+                    tilt.link_leg(sid, known, leg)
+                    return
+                dst = tilt.add(leg.after, "before-jump" if leg.kind == "turning"
+                               else "after-jump", config_id)
+                tilt.events.append(dst)
             tilt.link_leg(sid, dst, leg)
             sid = dst
         if snapped or not legs:

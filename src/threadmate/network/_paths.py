@@ -204,7 +204,10 @@ def k_best_paths(graph: nx.DiGraph, k: int, roll: float, pitch: float, phase: fl
     work = nx.DiGraph(view)
     work.add_edges_from((t, _SINK, {"weight": 0.0}) for t in snap_targets(graph))
     paths = nx.shortest_simple_paths(work, best.start, _SINK, weight="weight")
-    for path in itertools.islice(paths, 1, k):
+    # Yen's first path may be another of equal cost than Dijkstra's: skip the best by
+    # identity, not by rank, so that no path is listed twice.
+    others = (p for p in paths if p[:-1] != best.path)
+    for path in itertools.islice(others, k - 1):
         best.alternatives.append(_result(graph, path[:-1], best.start, best.requested,
                                          best.moved, active))
     return best
@@ -218,7 +221,7 @@ def _larger(a: float, b: float) -> float:
 
 
 def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
-    """The passive search from every start at once.
+    """The passive search from every start at once (computed once per graph and kept).
 
     Returns
     -------
@@ -231,6 +234,9 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
         (largest driver torque on the way, N m), ``passes_unstable`` (a jump or an
         unstable transition before the snap), ``failed`` (the start's drop raised).
     """
+    cached = graph.graph.get("_outcomes")
+    if cached is not None:
+        return cached.copy()
     memo: dict[str, tuple[Any, ...]] = {}
     nan = math.nan
 
@@ -250,8 +256,19 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
             if d.get("classification") == "in-phase":
                 memo[n] = (True, 0.0, 0.0, 0.0, float(d["phase"]), nan, False)
                 break
+            if n in seen:
+                # A cycle: never snaps, and the driver meets every edge of it, whichever
+                # of its states the walk entered first.
+                ring = [e for m, e in trail[[m for m, _ in trail].index(n):]]
+                peak = nan
+                for e in ring:
+                    peak = _larger(peak, e["torque_peak"])
+                memo[n] = (False, nan, nan, nan, nan, peak,
+                           any(e["label"] == "unstable" and e["kind"] != "snap"
+                               for e in ring))
+                break
             step = passive_next(n)
-            if step is None or n in seen:  # horizon, failure or a cycle: never snaps
+            if step is None:  # horizon or failure: never snaps
                 memo[n] = (False, nan, nan, nan, nan, nan, False)
                 break
             seen.add(n)
@@ -280,6 +297,8 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
             "turn": turn, "work": work, "click": click, "snap_phase": snap_phase,
             "torque_peak": peak, "passes_unstable": bool(unstable),
             "failed": d["classification"] == "error"})
-    return pd.DataFrame(rows, columns=[
+    table = pd.DataFrame(rows, columns=[
         "node", "held_roll", "held_pitch", "phase", "classification", "snapped", "reaches",
         "turn", "work", "click", "snap_phase", "torque_peak", "passes_unstable", "failed"])
+    graph.graph["_outcomes"] = table  # private key: the writers skip it
+    return table.copy()

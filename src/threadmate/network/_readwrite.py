@@ -156,6 +156,8 @@ def read_graphml(path: str | Path) -> nx.DiGraph:
         for key in LIST_ATTRIBUTES:
             if isinstance(d.get(key), str):
                 d[key] = json.loads(d[key])
+        if isinstance(d.get("contact_forces"), list):  # null in the JSON text: NaN
+            d["contact_forces"] = [math.nan if v is None else v for v in d["contact_forces"]]
     for _, _, d in graph.edges(data=True):
         for key in ("torque_peak", "tilt_change", "drop"):
             d.setdefault(key, math.nan)

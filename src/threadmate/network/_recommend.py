@@ -46,6 +46,7 @@ import pandas as pd
 from .._errors import InputError
 from .._figures import new_figure, save_figure
 from .._io import atomic_write_text
+from .._json import json_text
 from ._paths import start_outcomes
 
 __all__ = [
@@ -182,11 +183,13 @@ def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None
     if len(grids) > 1 or len({g.graph["spec"] for g in graphs}) > 1:
         raise InputError("the libraries to compare must share one thread and one grid")
     settings, proof, notes = [], [], []
+    rolls: set[float] = set()
     for graph in graphs:
         comp = _compliance(graph)
         out = start_outcomes(graph)
         if out.empty:
             raise InputError("the library holds no finished start")
+        rolls.update(out["held_roll"].abs())
         inside = out[out["held_roll"].abs() <= spread + 1e-9]
         if inside.empty:
             raise InputError(f"no start within the roll spread {roll_spread:g} deg")
@@ -215,7 +218,8 @@ def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None
         notes.append("no pre-tilt size lies in all four quarter-turn directions of this "
                      "grid: no azimuth-proof pick (sweep a square roll x pitch grid)")
     units = graphs[0].graph["units"]
-    spread_out = spread if math.isfinite(spread) else float(max(abs(p) for p in pitches))
+    # Without a spread every held roll of the grid counts: say how far they reach.
+    spread_out = spread if math.isfinite(spread) else float(max(rolls))
     return Recommendation(settings, margin, at_edge, proof, spread_out, units,
                           (pitches[0], pitches[-1]), notes)
 
@@ -271,7 +275,7 @@ def format_recommendation(rec: Recommendation) -> str:
 
 def write_recommendation(rec: Recommendation, path: str | os.PathLike[str]) -> Path:
     """Write the JSON document atomically."""
-    return atomic_write_text(path, json.dumps(rec.to_dict(), indent=2, allow_nan=False) + "\n")
+    return atomic_write_text(path, json_text(rec.to_dict()))
 
 
 def plot_recommendation(rec: Recommendation, path: str | os.PathLike[str]) -> Path:
