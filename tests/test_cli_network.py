@@ -282,3 +282,12 @@ def test_nan_free_documents(synth_lib, tmp_path, capsys):
         rc, out, err = run_cli(capsys, *args)
         assert rc == 0, err
         json.loads(out, parse_constant=refuse)
+
+
+def test_recommend_compares_libraries_of_one_grid_only(synth_lib, tmp_path, quarter_20,
+                                                       capsys):
+    rows = library_rows(synth_lib)
+    other = synthetic_library(tmp_path / "lower", quarter_20,
+                              rows=rows[rows["held_pitch"] < 1], pitch=[-1.0, 0.0])
+    rc, out, err = run_cli(capsys, "recommend", synth_lib, other)
+    assert rc == 2 and out == "" and "one grid" in one_error(err)

@@ -121,6 +121,9 @@ def test_nodes_and_passive_edges_are_the_rows(case):
         d = graph.nodes[row["state_id"]]
         for key in ("held_roll", "held_pitch", "phase", "classification", "role"):
             assert d[key] == row[key], (row["state_id"], key)
+        # The pose (actual tilt and origin) and the contacts' regions and forces.
+        assert {"roll", "pitch", "origin_x", "origin_y", "origin_z", "contact_forces"} <= set(d)
+        assert d["roll"] == row["roll"] or (math.isnan(d["roll"]) and math.isnan(row["roll"]))
         assert list(d["contact_regions"]) == list(row["contact_regions"])
         if not row["next_id"]:
             assert graph.out_degree(row["state_id"]) == 0
@@ -136,12 +139,12 @@ def test_nodes_and_passive_edges_are_the_rows(case):
         assert (nxt["held_roll"], nxt["held_pitch"]) == (row["held_roll"], row["held_pitch"])
 
 
-def test_one_state_is_one_node(real_rows, real_graph):
+def test_one_state_is_one_node(real_lib, real_rows, real_graph):
     """Continuations that reach a state already known at a grid phase join its node: no
     two rest states of a held tilt at a grid phase are the same state (same load-carrying
     contacts, compliance centre within pitch/1000, axis within 0.05 deg), and some starts'
     searches do merge."""
-    force = 10.0
+    force = compliance_of(real_lib).force
     rest = real_rows[real_rows["role"].isin(["start", "continued"])]
     for _, group in rest.groupby(["held_roll", "held_pitch", "phase"]):
         states = list(group.itertuples())
@@ -285,6 +288,9 @@ def test_passive_path_agrees_with_search(real_lib, real_graph, start):
     assert gap <= phase_step, (start, path.snap, run.snap)
     turned = (run.snap.phase - start[2]) % 360.0 if path.turn else 0.0
     assert abs(path.turn - turned) <= phase_step, (start, path.turn, turned)
+    # The driver's work too: the library continues grid phase by grid phase, the search
+    # in one go, on the same branch.
+    assert path.cost == pytest.approx(max(run.work, 0.0), rel=0.1, abs=1e-6), start
 
 
 # -- the recommendation -------------------------------------------------------------------
@@ -468,6 +474,19 @@ def test_active_moves(synth_lib, synth_rows, move_penalty):
     costs = [alt.cost] + [a.cost for a in alt.alternatives]
     assert len(alt.alternatives) == 3 and costs == sorted(costs)
     assert len({tuple(a.path) for a in [alt, *alt.alternatives]}) == 4
+
+
+def test_active_moves_from_a_state_a_hair_below_360(synth_lib, synth_rows, tmp_path,
+                                                    quarter_20):
+    """A continuation that summed its turns to 359.99999999999994 is at grid phase 0."""
+    rows = synth_rows.copy()
+    sheet0 = "r+1_p+1_ph000.000_s10"
+    assert rows.loc[rows["state_id"] == sheet0, "role"].item() == "continued"
+    rows.loc[rows["state_id"] == sheet0, "phase"] = 359.99999999999994
+    graph = from_library(synthetic_library(tmp_path / "lib", quarter_20, rows=rows),
+                         active=True)
+    steps = {v for _, v, d in graph.out_edges(sheet0, data=True) if d["active"]}
+    assert steps == {"r+0_p+1_ph000.000_s0", "r+1_p+0_ph000.000_s0"}
 
 
 def test_active_moves_on_the_real_library(real_lib, real_rows):

@@ -10,10 +10,9 @@ import math
 
 import click
 
-from .._errors import InputError
 from .._validate import MAX_LENGTH, check_length
 from ..contact import MAX_TILT, ContactAnalyzer, ContactResult
-from ..geometry import DEFAULT_CHORD
+from ..geometry import DEFAULT_CHORD, check_chord
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._main import cli
 
@@ -108,9 +107,8 @@ def contact(spec_text: str, roll: float, pitch: float, phase: float, chord: floa
     check_configuration_options(roll, pitch, phase, chord)
     spec = resolve_spec(spec_text, condition)
     check_length("--compliance-z", compliance_z, spec.units, signed=True)
-    if chord is not None and chord > spec.pitch / 10:
-        raise InputError(f"--chord {chord:g} is too coarse for pitch {spec.pitch:g} "
-                         f"{spec.units}: give at most a tenth of the pitch")
+    if chord is not None:
+        check_chord(spec, chord)  # the meshes' own range, before any mesh is built
     result = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z).analyze(
         roll, pitch, phase)
     if as_json:

@@ -28,7 +28,7 @@ from ..contact import (
     search,
     settle,
 )
-from ..geometry import ThreadSpec
+from ..geometry import ThreadSpec, check_chord
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._library import _progress_bar
 from ._main import cli
@@ -86,9 +86,8 @@ def _setup(spec_text: str, roll: float, pitch: float, phase: float, force: float
     compliance = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
                                          compliance_z)
     spec = resolve_spec(spec_text, condition)
-    if chord is not None and chord > spec.pitch / 10:
-        raise InputError(f"--chord {chord:g} is too coarse for pitch {spec.pitch:g} "
-                         f"{spec.units}: give at most a tenth of the pitch")
+    if chord is not None:
+        check_chord(spec, chord)  # the meshes' own range, before any mesh is built
     compliance.check_for(spec.pitch)
     return spec, compliance
 

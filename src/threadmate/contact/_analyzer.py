@@ -10,7 +10,7 @@ from __future__ import annotations
 import functools
 import math
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import trimesh
@@ -21,7 +21,7 @@ from .._errors import InputError
 from ..geometry import Pose, ThreadSpec, bolt_body, bolt_rotation, nut_body
 from ._collision import CollisionPair
 from ._exact import contact_normal, region_at, turn_axis_tangent
-from ._result import Contact, ContactResult, StageResult
+from ._result import Contact, ContactResult, StageResult, _vec
 from ._stability import classify, interference_depth, is_rolling, pivot_offset
 from ._stages import (
     Cluster,
@@ -75,7 +75,7 @@ def check_configuration(roll: float, pitch: float, phase: float) -> tuple[float,
     return out[0], out[1], out[2]
 
 
-def _user_mesh(mesh: Any, kind: str, spec: ThreadSpec) -> trimesh.Trimesh:
+def _user_mesh(mesh: Any, kind: Literal["bolt", "nut"], spec: ThreadSpec) -> trimesh.Trimesh:
     """A user mesh from a path (validated by :func:`threadmate.geometry.load_mesh`) or a
     Trimesh (checked to sit in its frame)."""
     if isinstance(mesh, str | Path):
@@ -257,7 +257,7 @@ class ContactAnalyzer:
         out = []
         for c in clusters:
             n, fn, fb = contact_normal(self.nut, self.bolt, pose, c.point, tol)
-            out.append(Contact(tuple(float(x) for x in c.point), tuple(float(x) for x in n),
+            out.append(Contact(_vec(c.point), _vec(n),
                                c.pairs, region_at(self.bolt, pose.to_bolt(c.point), fb),
                                region_at(self.nut, c.point, fn), fb.kind, fn.kind))
         return out
@@ -376,7 +376,7 @@ class ContactAnalyzer:
         sectors: frozenset[int] | None = None  # where the third pose meets the nut
         rolling = False  # the thesis's rolling axis: a pivot contact gained triangle pairs
         if len(c2) >= 3:
-            third = StageResult.at("third", second.pose, c2, 0.0, 0)
+            third = StageResult.at("third", second.found_pose, c2, 0.0, 0)
         else:
             axis = lowering_direction(p1, p2 - p1, self._centre(pose2))
             turned = self._turn("third", pose2, held[:2], p1, axis)
@@ -389,8 +389,8 @@ class ContactAnalyzer:
         interference = math.nan
         drop = math.nan
         if third.found:
-            interference = self._interference(third.pose, sectors)
-            drop = float(second.origin[2] - third.origin[2])
+            interference = self._interference(third.found_pose, sectors)
+            drop = float(second.found_origin[2] - third.found_origin[2])
         cls = classify(first_found=True, in_phase=False, second_found=True, offset=offset,
                        third_found=third.found, interference=interference, origin_drop=drop,
                        quasi_tolerance=self.quasi_tolerance,

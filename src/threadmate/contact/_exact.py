@@ -74,6 +74,18 @@ class Feature:
         """Whether the feature is an edge (rim or sharp corner)."""
         return self.kind in ("rim", "corner")
 
+    @property
+    def face_normal(self) -> NDArray[np.float64]:
+        """``normal`` of a face feature (not for an edge, which has none)."""
+        assert self.normal is not None, f"a {self.kind} feature has no normal"
+        return self.normal
+
+    @property
+    def edge_tangent(self) -> NDArray[np.float64]:
+        """``tangent`` of an edge feature (not for a face, which has none)."""
+        assert self.tangent is not None, f"a {self.kind} feature has no tangent"
+        return self.tangent
+
 
 def _t_of(body: ThreadBody, theta: float, z: float) -> float:
     """:meth:`ThreadBody.t_of` of one point, in plain floats (the same operations: the
@@ -217,12 +229,12 @@ def contact_normal(nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDArr
 
 def _common_normal(fn: Feature, fb: Feature, pose: Pose) -> NDArray[np.float64]:
     if not fn.is_edge:
-        return fn.normal.copy()
+        return fn.face_normal.copy()
     if not fb.is_edge:
-        return -pose.vector_to_fixed(fb.normal)
-    tb = pose.vector_to_fixed(fb.tangent)
+        return -pose.vector_to_fixed(fb.face_normal)
+    tb = pose.vector_to_fixed(fb.edge_tangent)
     side_b = pose.vector_to_fixed(fb.side)
-    n = np.cross(tb, fn.tangent)
+    n = np.cross(tb, fn.edge_tangent)
     if np.linalg.norm(n) < 1e-9:  # parallel edges: split the two sides
         n = fn.side - side_b
     n = _unit(n)
@@ -260,11 +272,11 @@ def turn_axis_tangent(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
     p = np.asarray(point_f, dtype=float)
     fn = feature_at(nut, p, tol)
     if fn.is_edge:
-        return fn.tangent
+        return fn.edge_tangent
     fb = feature_at(bolt, pose.to_bolt(p), tol)
     if fb.is_edge:
-        t = pose.vector_to_fixed(fb.tangent)
-        t = t - (t @ fn.normal) * fn.normal
+        t = pose.vector_to_fixed(fb.edge_tangent)
+        t = t - (t @ fn.face_normal) * fn.face_normal
         if np.linalg.norm(t) > 1e-9:
             return _unit(t)
     if fn.kind == "cap":
@@ -304,8 +316,8 @@ def _edge_points(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]
                  angles: NDArray[np.float64]) -> NDArray[np.float64]:
     """Points of the exact edge through ``anchor`` (body frame) at polar ``angles``."""
     if feature.kind == "rim":
-        r = _radius(body, _t_array(body, angles, body.cap_z))
-        return np.column_stack([r * np.cos(angles), r * np.sin(angles),
+        r_rim = _radius(body, _t_array(body, angles, body.cap_z))
+        return np.column_stack([r_rim * np.cos(angles), r_rim * np.sin(angles),
                                 np.full_like(angles, body.cap_z)])
     theta0 = math.atan2(anchor[1], anchor[0])
     r = math.hypot(anchor[0], anchor[1])

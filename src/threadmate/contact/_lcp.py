@@ -111,12 +111,12 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
         # A row whose rate is nil against its own size is parallel to the step (a
         # duplicate of a working row, as the corners of a flat contact are): not blocking.
         norms = np.linalg.norm(G, axis=1) * float(np.linalg.norm(p))
-        for i in np.flatnonzero(rate < -1e-7 * norms):
-            if i in working:
+        for row in np.flatnonzero(rate < -1e-7 * norms):
+            if row in working:
                 continue
-            a = max(float(slack[i]), 0.0) / float(-rate[i])
+            a = max(float(slack[row]), 0.0) / float(-rate[row])
             if a < alpha:  # ties keep the first row by index (Bland)
-                alpha, block = a, int(i)
+                alpha, block = a, int(row)
         x = x + alpha * p
         if block >= 0:
             working.append(block)
@@ -139,8 +139,8 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
     return x, lam
 
 
-def _equality_step(h_inv: NDArray[np.float64], A: NDArray[np.float64], g: NDArray[np.float64]
-                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _equality_step(h_inv: NDArray[np.floating], A: NDArray[np.float64], g: NDArray[np.float64]
+                   ) -> tuple[NDArray[np.floating], NDArray[np.floating]]:
     """Step ``p`` and multipliers of ``min 1/2 p'Hp + g'p`` subject to ``A p = 0``.
 
     ``H p - A' mult = -g`` and ``A p = 0`` give ``(A H^-1 A') mult = A H^-1 g`` and

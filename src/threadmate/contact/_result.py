@@ -118,7 +118,7 @@ class StageResult:
     def at(cls, name: str, pose: Pose, contacts: tuple[Contact, ...], angle: float,
            queries: int, axis: tuple[Any, Any] | None = None) -> StageResult:
         """A found stage at ``pose``."""
-        rot = tuple(_vec(row) for row in pose.rotation)
+        rot = (_vec(pose.rotation[0]), _vec(pose.rotation[1]), _vec(pose.rotation[2]))
         return cls(name, True, float(angle), _vec(pose.origin), rot, tuple(contacts),
                    None if axis is None else _vec(axis[0]),
                    None if axis is None else _vec(axis[1]), int(queries))
@@ -130,6 +130,19 @@ class StageResult:
             return None
         return Pose(np.array(self.rotation, dtype=float), np.array(self.origin, dtype=float))
 
+    @property
+    def found_pose(self) -> Pose:
+        """The bolt pose at a found stage's contact."""
+        pose = self.pose
+        assert pose is not None, f"the {self.name} stage found no contact"
+        return pose
+
+    @property
+    def found_origin(self) -> Vec:
+        """The bolt origin at a found stage's contact."""
+        assert self.origin is not None, f"the {self.name} stage found no contact"
+        return self.origin
+
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON (None where not found)."""
         return {
@@ -138,7 +151,7 @@ class StageResult:
             "origin": None if self.origin is None else list(self.origin),
             "rotation": None if self.rotation is None else [list(r) for r in self.rotation],
             "contacts": [c.to_dict() for c in self.contacts],
-            "axis": None if self.axis_point is None else {
+            "axis": None if self.axis_point is None or self.axis_direction is None else {
                 "point": list(self.axis_point), "direction": list(self.axis_direction)},
             "queries": self.queries,
         }

@@ -62,6 +62,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 from .._errors import InputError
 from .._units import METRES_PER_UNIT
 from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
+from ..geometry._spec import filled
 from ._analyzer import ContactAnalyzer, check_configuration
 from ._compliance import Compliance
 from ._exact import contact_normal, edge_crossing, lowest_on_rim, refined_contact, region_at
@@ -165,7 +166,7 @@ class Mechanics:
         self.support_margin = spec.pitch / 100
         self.separation = spec.pitch / 4
         self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
-        self._floor = -float(spec.nut.height) - 2 * float(spec.bolt.length) - spec.pitch
+        self._floor = -filled(spec.nut.height) - 2 * filled(spec.bolt.length) - spec.pitch
         self._tip = analyzer._tip  # the bolt mesh's tip-face vertices (bolt frame)
         # Vertices that can pass whole into the other body: the nut's in its top pitch,
         # the bolt's in its first (the thread's run-outs on the end faces are wedges).
@@ -414,14 +415,14 @@ class Mechanics:
         comp = self.compliance
         g = [comp.force, comp.roll_stiffness * (tilt[0] - held[0]),
              comp.pitch_stiffness * (tilt[1] - held[1])]
-        if not comp.held_laterally:
+        if comp.lateral_stiffness is not None:  # not held laterally
             g += list(comp.lateral_stiffness * xy * self.metres)
         return np.array(g)
 
     def _stiffness(self) -> NDArray[np.float64]:
         comp = self.compliance
         k = [0.0, comp.roll_stiffness, comp.pitch_stiffness]
-        if not comp.held_laterally:
+        if comp.lateral_stiffness is not None:  # not held laterally
             k += [comp.lateral_stiffness] * 2
         return np.array(k)
 
@@ -432,7 +433,7 @@ class Mechanics:
         u = comp.force * zc * self.metres
         u += 0.5 * comp.roll_stiffness * (tilt[0] - held[0]) ** 2
         u += 0.5 * comp.pitch_stiffness * (tilt[1] - held[1]) ** 2
-        if not comp.held_laterally:
+        if comp.lateral_stiffness is not None:  # not held laterally
             u += 0.5 * comp.lateral_stiffness * float(xy @ xy) * self.metres ** 2
         return float(u)
 
@@ -607,7 +608,7 @@ class Mechanics:
             promised = -(grad @ dq + 0.5 * dq @ (k * dq))
             dtilt = dq[1:3]
             dxy = dq[3:5] / self.metres if len(dq) > 3 else np.zeros(2)
-            moved = float(np.abs(dtilt).max()) * (self.radius + self.spec.bolt.length) \
+            moved = float(np.abs(dtilt).max()) * (self.radius + filled(self.spec.bolt.length)) \
                 + float(np.abs(dxy).max(initial=0.0)) + abs(dq[0]) / self.metres
             # (The balance asks for tilts far finer than the travel tolerance: 1e-6 F times
             # the radius against a 1 N m/rad spring is 3e-8 rad, against 1e4 N m/rad

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._profile import Profile, bolt_profile, nut_profile, wrap_t
+from ._spec import filled
 
 if TYPE_CHECKING:
     from ._spec import ThreadSpec
@@ -151,10 +152,10 @@ class ThreadBody:
 
 def bolt_body(spec: ThreadSpec) -> ThreadBody:
     """The exact bolt of ``spec`` in its frame: ``0 <= z <= bolt.length``."""
-    return ThreadBody(bolt_profile(spec), spec.lead, spec.handedness, 0.0, float(spec.bolt.length))
+    return ThreadBody(bolt_profile(spec), spec.lead, spec.handedness, 0.0, filled(spec.bolt.length))
 
 
 def nut_body(spec: ThreadSpec) -> ThreadBody:
     """The exact nut of ``spec`` in the fixed frame: ``-nut.height <= z <= 0``."""
-    return ThreadBody(nut_profile(spec), spec.lead, spec.handedness, -float(spec.nut.height), 0.0,
-                      float(spec.nut.outer_radius))
+    return ThreadBody(nut_profile(spec), spec.lead, spec.handedness, -filled(spec.nut.height), 0.0,
+                      filled(spec.nut.outer_radius))

@@ -259,10 +259,10 @@ def _unified_size(token: str, tpi: float, base: str, raw: str) -> tuple[str, flo
     if "/" in token:
         whole, _, frac = re.sub(r"\s*[ -]\s*", " ", token).rpartition(" ")
         try:
-            value = Fraction(frac) + (int(whole) if whole else 0)
+            fraction = Fraction(frac) + (int(whole) if whole else 0)
         except (ValueError, ZeroDivisionError):
             raise DesignationError(f"unknown size '{token}' in '{raw}'") from None
-        return _inch_size(value, raw)
+        return _inch_size(fraction, raw)
     if "." in token:
         value = float(token)
         for label in (table or {}):

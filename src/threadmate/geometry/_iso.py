@@ -28,6 +28,9 @@ from __future__ import annotations
 
 import math
 from decimal import ROUND_CEILING, ROUND_FLOOR, ROUND_HALF_EVEN, Decimal
+from typing import TypeVar
+
+_T = TypeVar("_T")
 
 __all__ = [
     "ISO_261",
@@ -66,20 +69,31 @@ _P = (0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5, 0.6, 0.7, 0.75, 0.8, 1, 1.25, 1.5, 1
       2.5, 3, 3.5, 4, 4.5, 5, 5.5, 6)
 
 
-def _by_pitch(values: tuple) -> dict[float, object]:
+#: One value, or one row of grades, per pitch; None where ISO 965-1 gives none.
+_Um = int | None
+_Row = tuple[_Um, ...]
+
+
+def _by_pitch(values: tuple[_T, ...]) -> dict[float, _T]:
     return dict(zip(_P, values, strict=True))
 
 
+def _um_to_mm(value: _Um) -> float:
+    """A tabulated value (um) in mm; the caller has checked that the table gives it."""
+    assert value is not None
+    return value / 1000.0
+
+
 # ISO 965-1 Table 3: fundamental deviations, um (G: +, e/f/g: -, H and h: 0).
-_G = _by_pitch((17, 18, 18, 19, 19, 20, 20, 21, 22, 22, 24, 26, 28, 32, 34, 38, 42, 48, 53,
+_G: dict[float, int] = _by_pitch((17, 18, 18, 19, 19, 20, 20, 21, 22, 22, 24, 26, 28, 32, 34, 38, 42, 48, 53,
                 60, 63, 71, 75, 80))
-_E = _by_pitch((None, None, None, None, None, None, 50, 53, 56, 56, 60, 60, 63, 67, 71, 71,
+_E: dict[float, _Um] = _by_pitch((None, None, None, None, None, None, 50, 53, 56, 56, 60, 60, 63, 67, 71, 71,
                 80, 85, 90, 95, 100, 106, 112, 118))
-_F = _by_pitch((None, None, None, 34, 34, 35, 36, 36, 38, 38, 38, 40, 42, 45, 48, 52, 58, 63,
+_F: dict[float, _Um] = _by_pitch((None, None, None, 34, 34, 35, 36, 36, 38, 38, 38, 40, 42, 45, 48, 52, 58, 63,
                 70, 75, 80, 85, 90, 95))
 
 # ISO 965-1 Table 4: TD1, internal minor diameter, grades 4..8, um.
-_TD1 = _by_pitch((
+_TD1: dict[float, _Row] = _by_pitch((
     (38, None, None, None, None), (45, 56, None, None, None), (53, 67, 85, None, None),
     (63, 80, 100, None, None), (71, 90, 112, None, None), (80, 100, 125, None, None),
     (90, 112, 140, 180, None), (100, 125, 160, 200, None), (112, 140, 180, 224, None),
@@ -91,7 +105,7 @@ _TD1 = _by_pitch((
 ))
 
 # ISO 965-1 Table 5: Td, external major diameter, grades 4, 6, 8, um.
-_TD = _by_pitch((
+_TD: dict[float, _Row] = _by_pitch((
     (36, 56, None), (42, 67, None), (48, 75, None), (53, 85, None), (60, 95, None),
     (63, 100, None), (67, 106, None), (80, 125, None), (90, 140, None), (90, 140, None),
     (95, 150, 236), (112, 180, 280), (132, 212, 335), (150, 236, 375), (170, 265, 425),
@@ -104,7 +118,7 @@ _RANGES = ((0.99, 1.4), (1.4, 2.8), (2.8, 5.6), (5.6, 11.2), (11.2, 22.4), (22.4
            (45, 90))
 
 # ISO 965-1 Table 6: TD2, internal pitch diameter, grades 4..8, um; [range][pitch].
-_TD2: tuple[dict[float, tuple], ...] = (
+_TD2: tuple[dict[float, _Row], ...] = (
     {0.2: (40, None, None, None, None), 0.25: (45, 56, None, None, None),
      0.3: (48, 60, 75, None, None)},
     {0.2: (42, None, None, None, None), 0.25: (48, 60, None, None, None),
@@ -130,7 +144,7 @@ _TD2: tuple[dict[float, tuple], ...] = (
 
 # ISO 965-1 Table 7: Td2, external pitch diameter, grades 3..9, um; [range][pitch].
 _N = None
-_TD2_EXT: tuple[dict[float, tuple], ...] = (
+_TD2_EXT: tuple[dict[float, _Row], ...] = (
     {0.2: (24, 30, 38, 48, _N, _N, _N), 0.25: (26, 34, 42, 53, _N, _N, _N),
      0.3: (28, 36, 45, 56, _N, _N, _N)},
     {0.2: (25, 32, 40, 50, _N, _N, _N), 0.25: (28, 36, 45, 56, _N, _N, _N),
@@ -253,9 +267,9 @@ def iso_limits(
     d1 = diameter - 1.082532 * pitch
 
     position, pd_grade, crest_grade = bolt_class
-    es = _deviation(position, pitch) / 1000.0
-    td2 = _TD2_EXT[rng][pitch][pd_grade - 3] / 1000.0
-    td = _TD[pitch][(4, 6, 8).index(crest_grade)] / 1000.0
+    es = _um_to_mm(_deviation(position, pitch))
+    td2 = _um_to_mm(_TD2_EXT[rng][pitch][pd_grade - 3])
+    td = _um_to_mm(_TD[pitch][(4, 6, 8).index(crest_grade)])
     d_max, d2_max = diameter + es, d2 + es
     d2_min = d2_max - td2
     r = 0.125 * pitch
@@ -273,9 +287,9 @@ def iso_limits(
     }
 
     position, pd_grade, crest_grade = nut_class
-    ei = _deviation(position, pitch) / 1000.0
-    td2n = _TD2[rng][pitch][pd_grade - 4] / 1000.0
-    td1 = _TD1[pitch][crest_grade - 4] / 1000.0
+    ei = _um_to_mm(_deviation(position, pitch))
+    td2n = _um_to_mm(_TD2[rng][pitch][pd_grade - 4])
+    td1 = _um_to_mm(_TD1[pitch][crest_grade - 4])
     nut_d2_max = d2 + ei + td2n
     nut = {
         "major": (_mm(diameter + ei), _mm(_mm(nut_d2_max) + 0.793857 * pitch, ROUND_FLOOR)),

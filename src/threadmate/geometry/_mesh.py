@@ -59,6 +59,7 @@ __all__ = [
     "DEFAULT_CHORD",
     "TessellatedBody",
     "bolt_mesh",
+    "check_chord",
     "nut_mesh",
     "thread_meshes",
     "mesh_deviation",
@@ -137,7 +138,7 @@ def bolt_mesh(spec: ThreadSpec, chord: float | None = None) -> TessellatedBody:
     TessellatedBody
         The mesh and its verified deviation bound.
     """
-    chord = _chord(spec, chord)
+    chord = check_chord(spec, chord)
     return _tessellate(bolt_body(spec), chord, _BOLT_GRID)
 
 
@@ -147,7 +148,7 @@ def nut_mesh(spec: ThreadSpec, chord: float | None = None) -> TessellatedBody:
     The threaded bore, the flat top face (``surface``) at z = 0, the bottom face and the
     outer cylinder at ``nut.outer_radius``. See :func:`bolt_mesh` for the parameters.
     """
-    chord = _chord(spec, chord)
+    chord = check_chord(spec, chord)
     return _tessellate(nut_body(spec), chord, _NUT_GRID)
 
 
@@ -158,7 +159,7 @@ def thread_meshes(spec: ThreadSpec,
     The contact, sweep and command-line stages call this repeatedly; the meshes are built
     once per process. Do not modify the returned meshes in place (copy them).
     """
-    return _cached_pair(spec, _chord(spec, chord))
+    return _cached_pair(spec, check_chord(spec, chord))
 
 
 def mesh_deviation(mesh: trimesh.Trimesh, body: ThreadBody) -> float:
@@ -203,7 +204,16 @@ _BOLT_GRID = _Grid(residue=1, turn=0.0)
 _NUT_GRID = _Grid(residue=3, turn=_NUT_GRID_TURN)
 
 
-def _chord(spec: ThreadSpec, chord: float | None) -> float:
+def check_chord(spec: ThreadSpec, chord: float | None) -> float:
+    """The chord tolerance to mesh ``spec`` with: ``chord`` checked (a positive length
+    within the finest and coarsest the meshes accept, in pitches), or the default of the
+    spec's units. The one check of a chord: the mesh, the sweep and the commands use it.
+
+    Raises
+    ------
+    InputError
+        Naming the chord and the range it must lie in.
+    """
     if not isinstance(spec, ThreadSpec):
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     if chord is None:
@@ -424,10 +434,11 @@ def _build(body: ThreadBody, stations: NDArray[np.float64], crossings: NDArray[n
         caps.append(np.column_stack([np.full(n_mer, c_lo), bottom[nxt], bottom]))
         caps.append(np.column_stack([np.full(n_mer, c_hi), top, top[nxt]]))
     else:
+        assert body.outer_radius is not None  # a nut body has its outer cylinder
         r_out = float(body.outer_radius)
         sag = 2.0 * math.acos(max(-1.0, 1.0 - _SAGITTA_SHARE * chord / r_out))
         n_out = _prime(math.ceil(TWO_PI / sag), 3)
-        phi = TWO_PI / n_out * (np.arange(n_out) + _NUT_GRID_TURN)
+        phi = TWO_PI / n_out * (np.arange(n_out, dtype=np.float64) + _NUT_GRID_TURN)
         ring = np.column_stack([r_out * np.cos(phi), r_out * np.sin(phi)])
         o_lo = n_vert + np.arange(n_out)
         o_hi = o_lo + n_out

@@ -21,7 +21,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, SupportsFloat, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -153,10 +153,16 @@ class Profile:
             )
 
     # -- evaluation --------------------------------------------------------------------
-    def radius(self, t: ArrayLike) -> NDArray[np.float64]:
+    @overload
+    def radius(self, t: float) -> np.float64: ...
+    @overload
+    def radius(self, t: ArrayLike) -> NDArray[np.float64]: ...
+
+    def radius(self, t: ArrayLike) -> NDArray[np.float64] | np.float64:
         """Exact profile radius ``R(t)`` (any ``t``; wrapped into one pitch)."""
         if np.ndim(t) == 0:  # the contact code asks one point at a time
-            return np.float64(self._radius_at(abs(_wrap1(float(t), self.pitch))))
+            t0 = float(cast("SupportsFloat", t))  # a number or a 0-d array
+            return np.float64(self._radius_at(abs(_wrap1(t0, self.pitch))))
         u = np.abs(wrap_t(t, self.pitch))
         a1, a2, a3, a4 = self.breakpoints
         ch, cl = self.centre_hi, self.centre_lo
@@ -170,10 +176,15 @@ class Profile:
             np.full_like(u, self.r_lo),
         )
 
-    def slope(self, t: ArrayLike) -> NDArray[np.float64]:
+    @overload
+    def slope(self, t: float) -> np.float64: ...
+    @overload
+    def slope(self, t: ArrayLike) -> NDArray[np.float64]: ...
+
+    def slope(self, t: ArrayLike) -> NDArray[np.float64] | np.float64:
         """``dR/dt`` of the exact profile."""
         if np.ndim(t) == 0:
-            w = _wrap1(float(t), self.pitch)
+            w = _wrap1(float(cast("SupportsFloat", t)), self.pitch)
             return np.float64(self._slope_at(abs(w)) * (-1.0 if w < 0 else 1.0))
         t = wrap_t(t, self.pitch)
         u = np.abs(t)

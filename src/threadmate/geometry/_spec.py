@@ -21,6 +21,13 @@ from .._validate import check_length, check_number, check_range
 
 __all__ = ["BoltSpec", "NutSpec", "ThreadSpec", "load_spec", "save_spec", "UNITS"]
 
+def filled(value: float | None) -> float:
+    """A length that :class:`ThreadSpec` fills in (``bolt.length``, ``nut.height``,
+    ``nut.outer_radius``), as a float: on a constructed spec it is never None."""
+    assert value is not None, "a constructed ThreadSpec fills in every length"
+    return float(value)
+
+
 #: Length units a spec may declare.
 UNITS = ("in", "mm")
 
@@ -173,12 +180,12 @@ def _no_unknown(data: dict[str, Any], allowed: set[str], prefix: str) -> None:
         raise SpecError(f"unknown spec key '{prefix}{unknown[0]}'")
 
 
-def _body(data: Any, name: str, cls: type) -> Any:
+def _body(data: Any, name: str, cls: type[BoltSpec] | type[NutSpec]) -> Any:
     if not isinstance(data, dict):
         raise SpecError(f"spec key '{name}' must be a table of diameters")
     fields = set(cls.__dataclass_fields__)
     _no_unknown(data, fields, f"{name}.")
-    values: dict[str, float | None] = {}
+    values: dict[str, float] = {}
     for key in fields:
         if key in data and data[key] is not None:
             values[key] = _number(data[key], f"{name}.{key}")

@@ -126,7 +126,7 @@ def _q(x: float | Decimal, places: int, mode: str = ROUND_HALF_EVEN) -> Decimal:
 
 # Allowances (1A, 2A) where the published B1.1 tables depart from 0.3 x Td2(2A) rounded
 # (5/8-11: 0.3 x 0.005501 = 0.00165 is tabulated 0.0016; #12-32: 0.0009 for 0.00096).
-_PUBLISHED_ALLOWANCE = {
+_PUBLISHED_ALLOWANCE: dict[tuple[Decimal, float], Decimal] = {
     (Decimal("0.6250"), 11): Decimal("0.0016"),
     (Decimal("0.2160"), 32): Decimal("0.0009"),
 }

@@ -142,17 +142,36 @@ def write_part(path: str | Path, index: int, table: pa.Table) -> Path:
     return target
 
 
-def remove_stale_temporaries(path: str | Path) -> None:
-    """Remove temporary files a killed sweep left behind (they hold no finished rows)."""
-    for p in Path(path).glob(".part-*.tmp"):
-        p.unlink(missing_ok=True)
+def _check_parts(path: Path, meta: dict[str, Any], parts: list[Path]) -> None:
+    """Refuse files that do not belong to the library: Parquet files not named as its
+    parts, and parts written for another library (their schema names another id)."""
+    strays = sorted(p.name for p in path.iterdir()
+                    if p.suffix == ".parquet" and not _PART.match(p.name))
+    if strays:
+        raise LibraryError(f"{path / strays[0]} does not belong to the library (its parts "
+                           "are named part-NNNNN.parquet): move it out of the directory")
+    wanted = meta.get("library_id")
+    if wanted is None:
+        return
+    for part in parts:
+        try:
+            raw = (pq.read_schema(part).metadata or {}).get(SCHEMA_KEY)
+            found = json.loads(raw).get("library_id") if raw else None
+        except (pa.ArrowInvalid, OSError, ValueError) as exc:
+            raise LibraryError(f"{part} is corrupt or not Parquet: {exc}") from None
+        if found != wanted:
+            raise LibraryError(f"{part} does not belong to the library: it was written for "
+                               "another one (copied in by hand?); move it out of the "
+                               "directory")
 
 
 def _dataset(path: Path) -> ds.Dataset:
     parts = part_files(path)
+    meta = read_metadata(path)
+    _check_parts(path, meta, parts)
     try:
         return ds.dataset([str(p) for p in parts], format="parquet",
-                          schema=library_schema(read_metadata(path)))
+                          schema=library_schema(meta))
     except (pa.ArrowInvalid, OSError) as exc:
         raise LibraryError(f"{path} holds a corrupt or foreign part: {exc}") from None
 

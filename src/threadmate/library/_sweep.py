@@ -19,10 +19,15 @@ import contextlib
 import datetime as _dt
 import functools
 import math
+import multiprocessing
 import os
+import re
 import shutil
+import signal
 import tempfile
 import threading
+import time
+import uuid
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,9 +38,10 @@ import pandas as pd
 import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
+from .._io import remove_stale_temporaries
 from .._version import __version__
 from ..contact import CONTINUATION_STEP, Compliance, blank_row, check_continuation
-from ..geometry import ThreadSpec
+from ..geometry import ThreadSpec, check_chord
 from ._grid import Grid, Values
 from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_TURNS, states_of_held_tilt
 from ._store import (
@@ -49,7 +55,6 @@ from ._store import (
     load,
     next_part_index,
     read_metadata,
-    remove_stale_temporaries,
     write_metadata,
     write_part,
 )
@@ -178,14 +183,35 @@ class _InProcess:
         pass
 
 
+def _watch_parent(pids: Any) -> None:
+    """Pool-worker initialiser: report this worker's pid, and exit when the sweep that
+    started it dies (a SIGKILL leaves no chance to stop the pool; without this its
+    workers would finish their chunk, minutes of work, for nobody)."""
+    pids.put(os.getpid())
+    parent = os.getppid()
+
+    def watch() -> None:
+        while True:
+            time.sleep(1.0)
+            if os.getppid() != parent:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="threadmate-parent-watch", daemon=True).start()
+
+
 class _Pool:
-    """A local process pool; each process keeps its own analyser."""
+    """A local process pool; each process keeps its own worker state and exits with the
+    sweep."""
 
     def __init__(self, workers: int) -> None:
         self.slots = workers
         self.window = 2 * workers
         self.description = f"process pool of {workers}"
-        self.pool = cf.ProcessPoolExecutor(max_workers=workers)
+        context = multiprocessing.get_context()
+        self._pids = context.SimpleQueue()
+        self.pool = cf.ProcessPoolExecutor(max_workers=workers, mp_context=context,
+                                           initializer=_watch_parent,
+                                           initargs=(self._pids,))
 
     def submit(self, job: Job, ids: list[int]) -> cf.Future:
         return self.pool.submit(run_chunk, job, ids)
@@ -195,19 +221,25 @@ class _Pool:
         return done
 
     def close(self, cancel: bool) -> None:
-        if cancel:
-            # Chunks still running would only be thrown away: stop their processes now
-            # (the pool keeps them in a private mapping; without it they finish and exit).
-            processes = dict(getattr(self.pool, "_processes", None) or {})
-            self.pool.shutdown(wait=False, cancel_futures=True)
-            for proc in processes.values():
-                with contextlib.suppress(Exception):
-                    proc.terminate()
-            for proc in processes.values():
-                with contextlib.suppress(Exception):
-                    proc.join(timeout=5)
-        else:
+        if not cancel:
             self.pool.shutdown(wait=True)
+            return
+        # Chunks still running would only be thrown away: stop their processes now.
+        pids = []
+        while not self._pids.empty():
+            pids.append(self._pids.get())
+        self.pool.shutdown(wait=False, cancel_futures=True)
+        for pid in pids:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGTERM)
+        deadline = time.monotonic() + 5.0
+        for pid in pids:
+            while time.monotonic() < deadline:
+                try:
+                    os.kill(pid, 0)
+                except OSError:
+                    break
+                time.sleep(0.05)
 
 
 class _Dask:
@@ -278,6 +310,20 @@ def _check_execution(workers: int | None, scheduler: str | None) -> None:
     if scheduler is not None and not isinstance(scheduler, str):
         raise InputError(f"--scheduler must be an address, 'local' or 'pool', got "
                          f"{scheduler!r}")
+    if scheduler is not None and scheduler.strip():
+        _check_scheduler(scheduler)
+
+
+#: A Dask scheduler address: ``tcp://host:port`` (or another protocol), or ``host:port``.
+_ADDRESS = re.compile(r"^([a-z][a-z0-9+.-]*://)?[A-Za-z0-9_.\-\[\]:]+:\d+$")
+
+
+def _check_scheduler(scheduler: str) -> str:
+    text = scheduler.strip()
+    if text in ("local", "pool") or _ADDRESS.match(text):
+        return text
+    raise InputError(f"--scheduler {scheduler!r} is not 'pool', 'local' or a Dask scheduler "
+                     "address such as tcp://host:8786")
 
 
 def _executor(workers: int | None, scheduler: str | None) -> Any:
@@ -302,12 +348,6 @@ def _describe_analyzer(factory: Callable[..., Any] | None) -> str:
     return f"{module}.{name}" if module else name
 
 
-def _default_chord(units: str) -> float:
-    from ..geometry import DEFAULT_CHORD
-
-    return float(DEFAULT_CHORD[units])
-
-
 def _request_metadata(job: Job) -> dict[str, Any]:
     meta: dict[str, Any] = {
         "format": FORMAT,
@@ -321,6 +361,8 @@ def _request_metadata(job: Job) -> dict[str, Any]:
         "grid": job.grid.to_dict(),
         "mesh": {"chord": job.chord, "max_deviation": None},
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        # Every part carries this id in its schema: a part of another library is told.
+        "library_id": uuid.uuid4().hex,
     }
     if job.model == "mechanics":
         meta["compliance"] = job.compliance.to_dict()
@@ -417,7 +459,8 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
         one held tilt.
     chord : float, optional
         Chord tolerance of the meshes (spec units; default that of
-        :mod:`threadmate.geometry`). At most a tenth of the pitch.
+        :mod:`threadmate.geometry`), within the range the meshes accept
+        (:func:`threadmate.geometry.check_chord`).
     model : {"mechanics", "thesis"}
         What each configuration runs through (see above).
     compliance : Compliance, optional
@@ -453,14 +496,7 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
     if not isinstance(spec, ThreadSpec):
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     grid = Grid.parse(roll, pitch, phase)
-    if chord is None:
-        chord = _default_chord(spec.units)
-    if isinstance(chord, bool) or not isinstance(chord, int | float) \
-            or not math.isfinite(chord) or chord <= 0:
-        raise InputError(f"--chord must be a positive length, got {chord!r}")
-    if chord > spec.pitch / 10:
-        raise InputError(f"--chord {chord:g} is too coarse for pitch {spec.pitch:g} "
-                         f"{spec.units}: give at most a tenth of the pitch")
+    chord = check_chord(spec, chord)  # the meshes' own check, before anything is written
     if model not in MODELS:
         raise InputError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
     if compliance is None:
@@ -524,8 +560,7 @@ def write_library(records: pd.DataFrame | list[dict[str, Any]],
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     if model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
-    job = Job(spec, Grid.parse(roll, pitch, phase),
-              float(_default_chord(spec.units) if chord is None else chord), model,
+    job = Job(spec, Grid.parse(roll, pitch, phase), check_chord(spec, chord), model,
               compliance or Compliance(), float(step), float(phase_tolerance))
     schema = library_schema(model=model)
     frame = pd.DataFrame(records) if not isinstance(records, pd.DataFrame) else records

@@ -163,13 +163,19 @@ def _records(rows: pd.DataFrame, columns: tuple[str, ...],
     return [dict(zip(names, row, strict=True)) for row in zip(*values, strict=True)]
 
 
+def _phase_key(phase: float) -> float:
+    """A phase to match states at one grid phase by (a continuation that summed its turns
+    may land a hair below 360 for phase 0)."""
+    return round(phase, 6) % 360.0 + 0.0
+
+
 def _add_tilt_steps(graph: nx.DiGraph, rows: pd.DataFrame, meta: dict[str, Any],
                     force: float, move_penalty: float) -> None:
     """Active moves: from each rest state at a grid phase to the first contact of a
     neighbouring held tilt at that phase."""
     grid = Grid.from_dict(meta["grid"])
     first = rows[rows["role"] == "first-contact"]
-    arrive = {(r, p, round(ph, 6)): (sid, z) for sid, r, p, ph, z in zip(
+    arrive = {(r, p, _phase_key(ph)): (sid, z) for sid, r, p, ph, z in zip(
         first["state_id"], first["held_roll"], first["held_pitch"], first["phase"],
         first["centre_z"], strict=True)}
     metres = to_metres(1.0, meta["units"])
@@ -187,7 +193,7 @@ def _add_tilt_steps(graph: nx.DiGraph, rows: pd.DataFrame, meta: dict[str, Any],
                 if not 0 <= j < len(values):
                     continue
                 tilt = (values[j], p) if axis == 0 else (r, values[j])
-                target = arrive.get((tilt[0], tilt[1], round(ph, 6)))
+                target = arrive.get((tilt[0], tilt[1], _phase_key(ph)))
                 if target is None:
                     continue
                 lift = max(0.0, target[1] - z) * metres

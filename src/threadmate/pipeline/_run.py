@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .._io import atomic_write_text
+from .._io import atomic_write_text, remove_stale_temporaries
 from .._version import __version__
 from ..contact import CONTINUATION_STEP, Compliance
 from ..geometry import ThreadSpec
@@ -115,6 +115,8 @@ def run_pipeline(
     compare stiffnesses or forces: one library each, one recommendation over all).
     """
     out = Path(out)
+    for folder in (out, out / "figures"):
+        remove_stale_temporaries(folder)  # left by a run killed while writing
     grid = {"roll": RUN_GRID["roll"] if roll is None else roll,
             "pitch": RUN_GRID["pitch"] if pitch is None else pitch,
             "phase": RUN_GRID["phase"] if phase is None else phase}
