@@ -132,3 +132,33 @@ def test_chord_out_of_the_meshes_range_is_refused_before_anything_is_written(
     with pytest.raises(InputError, match="chord"):
         library.sweep(quarter_20, "0", "0", "0", out=tmp_path / "lib", chord=chord)
     assert not (tmp_path / "lib").exists()
+
+
+def _all_commands(group, prefix=()):
+    import click
+
+    for name, cmd in group.commands.items():
+        if isinstance(cmd, click.Group):
+            yield from _all_commands(cmd, (*prefix, name))
+        else:
+            yield (*prefix, name), cmd
+
+
+def test_every_command_takes_the_same_condition_spellings(capsys):
+    from threadmate.cli._main import _register, cli
+
+    _register()
+
+    with_condition = {" ".join(path): cmd for path, cmd in _all_commands(cli)
+                      if any(p.name == "condition" for p in cmd.params)}
+    assert {"thread", "planar", "mesh", "contact", "settle", "search", "sweep",
+            "run"} <= set(with_condition)
+    for cmd in with_condition.values():
+        option = next(p for p in cmd.params if p.name == "condition")
+        for spelling, canonical in (("MMC", "max"), ("maximum", "max"), ("lmc", "min"),
+                                    ("Minimum", "min"), ("mid", "mean"), ("mean", "mean")):
+            assert option.type.convert(spelling, option, None) == canonical
+    # And the command line agrees: the same limits for two spellings of one condition.
+    _, a, _ = run_cli(capsys, "thread", DESIGNATION, "--condition", "mmc", "--json")
+    _, b, _ = run_cli(capsys, "thread", DESIGNATION, "--condition", "max", "--json")
+    assert a == b

@@ -15,6 +15,7 @@ from ..contact import MAX_TILT, ContactAnalyzer, ContactResult
 from ..geometry import DEFAULT_CHORD, check_chord
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._main import cli
+from ._options import condition_option
 
 __all__ = ["contact"]
 
@@ -97,8 +98,7 @@ spec's units.
 @click.option("--compliance-z", type=float, default=0.0, show_default=True,
               help=f"Compliance centre on the bolt axis, bolt frame, in the spec's units "
                    f"(0: the tip centre; within +/-{MAX_LENGTH:g}).")
-@click.option("--condition", type=click.Choice(["mean", "max", "min"]), default="mean",
-              show_default=True, help="Material condition at which a designation expands.")
+@condition_option
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON document on stdout instead of text.")
 def contact(spec_text: str, roll: float, pitch: float, phase: float, chord: float | None,

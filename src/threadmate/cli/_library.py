@@ -28,7 +28,7 @@ from ..library import (
 )
 from ._common import SPEC_HELP, emit_json, resolve_spec
 from ._main import cli
-from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_options
+from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_options, condition_option
 
 __all__ = ["sweep_command", "library_group"]
 
@@ -189,8 +189,7 @@ N/m, lengths in the spec's units, angles in degrees.
 @click.option("--chunk-size", type=int, default=None,
               help="Thesis model: configurations per chunk, i.e. per Parquet part (default: "
                    "automatic). A mechanics chunk is one held tilt.")
-@click.option("--condition", type=click.Choice(["mean", "max", "min"]), default="mean",
-              show_default=True, help="Material condition at which a designation expands.")
+@condition_option
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON document on stdout instead of text.")
 @click.pass_context

@@ -32,7 +32,12 @@ from ..geometry import ThreadSpec, check_chord
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._library import _progress_bar
 from ._main import cli
-from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_option_list
+from ._options import (
+    DEFAULTS_NOTE,
+    compliance_from_options,
+    compliance_option_list,
+    condition_option,
+)
 
 __all__ = ["search_command", "settle_command", "plot_search"]
 
@@ -62,9 +67,7 @@ def _mechanics_options(func: Callable[..., Any]) -> Callable[..., Any]:
         click.option("--chord", type=float, default=None,
                      help="Chord tolerance of the meshes in the spec's length units "
                           "(default 5e-6 in, 1.27e-4 mm)."),
-        click.option("--condition", type=click.Choice(["mean", "max", "min"]),
-                     default="mean", show_default=True,
-                     help="Material condition at which a designation expands."),
+        condition_option,
         click.option("--json", "as_json", is_flag=True,
                      help="Print one JSON document on stdout instead of text."),
     ]

@@ -11,6 +11,7 @@ from .._io import atomic_path
 from ..geometry import DEFAULT_CHORD, stl_header, thread_meshes, write_stl
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory, write_failed
 from ._main import cli
+from ._options import condition_option
 
 __all__ = ["mesh", "mesh_document"]
 
@@ -53,9 +54,7 @@ def mesh_document(text: str, out_dir: str | Path, chord: float | None = None,
 @click.option("--chord", type=float, default=None,
               help=f"Largest distance from the mesh to the exact surface, in the spec's units "
                    f"(default {DEFAULT_CHORD['in']:g} in, {DEFAULT_CHORD['mm']:g} mm).")
-@click.option("--condition", type=click.Choice(["mean", "max", "min"], case_sensitive=False),
-              default="mean", show_default=True,
-              help="Material condition at which a designation expands into a spec.")
+@condition_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
 def mesh(designation: str, out_dir: Path, chord: float | None, condition: str,
          as_json: bool) -> None:

@@ -14,9 +14,11 @@ import click
 
 from .._errors import InputError
 from ..contact import Compliance
+from ..geometry import material_condition
 
 __all__ = ["COMPLIANCE_PARAMETERS", "DEFAULTS_NOTE", "compliance_from_options",
-           "compliance_option_list", "compliance_options", "parse_stiffness"]
+           "compliance_option_list", "compliance_options", "condition_option",
+           "parse_stiffness"]
 
 #: The defaults of the options are those of :class:`Compliance`.
 _D = Compliance()
@@ -86,3 +88,28 @@ def compliance_from_options(force: float, stiffness_text: str,
     return Compliance(force=force, stiffness=parse_stiffness(stiffness_text),
                       lateral_stiffness=lateral_stiffness, compliance_z=compliance_z,
                       friction=friction)
+
+
+class _Condition(click.ParamType):
+    """A material condition in any spelling the geometry accepts (max, maximum, mmc; mean,
+    mid, middle; min, minimum, lmc; any case), normalised to max, mean or min."""
+
+    name = "condition"
+
+    def convert(self, value: Any, param: click.Parameter | None,
+                ctx: click.Context | None) -> str:
+        try:
+            return material_condition(value)
+        except InputError as exc:
+            self.fail(str(exc), param, ctx)
+
+
+def condition_option(func: Callable[..., Any]) -> Callable[..., Any]:
+    """``--condition``: the same spellings for every command that expands a designation."""
+    return click.option(
+        "--condition", type=_Condition(), default="mean", show_default=True,
+        metavar="max|mean|min",
+        help="Material condition at which a designation expands: max (maximum material: "
+             "largest bolt, smallest nut; also maximum, mmc), mean (mid-limits; also mid) or "
+             "min (also minimum, lmc).")(func)
+

@@ -21,6 +21,7 @@ from ..planar import (
 )
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_output, write_failed
 from ._main import cli
+from ._options import condition_option
 
 __all__ = ["planar"]
 
@@ -47,8 +48,7 @@ angles in degrees.
 @click.option("--phase", type=float, default=DEFAULT_PHASE, show_default=True,
               help="Bolt phase in degrees (any finite value, taken modulo 360). The default "
                    "is the thesis's example phase, where two contacts show.")
-@click.option("--condition", type=click.Choice(["mean", "max", "min"]), default="mean",
-              show_default=True, help="Material condition at which a designation expands.")
+@condition_option
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON document on stdout instead of text.")
 @click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), default=None,

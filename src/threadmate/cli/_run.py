@@ -14,7 +14,7 @@ from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID, run_pipeline
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
 from ._library import _RANGE_HELP, _progress_bar
 from ._main import cli
-from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_options
+from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_options, condition_option
 
 
 def _values(text: str | None, option: str) -> list[float]:
@@ -57,8 +57,7 @@ on held roll {RUN_GRID['roll']}, pitch {RUN_GRID['pitch']}, phase {RUN_GRID['pha
 @click.option("--chord", type=float, default=None, help="Mesh chord tolerance (spec units).")
 @click.option("--roll-spread", type=float, default=None,
               help="Roll errors to expect, +/- degrees (default: the whole grid).")
-@click.option("--condition", type=click.Choice(["mean", "max", "min"]), default="mean",
-              show_default=True, help="Material condition at which a designation expands.")
+@condition_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
 def run_command(spec_text: str, out: Path, roll: str | None, pitch: str | None,
                 phase: str | None, force: float, stiffness_text: str,

@@ -6,10 +6,11 @@ from typing import Any
 
 import click
 
-from ..geometry import MATERIAL_CONDITIONS, ThreadSpec, load_spec, spec_from_designation
+from ..geometry import ThreadSpec, load_spec, spec_from_designation
 from ..geometry import thread_limits as _thread_limits
 from ._common import SPEC_HELP, emit_json, is_spec_path
 from ._main import cli
+from ._options import condition_option
 
 __all__ = ["thread", "thread_document"]
 
@@ -80,19 +81,10 @@ def _format(doc: dict[str, Any]) -> str:
 
 @cli.command("thread", help=f"Limits of size of a thread pair and its expanded spec. {SPEC_HELP}")
 @click.argument("designation", metavar="DESIGNATION|SPEC")
-@click.option(
-    "--condition",
-    type=click.Choice(["mean", "max", "min", "maximum", "minimum"], case_sensitive=False),
-    default="mean",
-    show_default=True,
-    help="Material condition of the expanded spec: max (largest bolt, smallest nut), "
-    "min (smallest bolt, largest nut) or mean (midpoint of every limit).",
-)
+@condition_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
 def thread(designation: str, condition: str, as_json: bool) -> None:
     """Print the limits of size (designation) or the values (spec file) of a thread pair."""
-    condition = {"maximum": "max", "minimum": "min"}.get(condition.lower(), condition.lower())
-    assert condition in MATERIAL_CONDITIONS
     doc = thread_document(designation, condition)
     if as_json:
         emit_json(doc)

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass
-from typing import Any
+from typing import Any, cast
 
 from .._errors import InputError
 
@@ -115,12 +115,12 @@ class Compliance:
     @property
     def roll_stiffness(self) -> float:
         """Rotational stiffness about X (N m/rad)."""
-        return self.stiffness[0]  # type: ignore[index]
+        return cast("tuple[float, float]", self.stiffness)[0]  # a pair once constructed
 
     @property
     def pitch_stiffness(self) -> float:
         """Rotational stiffness about the pitch axis (N m/rad)."""
-        return self.stiffness[1]  # type: ignore[index]
+        return cast("tuple[float, float]", self.stiffness)[1]
 
     @property
     def held_laterally(self) -> bool:

@@ -124,11 +124,13 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
             stationary = True
     # Cycling at a degenerate vertex (a flat face on a face: more touching rows than
     # coordinates): a general solver on the scaled problem, the forces by non-negative
-    # least squares on the rows it leaves touching.
-    res = minimize(lambda v: 0.5 * v @ H @ v + c @ v, x, jac=lambda v: H @ v + c,
-                   constraints=[{"type": "ineq", "fun": lambda v: G @ v + gap,
-                                 "jac": lambda v: G}], method="SLSQP",
-                   options={"ftol": 1e-16, "maxiter": 1000})
+    # least squares on the rows it leaves touching. (scipy-stubs types a constraint's
+    # "fun" as scalar-valued and its "jac" as 1-D: SLSQP takes a vector inequality with
+    # its Jacobian matrix, as here.)
+    res = minimize(  # type: ignore[call-overload]
+        lambda v: 0.5 * v @ H @ v + c @ v, x, jac=lambda v: H @ v + c,
+        constraints=[{"type": "ineq", "fun": lambda v: G @ v + gap, "jac": lambda v: G}],
+        method="SLSQP", options={"ftol": 1e-16, "maxiter": 1000})
     x = res.x
     slack = G @ x + gap
     active = np.flatnonzero(slack <= 1e-9 * (float(np.abs(G @ x).max(initial=0.0))

@@ -110,12 +110,12 @@ STATE_COLUMNS: tuple[Column, ...] = (
 )
 
 
-def state_schema(metadata: dict[bytes, bytes] | None = None) -> pa.Schema:
+def state_schema(metadata: dict[bytes | str, bytes | str] | None = None) -> pa.Schema:
     """The Arrow schema of a state record (with ``metadata`` attached)."""
     return pa.schema([pa.field(c.name, c.type) for c in STATE_COLUMNS], metadata=metadata)
 
 
-def thesis_schema(metadata: dict[bytes, bytes] | None = None) -> pa.Schema:
+def thesis_schema(metadata: dict[bytes | str, bytes | str] | None = None) -> pa.Schema:
     """``config_id``, the thesis record (:func:`record_schema`), then ``error``."""
     fields = [pa.field("config_id", _I), *record_schema(), pa.field("error", _S)]
     return pa.schema(fields, metadata=metadata)

@@ -8,12 +8,15 @@ docs/architecture.md, with the types of :func:`record_schema`; missing values ar
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
-from typing import Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import pyarrow as pa
 
 from ..geometry import Pose
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 __all__ = ["Contact", "StageResult", "ContactResult", "record_schema", "STAGES",
            "CLASSIFICATIONS"]
@@ -49,7 +52,7 @@ class RegionPair:
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""
         return {f.name: list(v) if isinstance(v, tuple) else v
-                for f in fields(self)  # type: ignore[arg-type]
+                for f in fields(cast("DataclassInstance", self))  # every subclass is one
                 for v in [getattr(self, f.name)]}
 
 

@@ -208,10 +208,12 @@ class Continuation:
             if self._continuous(prev, cur):
                 if signature(cur) != signature(prev):
                     before = signature(prev)
-                    lo, hi, s_lo, s_hi = self._bisect(
-                        phase, at, nxt, prev, cur,
-                        lambda a, b, before=before: (signature(b) == before
-                                                     and self._continuous(a, b)))
+
+                    def same(a: MechanicalState, b: MechanicalState,
+                             before: tuple[str, ...] = before) -> bool:
+                        return signature(b) == before and self._continuous(a, b)
+
+                    lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, same)
                     events.append(SearchEvent(phase + sign * 0.5 * (lo + hi),
                                               "contact-change", prev.region_combination,
                                               s_hi.region_combination,

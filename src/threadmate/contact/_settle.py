@@ -533,9 +533,9 @@ class Mechanics:
                           0.0 if c.gap <= self.touching else float(c.gap), c.bolt_region,
                           c.nut_region, c.bolt_feature, c.nut_feature)
             for c, f, t in zip(near, forces, twin, strict=True) if not t)
-        rot = tuple(_vec(r) for r in d.rotation)
+        rot = (_vec(d.rotation[0]), _vec(d.rotation[1]), _vec(d.rotation[2]))
         return MechanicalState(kind, cls, float(phase), math.degrees(tilt[0]),
-                               math.degrees(tilt[1]), _vec(pose.origin), rot,  # type: ignore[arg-type]
+                               math.degrees(tilt[1]), _vec(pose.origin), rot,
                                _vec(centre), contacts,
                                1e3 * self.potential(d.zc, tilt, d.xy, held), torque, friction,
                                turn)
@@ -752,6 +752,7 @@ def _single_linkage(points: NDArray[np.float64], separation: float) -> NDArray[n
     n = len(points)
     if n == 1:
         return np.zeros(1, dtype=np.intp)
+    labels: NDArray[np.integer]
     if n > 400:  # a broad patch: the links from a k-d tree, as a sparse graph
         pairs = cKDTree(points).query_pairs(separation, output_type="ndarray").reshape(-1, 2)
         graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))

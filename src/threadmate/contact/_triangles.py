@@ -212,6 +212,7 @@ def cluster_segments(segments: IntersectionSegments, separation: float) -> NDArr
     if n == 0:
         return np.empty(0, dtype=np.intp)
     pts = np.concatenate([segments.start, segments.end])
+    labels: NDArray[np.integer]
     if n <= 64:  # a few pairs: union-find beats building a sparse graph
         links = cKDTree(pts).query_pairs(separation, output_type="ndarray").reshape(-1, 2)
         parent = list(range(n))
@@ -237,12 +238,12 @@ def cluster_segments(segments: IntersectionSegments, separation: float) -> NDArr
     return order[inverse].astype(np.intp)
 
 
-def _components(count: int, links: NDArray[np.intp]) -> NDArray[np.intp]:
+def _components(count: int, links: NDArray[np.integer]) -> NDArray[np.int32]:
     graph = coo_matrix((np.ones(len(links)), (links[:, 0], links[:, 1])), shape=(count, count))
     return connected_components(graph, directed=False)[1]
 
 
-def _linked(pts: NDArray[np.float64], separation: float) -> NDArray[np.intp]:
+def _linked(pts: NDArray[np.float64], separation: float) -> NDArray[np.int32]:
     """Component label of each point, points within ``separation`` being linked.
 
     Dense contact patches (a tip face flat on the top face: thousands of points) would

@@ -74,7 +74,7 @@ def library_schema(metadata: dict[str, Any] | None = None, model: str | None = N
 
     if model is None:
         model = (metadata or {}).get("model", "mechanics")
-    attached = None if metadata is None else {
+    attached: dict[bytes | str, bytes | str] | None = None if metadata is None else {
         SCHEMA_KEY: json.dumps(metadata, sort_keys=True).encode()}
     return state_schema(attached) if model == "mechanics" else thesis_schema(attached)
 
