@@ -341,16 +341,19 @@ def _fmt(v: Any) -> str:
 @click.option("--roll", type=float, required=True, help="(Held) roll in degrees.")
 @click.option("--pitch", type=float, required=True, help="(Held) pitch in degrees.")
 @click.option("--phase", type=float, required=True, help="Phase in degrees (modulo 360).")
+@click.option("--nearest", is_flag=True,
+              help="Take the nearest grid configuration when the one asked for is off the "
+                   "grid (without it, such a request is refused with the nearest named).")
 @click.option("--json", "as_json", is_flag=True,
               help="Print one JSON document on stdout instead of text.")
-def query_command(library: Path, roll: float, pitch: float, phase: float,
+def query_command(library: Path, roll: float, pitch: float, phase: float, nearest: bool,
                   as_json: bool) -> None:
-    """The stored contact state nearest a configuration (snapped to the grid): the
-    thesis's stages, or the rest state the mechanics' drop reaches."""
+    """The stored contact state of a configuration of the grid: the thesis's stages, or
+    the rest state the mechanics' drop reaches."""
     for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
         if not math.isfinite(value):
             raise InputError(f"--{name} {value:g} is not a finite angle")
-    doc = query(library, roll, pitch, phase)
+    doc = query(library, roll, pitch, phase, nearest=nearest)
     if as_json:
         emit_json(_with_units(doc))
         return

@@ -11,6 +11,7 @@ import click
 
 from .._errors import InputError
 from .._io import atomic_write_text
+from ..contact import MAX_TILT
 from ..network import (
     MAX_K,
     WEIGHT_FORMULA,
@@ -154,8 +155,8 @@ def path_command(library: str, roll: float, pitch: float, phase: float, k: int,
     Without --active it is the passive search from that start (as `threadmate search`
     computes it). Exit status 3 when no path reaches the snap.
     """
-    check_angle("roll", roll, 45.0)
-    check_angle("pitch", pitch, 45.0)
+    check_angle("roll", roll, MAX_TILT)
+    check_angle("pitch", pitch, MAX_TILT)
     check_angle("phase", phase, 1e6)
     if isinstance(k, bool) or not 1 <= k <= MAX_K:
         raise InputError(f"--k {k}: give a whole number from 1 to {MAX_K} (the cost of "

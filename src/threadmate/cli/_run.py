@@ -9,7 +9,7 @@ from pathlib import Path
 import click
 
 from .._errors import InputError
-from ..contact import CONTINUATION_STEP
+from ..contact import CONTINUATION_STEP, MAX_TILT
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID, run_pipeline
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
 from ._library import _RANGE_HELP, _progress_bar
@@ -68,8 +68,9 @@ def run_command(spec_text: str, out: Path, roll: str | None, pitch: str | None,
     """The main job (help text above)."""
     if workers is not None and workers < 1:
         raise InputError(f"--workers {workers} must be at least 1")
-    if roll_spread is not None and not (0 <= roll_spread <= 45):
-        raise InputError(f"--roll-spread {roll_spread:g} must be within 0..45 degrees")
+    if roll_spread is not None and not (0 <= roll_spread <= MAX_TILT):
+        raise InputError(f"--roll-spread {roll_spread:g} must be within 0..{MAX_TILT:g} "
+                         "degrees")
     writable_directory(out, "-o")
     base = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
                                    compliance_z)

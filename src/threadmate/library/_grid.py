@@ -14,16 +14,17 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from .._errors import InputError
+from ..contact import MAX_TILT as _CONTACT_MAX_TILT
 
 __all__ = ["Grid", "parse_range", "DEFAULT_GRID", "MAX_TILT"]
 
-#: Largest roll or pitch a grid may hold (degrees), as the contact stages accept.
-MAX_TILT = 45.0
+#: Largest roll or pitch a grid may hold (degrees): the contact package's limit.
+MAX_TILT = _CONTACT_MAX_TILT
 #: Values closer than this (degrees) are one grid value; STOP within it of the last step
 #: is included.
 ANGLE_TOLERANCE = 1e-9
@@ -152,9 +153,11 @@ class Grid:
     def parse(cls, roll: Values = None, pitch: Values = None, phase: Values = None) -> Grid:
         """A grid from text, numbers or sequences; None takes the thesis's values
         (roll and pitch -4..4 by 1, phase 0..355 by 5)."""
-        return cls(DEFAULT_RANGES["roll"] if roll is None else roll,
-                   DEFAULT_RANGES["pitch"] if pitch is None else pitch,
-                   DEFAULT_RANGES["phase"] if phase is None else phase)
+        # The constructor takes any Values: __post_init__ parses them into the tuples.
+        given = (DEFAULT_RANGES["roll"] if roll is None else roll,
+                 DEFAULT_RANGES["pitch"] if pitch is None else pitch,
+                 DEFAULT_RANGES["phase"] if phase is None else phase)
+        return cls(*cast("tuple[tuple[float, ...], ...]", given))
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -215,6 +218,25 @@ class Grid:
         d = np.abs((np.asarray(self.phase) - phase + 180.0) % 360.0 - 180.0)
         k = int(np.argmin(d))
         return self.config_id(i, j, k), (self.roll[i], self.pitch[j], self.phase[k])
+
+    def locate(self, roll: float, pitch: float, phase: float, *, nearest: bool = False
+               ) -> tuple[int, tuple[float, float, float], bool]:
+        """The grid configuration of a request: ``(config_id, grid values, moved)``.
+
+        A request on the grid (phase modulo 360) is itself. One off the grid is refused
+        with the nearest configuration named, unless ``nearest`` is True: then the nearest
+        is taken and ``moved`` is True. The one rule of ``library query`` and ``path``.
+        """
+        cid, on_grid = self.nearest(roll, pitch, phase)
+        moved = not (math.isclose(on_grid[0], roll, abs_tol=ANGLE_TOLERANCE)
+                     and math.isclose(on_grid[1], pitch, abs_tol=ANGLE_TOLERANCE)
+                     and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= ANGLE_TOLERANCE)
+        if moved and not nearest:
+            raise InputError(
+                f"roll {roll:g}, pitch {pitch:g}, phase {phase:g} is not on the library's "
+                f"grid ({self.describe()}); the nearest configuration is roll {on_grid[0]:g}, "
+                f"pitch {on_grid[1]:g}, phase {on_grid[2]:g}: ask for it, or pass --nearest")
+        return cid, on_grid, moved
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping (lists of degrees, the shape and the order rule)."""

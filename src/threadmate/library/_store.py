@@ -123,13 +123,20 @@ def part_files(path: str | Path) -> list[Path]:
     """The part files of a library, in part order."""
     path = Path(path)
     parts = [p for p in path.iterdir() if _PART.match(p.name)]
-    return sorted(parts, key=lambda p: int(_PART.match(p.name).group(1)))
+    return sorted(parts, key=_part_index)
+
+
+def _part_index(part: Path) -> int:
+    """The number of a part file (one that :func:`part_files` lists)."""
+    match = _PART.match(part.name)
+    assert match is not None, f"not a part file: {part.name}"
+    return int(match.group(1))
 
 
 def next_part_index(path: str | Path) -> int:
     """The number of the next part file to write."""
     parts = part_files(path)
-    return int(_PART.match(parts[-1].name).group(1)) + 1 if parts else 0
+    return _part_index(parts[-1]) + 1 if parts else 0
 
 
 def write_part(path: str | Path, index: int, table: pa.Table) -> Path:
@@ -317,8 +324,9 @@ def configurations(library: str | Path | pd.DataFrame) -> pd.DataFrame:
     return out
 
 
-def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str, Any]:
-    """The stored contact state nearest a configuration, without recomputing.
+def query(path: str | Path, roll: float, pitch: float, phase: float, *,
+          nearest: bool = False) -> dict[str, Any]:
+    """The stored contact state of a configuration, without recomputing.
 
     Parameters
     ----------
@@ -326,6 +334,9 @@ def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str
         The library directory.
     roll, pitch, phase : float
         The configuration asked for (degrees; phase modulo 360).
+    nearest : bool
+        Take the nearest grid configuration when the request is off the grid (else
+        :class:`~threadmate.InputError` naming the nearest).
 
     Returns
     -------
@@ -338,10 +349,7 @@ def query(path: str | Path, roll: float, pitch: float, phase: float) -> dict[str
     path = _check_dir(path)
     meta = read_metadata(path)
     grid = Grid.from_dict(meta["grid"])
-    cid, on_grid = grid.nearest(roll, pitch, phase)
-    snapped = not (math.isclose(on_grid[0], roll, abs_tol=1e-9)
-                   and math.isclose(on_grid[1], pitch, abs_tol=1e-9)
-                   and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= 1e-9)
+    cid, on_grid, snapped = grid.locate(roll, pitch, phase, nearest=nearest)
     record = None
     if part_files(path):
         rows = _starts(path, meta, filter=ds.field("config_id") == cid).to_pylist()

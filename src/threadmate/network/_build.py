@@ -232,20 +232,8 @@ def start_node(graph: nx.DiGraph, roll: float, pitch: float, phase: float, *,
     the nearest grid configurations named; with it, the nearest is taken and ``moved`` is
     True.
     """
-    for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
-        if isinstance(value, bool) or not isinstance(value, int | float) \
-                or not math.isfinite(value):
-            raise InputError(f"--{name} must be a finite angle in degrees, got {value!r}")
     grid = Grid.from_dict(json.loads(graph.graph["grid"]))
-    _, on_grid = grid.nearest(roll, pitch, phase)
-    moved = not (math.isclose(on_grid[0], roll, abs_tol=1e-9)
-                 and math.isclose(on_grid[1], pitch, abs_tol=1e-9)
-                 and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= 1e-9)
-    if moved and not nearest:
-        raise InputError(
-            f"roll {roll:g}, pitch {pitch:g}, phase {phase:g} is not a start of the library "
-            f"(grid {grid.describe()}); the nearest is roll {on_grid[0]:g}, pitch "
-            f"{on_grid[1]:g}, phase {on_grid[2]:g}: ask for it, or pass --nearest")
+    _, on_grid, moved = grid.locate(roll, pitch, phase, nearest=nearest)
     node = starts(graph).get(on_grid)
     if node is None:
         raise InputError(f"the library has no start at roll {on_grid[0]:g}, pitch "
