@@ -86,7 +86,7 @@ def planar(spec_text: str, phase: float, condition: str, as_json: bool, plot: Pa
             except OSError as exc:
                 raise write_failed(path, exc) from None
     if as_json:
-        doc = {"units": spec.units}
+        doc: dict[str, Any] = {"units": spec.units}
         if spec.designation:
             doc["designation"] = spec.designation
         doc.update(state.to_dict())
@@ -117,9 +117,9 @@ def _echo_text(spec: ThreadSpec, state: PlanarState, window: list[tuple[float, f
                        f"y {c.y:.6g} {u}, bolt {c.bolt_region} / nut {c.nut_region}, "
                        f"normal (0, 0, 1)")
     click.echo("  critical phases (deg):")
-    for c in critical:
-        before = "in phase" if c.before is None else f"{c.before[0]}/{c.before[1]}"
-        after = "in phase" if c.after is None else f"{c.after[0]}/{c.after[1]}"
-        click.echo(f"    {c.phase:9.4f}  contact {c.contact}: {before} -> {after}")
+    for phase in critical:
+        before = "in phase" if phase.before is None else f"{phase.before[0]}/{phase.before[1]}"
+        after = "in phase" if phase.after is None else f"{phase.after[0]}/{phase.after[1]}"
+        click.echo(f"    {phase.phase:9.4f}  contact {phase.contact}: {before} -> {after}")
     for f in figures:
         click.echo(f"  wrote {f}")

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 import pandas as pd
@@ -75,8 +75,9 @@ def _rows(library: Library) -> pd.DataFrame:
         return library
     from ._store import read_metadata
 
-    model = read_metadata(library)["model"]
-    return load(library, columns=_STATE_COLUMNS if model == "mechanics" else _COLUMNS)
+    path = Path(library)
+    model = read_metadata(path)["model"]
+    return load(path, columns=_STATE_COLUMNS if model == "mechanics" else _COLUMNS)
 
 
 def _model(df: pd.DataFrame) -> str:
@@ -149,7 +150,8 @@ def _counts(values: pd.Series) -> dict[str, int]:
 def _states(rows: pd.DataFrame) -> dict[str, Any]:
     """Counts of every state of a mechanics library and of its passive transitions."""
     by_role_class: dict[str, dict[str, int]] = {}
-    for (role, cls), n in rows.groupby(["role", "classification"]).size().items():
+    for key, n in rows.groupby(["role", "classification"]).size().items():
+        role, cls = cast("tuple[str, str]", key)  # grouped by two columns
         by_role_class.setdefault(str(role), {})[str(cls)] = int(n)
     out: dict[str, Any] = {
         "total": len(rows),
@@ -161,8 +163,8 @@ def _states(rows: pd.DataFrame) -> dict[str, Any]:
         moves = rows[rows["transition"] != ""]
         by_kind: dict[str, dict[str, int]] = {}
         if "transition_label" in moves.columns:
-            for (kind, label), n in moves.groupby(
-                    ["transition", "transition_label"]).size().items():
+            for key, n in moves.groupby(["transition", "transition_label"]).size().items():
+                kind, label = cast("tuple[str, str]", key)  # grouped by two columns
                 by_kind.setdefault(str(kind), {})[str(label)] = int(n)
         out["transitions"] = by_kind
     return out
@@ -206,7 +208,8 @@ def summary(library: Library, phase: float | None = None) -> dict[str, Any]:
     ranked = {c: counts[c] for c in _RANKED.get(model, _RANKED["thesis"])}
     combos = df["region_combination"].replace("", "(none)").value_counts()
     per_orientation = []
-    for (r, p), group in df.groupby(["roll", "pitch"], sort=True):
+    for key, group in df.groupby(["roll", "pitch"], sort=True):
+        r, p = cast("tuple[float, float]", key)  # grouped by two columns
         per_orientation.append({"roll": float(r), "pitch": float(p),
                                 "counts": _counts(group["classification"])})
     meta = rows.attrs.get("threadmate") or {}
@@ -219,10 +222,10 @@ def summary(library: Library, phase: float | None = None) -> dict[str, Any]:
         "done": done,
         "counts": counts,
         "fractions": {c: (v / done if done else 0.0) for c, v in counts.items()},
-        "most_common": max(ranked, key=ranked.get) if done else None,
-        "least_common": min(ranked, key=ranked.get) if done else None,
+        "most_common": max(ranked, key=lambda c: ranked[c]) if done else None,
+        "least_common": min(ranked, key=lambda c: ranked[c]) if done else None,
         "region_combinations": {str(k): int(v) for k, v in combos.items()},
-        "n_contacts": {int(k): int(v) for k, v in
+        "n_contacts": {int(cast("int", k)): int(v) for k, v in
                        df["n_contacts"].value_counts().sort_index().items()},
         "orientations": per_orientation,
     }
@@ -366,7 +369,7 @@ def plot_region_combinations(library: Library, path: str | os.PathLike[str],
     ax.set_title(f"{name}: contact-region combinations, {where} (bolt/nut per contact)",
                  fontsize="medium")
     for yy, v in zip(y, combos.to_numpy(), strict=True):
-        ax.text(v, yy, f" {v}", va="center", fontsize="x-small")
+        ax.text(float(v), float(yy), f" {v}", va="center", fontsize="x-small")
     return _save(fig, path)
 
 

@@ -110,7 +110,9 @@ def _worker_for(job: Job) -> Any:
         else:
             factory = job.analyzer
             if factory is None:
-                from ..contact import ContactAnalyzer as factory
+                from ..contact import ContactAnalyzer
+
+                factory = ContactAnalyzer
             _LOCAL.worker = factory(job.spec, chord=job.chord,
                                     compliance_z=job.compliance.compliance_z)
         _LOCAL.key = job.key

@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -156,6 +156,11 @@ class OutlinePair:
         return [0.0 if th >= 2.0 * math.pi else th for th in out]
 
     # -- the difference and its slope ---------------------------------------------------
+    @overload
+    def d(self, tau: float, sigma: float) -> float: ...
+    @overload
+    def d(self, tau: np.ndarray, sigma: float) -> np.ndarray: ...
+
     def d(self, tau: ArrayLike, sigma: float) -> float | np.ndarray:
         """``R_b(tau + sigma) - R_n(tau)``: positive where the bolt's outline is outside."""
         out = self.bolt.radius(np.asarray(tau) + sigma) - self.nut.radius(tau)

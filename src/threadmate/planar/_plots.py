@@ -202,7 +202,8 @@ def plot_pivot_axes(spec: ThreadSpec, path: str | os.PathLike[str],
     cmap = colormaps["viridis"]
     r_out = float(np.max(r))
     skipped = []
-    for i, (phase, state) in enumerate(zip(phases, states, strict=True)):
+    placed: list[tuple[float, float]] = []  # label positions so far
+    for phase, state in zip(phases, states, strict=True):
         if state.pivot_axis is None or state.pivot_axis_length == 0.0:
             skipped.append(state.phase)
             continue
@@ -214,11 +215,18 @@ def plot_pivot_axes(spec: ThreadSpec, path: str | os.PathLike[str],
             ax.plot([x1, x2], [y1, y2], color=colour, lw=1.2, marker="o", ms=2.5)
         for x, y in ends:
             rr = math.hypot(x, y) or 1.0
-            # Stagger the labels outward so that ends sharing a point stay legible.
-            off = r_out * (0.06 + 0.05 * (i % 3))
-            ax.text(x + off * x / rr, y + off * y / rr, label, color=colour, fontsize=7,
-                    ha="center", va="center")
+            # Ends of many phases share points: put each label on the first ring outward
+            # where it keeps clear of the labels already placed.
+            for ring in range(8):
+                off = r_out * (0.07 + 0.06 * ring)
+                lx, ly = x + off * x / rr, y + off * y / rr
+                if all(math.hypot(lx - px, ly - py) >= 0.075 * r_out for px, py in placed):
+                    break
+            placed.append((lx, ly))
+            ax.text(lx, ly, label, color=colour, fontsize=7, ha="center", va="center")
     lim = r_out * 1.3
+    if placed:
+        lim = max(lim, 1.05 * max(math.hypot(px, py) for px, py in placed))
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
     ax.set_aspect("equal")
