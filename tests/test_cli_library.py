@@ -156,8 +156,11 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     rc, out, _ = run(capsys, "library", "info", str(swept))
     assert rc == 0 and "mechanics model" in out and "compliance: force 10 N" in out
 
-    rc, out, _ = run(capsys, "library", "query", str(swept), "--roll", "1.9", "--pitch", "-1",
+    rc, _, err = run(capsys, "library", "query", str(swept), "--roll", "1.9", "--pitch", "-1",
                      "--phase", "-90", "--json")
+    assert rc == 2 and "nearest configuration is roll 2, pitch -1, phase 270" in err
+    rc, out, _ = run(capsys, "library", "query", str(swept), "--roll", "1.9", "--pitch", "-1",
+                     "--phase", "-90", "--nearest", "--json")
     assert rc == 0
     q = json.loads(out)
     assert q["model"] == "mechanics" and q["units"]["length"] == "in"
@@ -197,7 +200,7 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
     assert doc["configurations"] == doc["done"] == 9
 
     rc, out, _ = run(capsys, "library", "query", str(thesis_swept), "--roll", "0.9", "--pitch",
-                     "1", "--phase", "-120", "--json")
+                     "1", "--phase", "-120", "--nearest", "--json")
     assert rc == 0
     q = json.loads(out)
     assert q["model"] == "thesis" and q["units"]["length"] == "in"

@@ -246,7 +246,7 @@ def test_sweep_refuses_a_foreign_directory(quarter_20, tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
 
 
-def test_query_snaps_to_the_nearest_grid_state(library, analyzer):
+def test_query_takes_the_nearest_grid_state_only_when_asked(library, analyzer):
     exact = query(library, 4, 2, 235)
     assert not exact["snapped"] and exact["computed"]
     assert exact["grid"] == {"roll": 4.0, "pitch": 2.0, "phase": 235.0}
@@ -254,9 +254,13 @@ def test_query_snaps_to_the_nearest_grid_state(library, analyzer):
     direct = analyzer.analyze(4, 2, 235).to_record()
     assert exact["record"]["classification"] == direct["classification"]
     assert exact["record"]["third_c1_x"] == pytest.approx(direct["third_c1_x"], nan_ok=True)
-    # 3.2 -> 4, 1.4 -> 2, -130 (= 230) -> 235.
-    snapped = query(library, 3.2, 1.4, -130)
+    # 3.2 -> 4, 1.4 -> 2, -130 (= 230) -> 235: refused with the nearest named, or taken.
+    with pytest.raises(InputError, match="nearest configuration is roll 4, pitch 2, "
+                                         "phase 235"):
+        query(library, 3.2, 1.4, -130)
+    snapped = query(library, 3.2, 1.4, -130, nearest=True)
     assert snapped["snapped"] and snapped["grid"] == exact["grid"]
+    assert query(library, 4, 2, -125)["grid"] == exact["grid"]  # the same phase mod 360
 
 
 def test_summary_counts_and_figures(library, tmp_path):
@@ -513,7 +517,7 @@ def test_mechanics_summary_query_and_figures(mech_library, mech_rows, mech, tmp_
     assert list(configs.columns) == ["config_id", "roll", "pitch", "phase", "classification",
                                      "n_contacts", "region_combination"]
 
-    q = query(mech_library, 2.3, -1, 136)
+    q = query(mech_library, 2.3, -1, 136, nearest=True)
     assert q["snapped"] and q["model"] == "mechanics" and q["units"] == "in"
     assert q["grid"] == {"roll": 2.0, "pitch": -1.0, "phase": 135.0}
     assert q["record"]["role"] == "start"

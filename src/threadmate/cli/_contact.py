@@ -41,7 +41,7 @@ def _text(result: ContactResult) -> str:
             continue
         turn = "" if stage.name == "first" else f"   turn = {stage.angle:.4f} deg"
         lines.append(f"{labels[stage.name]}:{turn}   ({stage.queries} collision queries)")
-        ox, oy, oz = stage.origin
+        ox, oy, oz = stage.found_origin
         lines.append(f"  BOLT origin: {_fmt(ox)} {_fmt(oy)} {_fmt(oz)}")
         lines.append("  Contact point locations:")
         lines.append(f"    {'X':>11} {'Y':>11} {'Z':>11}  {'pairs':>5}  {'bolt/nut':<16}"
@@ -108,7 +108,7 @@ def contact(spec_text: str, roll: float, pitch: float, phase: float, chord: floa
     spec = resolve_spec(spec_text, condition)
     check_length("--compliance-z", compliance_z, spec.units, signed=True)
     if chord is not None:
-        check_chord(spec, chord)  # the meshes' own range, before any mesh is built
+        check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
     result = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z).analyze(
         roll, pitch, phase)
     if as_json:

@@ -45,13 +45,14 @@ def _progress_bar(label: str) -> Iterator[Any]:
         MofNCompleteColumn,
         Progress,
         ProgressColumn,
+        Task,
         TextColumn,
         TimeRemainingColumn,
     )
     from rich.text import Text
 
     class _Rate(ProgressColumn):
-        def render(self, task):  # noqa: ANN001, ANN202 - rich's column protocol
+        def render(self, task: Task) -> Text:
             return Text(f"{task.speed:.1f}/s" if task.speed else "-/s")
 
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), _Rate(),
@@ -68,7 +69,7 @@ def _progress_bar(label: str) -> Iterator[Any]:
             bar.start()
             # Configurations resumed from disk fill the bar but do not count in the rate.
             task = bar.add_task(label, total=total, completed=done)
-        else:
+        elif task is not None:  # set with the bar
             bar.update(task, completed=done)
 
     try:

@@ -54,7 +54,7 @@ PHASE_TOLERANCE = 0.01
 # -- options ---------------------------------------------------------------------------------
 def _mechanics_options(func: Callable[..., Any]) -> Callable[..., Any]:
     """The configuration and the compliance's parameters, shared by both commands."""
-    options = [
+    options: list[Callable[[Any], Any]] = [
         click.argument("spec_text", metavar="DESIGNATION|SPEC"),
         click.option("--roll", type=float, required=True,
                      help=f"Held tilt about fixed X in degrees (within +/-{MAX_TILT:g})."),
@@ -90,7 +90,7 @@ def _setup(spec_text: str, roll: float, pitch: float, phase: float, force: float
                                          compliance_z)
     spec = resolve_spec(spec_text, condition)
     if chord is not None:
-        check_chord(spec, chord)  # the meshes' own range, before any mesh is built
+        check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
     compliance.check_for(spec.pitch)
     return spec, compliance
 
@@ -146,8 +146,9 @@ def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
     if rest.path:
         lines.append(f"Path from first contact ({len(rest.path)} unstable state(s)):")
         lines.append(f"  {'kind':<14} {'turn deg':>9}  regions")
-        for p in rest.path:
-            lines.append(f"  {p.kind:<14} {p.turn:9.4f}  {p.region_combination or '-'}")
+        for step in rest.path:
+            lines.append(f"  {step.kind:<14} {step.turn:9.4f}  "
+                         f"{step.region_combination or '-'}")
     else:
         lines.append("Path from first contact: none (the first contact is at rest)")
     return "\n".join(lines)

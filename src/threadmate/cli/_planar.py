@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -117,9 +118,9 @@ def _echo_text(spec: ThreadSpec, state: PlanarState, window: list[tuple[float, f
                        f"y {c.y:.6g} {u}, bolt {c.bolt_region} / nut {c.nut_region}, "
                        f"normal (0, 0, 1)")
     click.echo("  critical phases (deg):")
-    for phase in critical:
-        before = "in phase" if phase.before is None else f"{phase.before[0]}/{phase.before[1]}"
-        after = "in phase" if phase.after is None else f"{phase.after[0]}/{phase.after[1]}"
-        click.echo(f"    {phase.phase:9.4f}  contact {phase.contact}: {before} -> {after}")
+    for cp in critical:
+        before = "in phase" if cp.before is None else f"{cp.before[0]}/{cp.before[1]}"
+        after = "in phase" if cp.after is None else f"{cp.after[0]}/{cp.after[1]}"
+        click.echo(f"    {cp.phase:9.4f}  contact {cp.contact}: {before} -> {after}")
     for f in figures:
         click.echo(f"  wrote {f}")

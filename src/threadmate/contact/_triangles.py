@@ -71,7 +71,8 @@ class IntersectionSegments:
 
 
 def _plane_crossing(tri: NDArray[np.float64], normal: NDArray[np.float64],
-                    offset: NDArray[np.float64], direction: NDArray[np.float64]):
+                    offset: NDArray[np.float64], direction: NDArray[np.float64]
+                    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
     """Where each triangle's edges cross the other triangle's plane.
 
     Returns the crossing points ``(n, 3, 3)``, their parameters along ``direction``
@@ -140,7 +141,9 @@ def intersection_segments(bolt_tris: NDArray[np.float64],
     return IntersectionSegments(start, end, valid)
 
 
-def _closest_on_segments(p0, p1, q0, q1):
+def _closest_on_segments(p0: NDArray[np.float64], p1: NDArray[np.float64],
+                         q0: NDArray[np.float64], q1: NDArray[np.float64]
+                         ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Closest points of segment pairs (vectorised; Ericson, Real-Time Collision Detection
     5.1.9), returned as (points on p, points on q)."""
     d1, d2, r = p1 - p0, q1 - q0, p0 - q0
@@ -160,7 +163,8 @@ def _closest_on_segments(p0, p1, q0, q1):
     return p0 + s[..., None] * d1, q0 + t[..., None] * d2
 
 
-def _vertex_on_face(v, tri):
+def _vertex_on_face(v: NDArray[np.float64], tri: NDArray[np.float64]
+                    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Projections of vertices ``v`` (n, 3, 3) onto the planes of ``tri`` (n, 3, 3), with
     their distances (inf where the projection falls outside the triangle)."""
     e0, e1 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]

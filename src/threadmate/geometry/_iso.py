@@ -85,12 +85,17 @@ def _um_to_mm(value: _Um) -> float:
 
 
 # ISO 965-1 Table 3: fundamental deviations, um (G: +, e/f/g: -, H and h: 0).
-_G: dict[float, int] = _by_pitch((17, 18, 18, 19, 19, 20, 20, 21, 22, 22, 24, 26, 28, 32, 34, 38, 42, 48, 53,
-                60, 63, 71, 75, 80))
-_E: dict[float, _Um] = _by_pitch((None, None, None, None, None, None, 50, 53, 56, 56, 60, 60, 63, 67, 71, 71,
-                80, 85, 90, 95, 100, 106, 112, 118))
-_F: dict[float, _Um] = _by_pitch((None, None, None, 34, 34, 35, 36, 36, 38, 38, 38, 40, 42, 45, 48, 52, 58, 63,
-                70, 75, 80, 85, 90, 95))
+_G: dict[float, int] = _by_pitch((
+    17, 18, 18, 19, 19, 20, 20, 21, 22, 22, 24, 26, 28, 32, 34, 38, 42, 48, 53, 60, 63, 71, 75, 80,
+))
+_E: dict[float, _Um] = _by_pitch((
+    None, None, None, None, None, None, 50, 53, 56, 56, 60, 60, 63, 67, 71, 71, 80, 85, 90, 95,
+    100, 106, 112, 118,
+))
+_F: dict[float, _Um] = _by_pitch((
+    None, None, None, 34, 34, 35, 36, 36, 38, 38, 38, 40, 42, 45, 48, 52, 58, 63, 70, 75, 80, 85,
+    90, 95,
+))
 
 # ISO 965-1 Table 4: TD1, internal minor diameter, grades 4..8, um.
 _TD1: dict[float, _Row] = _by_pitch((

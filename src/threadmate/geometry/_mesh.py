@@ -204,10 +204,11 @@ _BOLT_GRID = _Grid(residue=1, turn=0.0)
 _NUT_GRID = _Grid(residue=3, turn=_NUT_GRID_TURN)
 
 
-def check_chord(spec: ThreadSpec, chord: float | None) -> float:
+def check_chord(spec: ThreadSpec, chord: float | None, name: str = "chord") -> float:
     """The chord tolerance to mesh ``spec`` with: ``chord`` checked (a positive length
     within the finest and coarsest the meshes accept, in pitches), or the default of the
-    spec's units. The one check of a chord: the mesh, the sweep and the commands use it.
+    spec's units. The one check of a chord: the mesh, the sweep and the commands use it;
+    messages name the chord ``name`` (an option's name, on the command line).
 
     Raises
     ------
@@ -218,15 +219,15 @@ def check_chord(spec: ThreadSpec, chord: float | None) -> float:
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     if chord is None:
         return DEFAULT_CHORD[spec.units]
-    chord = check_number("chord", chord)
+    chord = check_number(name, chord)
     if chord <= 0:
-        raise InputError(f"chord must be a positive length, got {chord!r}")
+        raise InputError(f"{name} must be a positive length, got {chord!r}")
     if chord < spec.pitch * _FINEST_CHORD:
-        raise InputError(f"chord {chord:g} {spec.units} is too fine (the meshes would have "
+        raise InputError(f"{name} {chord:g} {spec.units} is too fine (the meshes would have "
                          f"many millions of triangles): give at least "
                          f"{spec.pitch * _FINEST_CHORD:g}")
     if chord > spec.pitch * _COARSEST_CHORD:
-        raise InputError(f"chord {chord:g} {spec.units} is too coarse for a pitch of "
+        raise InputError(f"{name} {chord:g} {spec.units} is too coarse for a pitch of "
                          f"{spec.pitch:g} {spec.units}: give at most "
                          f"{spec.pitch * _COARSEST_CHORD:g}")
     return float(chord)

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import re
 from pathlib import Path
 from typing import Any
@@ -79,7 +80,7 @@ def library_schema(metadata: dict[str, Any] | None = None, model: str | None = N
     return state_schema(attached) if model == "mechanics" else thesis_schema(attached)
 
 
-def _check_dir(path: str | Path) -> Path:
+def _check_dir(path: str | os.PathLike[str]) -> Path:
     path = Path(path)
     if not path.exists():
         raise LibraryError(f"no library at {path}: the path does not exist")
@@ -89,7 +90,7 @@ def _check_dir(path: str | Path) -> Path:
     return path
 
 
-def read_metadata(path: str | Path) -> dict[str, Any]:
+def read_metadata(path: str | os.PathLike[str]) -> dict[str, Any]:
     """The metadata of the library at ``path`` (LibraryError if it is not one)."""
     path = _check_dir(path)
     meta_file = path / METADATA_FILE
@@ -111,7 +112,7 @@ def read_metadata(path: str | Path) -> dict[str, Any]:
     return doc
 
 
-def write_metadata(path: str | Path, metadata: dict[str, Any]) -> Path:
+def write_metadata(path: str | os.PathLike[str], metadata: dict[str, Any]) -> Path:
     """Write the metadata file atomically (creating the directory)."""
     path = Path(path)
     path.mkdir(parents=True, exist_ok=True)
@@ -119,7 +120,7 @@ def write_metadata(path: str | Path, metadata: dict[str, Any]) -> Path:
                              json.dumps(metadata, indent=2, sort_keys=True) + "\n")
 
 
-def part_files(path: str | Path) -> list[Path]:
+def part_files(path: str | os.PathLike[str]) -> list[Path]:
     """The part files of a library, in part order."""
     path = Path(path)
     parts = [p for p in path.iterdir() if _PART.match(p.name)]
@@ -133,13 +134,13 @@ def _part_index(part: Path) -> int:
     return int(match.group(1))
 
 
-def next_part_index(path: str | Path) -> int:
+def next_part_index(path: str | os.PathLike[str]) -> int:
     """The number of the next part file to write."""
     parts = part_files(path)
     return _part_index(parts[-1]) + 1 if parts else 0
 
 
-def write_part(path: str | Path, index: int, table: pa.Table) -> Path:
+def write_part(path: str | os.PathLike[str], index: int, table: pa.Table) -> Path:
     """Write one chunk of rows as ``part-{index:05d}.parquet``, atomically."""
     target = Path(path) / f"part-{index:05d}.parquet"
     if target.exists():
@@ -192,7 +193,7 @@ def _read(path: Path, columns: list[str] | None = None,
         raise LibraryError(f"{path} holds a corrupt part: {exc}") from None
 
 
-def done_ids(path: str | Path) -> np.ndarray:
+def done_ids(path: str | os.PathLike[str]) -> np.ndarray:
     """Sorted config_ids that the library's parts already hold."""
     path = _check_dir(path)
     if not part_files(path):
@@ -209,7 +210,7 @@ def done_ids(path: str | Path) -> np.ndarray:
     return uniq
 
 
-def load(path: str | Path, columns: list[str] | None = None) -> pd.DataFrame:
+def load(path: str | os.PathLike[str], columns: list[str] | None = None) -> pd.DataFrame:
     """Every row of a library, sorted by ``config_id`` (then as written).
 
     Parameters
@@ -264,7 +265,7 @@ def _starts(path: Path, meta: dict[str, Any], columns: list[str] | None = None,
     return _read(path, columns, filter)
 
 
-def info(path: str | Path) -> dict[str, Any]:
+def info(path: str | os.PathLike[str]) -> dict[str, Any]:
     """What a library holds, without loading its rows.
 
     Returns
@@ -303,7 +304,7 @@ def info(path: str | Path) -> dict[str, Any]:
     }
 
 
-def configurations(library: str | Path | pd.DataFrame) -> pd.DataFrame:
+def configurations(library: str | os.PathLike[str] | pd.DataFrame) -> pd.DataFrame:
     """One row per finished configuration, in either model: ``config_id``, ``roll``,
     ``pitch``, ``phase`` (the configuration: held tilt and start phase, degrees),
     ``classification``, ``n_contacts``, ``region_combination`` (of the thesis's last stage,
@@ -324,7 +325,7 @@ def configurations(library: str | Path | pd.DataFrame) -> pd.DataFrame:
     return out
 
 
-def query(path: str | Path, roll: float, pitch: float, phase: float, *,
+def query(path: str | os.PathLike[str], roll: float, pitch: float, phase: float, *,
           nearest: bool = False) -> dict[str, Any]:
     """The stored contact state of a configuration, without recomputing.
 

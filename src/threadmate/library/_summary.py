@@ -75,9 +75,8 @@ def _rows(library: Library) -> pd.DataFrame:
         return library
     from ._store import read_metadata
 
-    path = Path(library)
-    model = read_metadata(path)["model"]
-    return load(path, columns=_STATE_COLUMNS if model == "mechanics" else _COLUMNS)
+    model = read_metadata(library)["model"]
+    return load(library, columns=_STATE_COLUMNS if model == "mechanics" else _COLUMNS)
 
 
 def _model(df: pd.DataFrame) -> str:

@@ -498,7 +498,8 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
     if not isinstance(spec, ThreadSpec):
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     grid = Grid.parse(roll, pitch, phase)
-    chord = check_chord(spec, chord)  # the meshes' own check, before anything is written
+    # The meshes' own check, before anything is written.
+    chord = check_chord(spec, chord, "--chord")
     if model not in MODELS:
         raise InputError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
     if compliance is None:

@@ -90,6 +90,21 @@ def _figures(rows: pd.DataFrame) -> dict[str, Any]:
     }
 
 
+#: Settings whose mean turn and mean work differ by less than this share (with the same snap
+#: share) are reported as equivalent to the pick.
+EQUIVALENT = 0.05
+
+
+def _equivalent(a: dict[str, Any], b: dict[str, Any]) -> bool:
+    if a["share_snap"] != b["share_snap"]:
+        return False
+    for key in ("turn_mean", "work_mean"):
+        x, y = a[key], b[key]
+        if x is None or y is None or abs(x - y) > EQUIVALENT * max(abs(x), abs(y), 1e-12):
+            return False
+    return True
+
+
 def _rank_key(s: dict[str, Any]) -> tuple[float, float, float]:
     inf = math.inf
     return (-s["share_snap"], s["turn_mean"] if s["turn_mean"] is not None else inf,
@@ -211,6 +226,12 @@ def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None
         notes.append(f"the pick, held pitch {best['held_pitch']:+g} deg, is at the edge of "
                      f"the range searched ({pitches[0]:g}..{pitches[-1]:g} deg): a larger "
                      "pre-tilt that way may do better; sweep a wider pitch range")
+    equivalent = [x["held_pitch"] for x in settings[1:] if _equivalent(best, x)]
+    if equivalent:
+        notes.append("within this grid's resolution the pick is no better than held pitch "
+                     + ", ".join(f"{p:+g}" for p in equivalent) + " deg (same snap share, "
+                     f"mean turn and work within {EQUIVALENT:.0%}): prefer the one nearest "
+                     "upright, or refine the grid")
     if best["share_snap"] < 1.0:
         notes.append(f"even the pick leaves {1 - best['share_snap']:.0%} of starts without "
                      "a snap within one turn")

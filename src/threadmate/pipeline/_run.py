@@ -232,11 +232,6 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
             + _lead(m["share_snap"], 100, "percentage points more starts snap", "") + "; "
             + _lead(m["turn_mean"], 1, "deg less mean turn", "deg more mean turn") + "; "
             + _lead(m["work_mean"], 1, "mJ less mean work", "mJ more mean work") + ".")
-        if m["share_snap"] == 0 and m["turn_mean"] is not None and best["turn_mean"] \
-                and abs(m["turn_mean"]) < 0.05 * best["turn_mean"]:
-            lines.append("- The two settings are equivalent within this grid's resolution "
-                         "(same snap share, mean turns within 5 %): either will do; prefer "
-                         "the one nearer upright.")
     if rec.azimuth_proof:
         p = rec.azimuth_proof[0]
         lines.append(
@@ -246,7 +241,7 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
             f"{_num(p['turn_mean'], '.0f')} deg. Use this when the robot does not know "
             "where the nut's thread starts; the pick above assumes it does (the pre-tilt "
             "about the nut's Y axis as the conventions fix it).")
-    lines += [f"- Limit: {note}." for note in rec.notes]
+    lines += [f"- Note: {note}." for note in rec.notes]
     lines += [
         "",
         "## What was computed",
