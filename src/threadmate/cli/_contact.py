@@ -12,10 +12,10 @@ import click
 
 from .._validate import MAX_LENGTH, check_length
 from ..contact import MAX_TILT, ContactAnalyzer, ContactResult
-from ..geometry import DEFAULT_CHORD, check_chord
+from ..geometry import check_chord
 from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
 from ._main import cli
-from ._options import condition_option
+from ._options import chord_option, condition_option
 
 __all__ = ["contact"]
 
@@ -92,9 +92,7 @@ spec's units.
               help=f"Tilt about fixed Y in degrees (within +/-{MAX_TILT:g}).")
 @click.option("--phase", type=float, required=True,
               help="Spin of the bolt about its axis in degrees (counter-clockwise from above).")
-@click.option("--chord", type=float, default=None,
-              help=f"Chord tolerance of the meshes in the spec's units "
-                   f"(default {DEFAULT_CHORD['in']:g} in, {DEFAULT_CHORD['mm']:g} mm).")
+@chord_option
 @click.option("--compliance-z", type=float, default=0.0, show_default=True,
               help=f"Compliance centre on the bolt axis, bolt frame, in the spec's units "
                    f"(0: the tip centre; within +/-{MAX_LENGTH:g}).")

@@ -28,7 +28,13 @@ from ..library import (
 )
 from ._common import SPEC_HELP, emit_json, resolve_spec
 from ._main import cli
-from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_options, condition_option
+from ._options import (
+    DEFAULTS_NOTE,
+    chord_option,
+    compliance_from_options,
+    compliance_options,
+    condition_option,
+)
 
 __all__ = ["sweep_command", "library_group"]
 
@@ -184,9 +190,7 @@ N/m, lengths in the spec's units, angles in degrees.
               help="Dask scheduler address, 'local' for a Dask LocalCluster, or 'pool' for "
                    "the process pool (default: Dask's scheduler-address setting if set, "
                    "else the pool). Dask: pip install threadmate[dask].")
-@click.option("--chord", type=float, default=None,
-              help="Chord tolerance of the meshes in the spec's units "
-                   "(default 5e-6 in, 1.27e-4 mm).")
+@chord_option
 @click.option("--chunk-size", type=int, default=None,
               help="Thesis model: configurations per chunk, i.e. per Parquet part (default: "
                    "automatic). A mechanics chunk is one held tilt.")

@@ -34,6 +34,7 @@ from ._library import _progress_bar
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
+    chord_option,
     compliance_from_options,
     compliance_option_list,
     condition_option,
@@ -64,9 +65,7 @@ def _mechanics_options(func: Callable[..., Any]) -> Callable[..., Any]:
                      help="Spin of the bolt about its axis in degrees (counter-clockwise "
                           "seen from above)."),
         *compliance_option_list(),
-        click.option("--chord", type=float, default=None,
-                     help="Chord tolerance of the meshes in the spec's length units "
-                          "(default 5e-6 in, 1.27e-4 mm)."),
+        chord_option,
         condition_option,
         click.option("--json", "as_json", is_flag=True,
                      help="Print one JSON document on stdout instead of text."),

@@ -8,10 +8,10 @@ from typing import Any
 import click
 
 from .._io import atomic_path
-from ..geometry import DEFAULT_CHORD, stl_header, thread_meshes, write_stl
+from ..geometry import stl_header, thread_meshes, write_stl
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory, write_failed
 from ._main import cli
-from ._options import condition_option
+from ._options import chord_option, condition_option
 
 __all__ = ["mesh", "mesh_document"]
 
@@ -51,9 +51,7 @@ def mesh_document(text: str, out_dir: str | Path, chord: float | None = None,
 @click.option("-o", "--output", "out_dir", required=True,
               type=click.Path(file_okay=False, path_type=Path),
               help="Folder for bolt.stl and nut.stl (created if missing).")
-@click.option("--chord", type=float, default=None,
-              help=f"Largest distance from the mesh to the exact surface, in the spec's units "
-                   f"(default {DEFAULT_CHORD['in']:g} in, {DEFAULT_CHORD['mm']:g} mm).")
+@chord_option
 @condition_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
 def mesh(designation: str, out_dir: Path, chord: float | None, condition: str,

@@ -14,10 +14,10 @@ import click
 
 from .._errors import InputError
 from ..contact import Compliance
-from ..geometry import material_condition
+from ..geometry import DEFAULT_CHORD, material_condition
 
 __all__ = ["COMPLIANCE_PARAMETERS", "DEFAULTS_NOTE", "compliance_from_options",
-           "compliance_option_list", "compliance_options", "condition_option",
+           "chord_option", "compliance_option_list", "compliance_options", "condition_option",
            "parse_stiffness"]
 
 #: The defaults of the options are those of :class:`Compliance`.
@@ -112,4 +112,13 @@ def condition_option(func: Callable[..., Any]) -> Callable[..., Any]:
         help="Material condition at which a designation expands: max (maximum material: "
              "largest bolt, smallest nut; also maximum, mmc), mean (mid-limits; also mid) or "
              "min (also minimum, lmc).")(func)
+
+
+def chord_option(func: Callable[..., Any]) -> Callable[..., Any]:
+    """``--chord``: the meshes' chord tolerance, one help text for every command (the
+    range is checked by :func:`threadmate.geometry.check_chord`)."""
+    return click.option(
+        "--chord", type=float, default=None,
+        help=f"Chord tolerance of the meshes in the spec's length units (default "
+             f"{DEFAULT_CHORD['in']:g} in, {DEFAULT_CHORD['mm']:g} mm).")(func)
 

@@ -14,7 +14,13 @@ from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID, run_pipeline
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
 from ._library import _RANGE_HELP, _progress_bar
 from ._main import cli
-from ._options import DEFAULTS_NOTE, compliance_from_options, compliance_options, condition_option
+from ._options import (
+    DEFAULTS_NOTE,
+    chord_option,
+    compliance_from_options,
+    compliance_options,
+    condition_option,
+)
 
 
 def _values(text: str | None, option: str) -> list[float]:
@@ -54,7 +60,7 @@ on held roll {RUN_GRID['roll']}, pitch {RUN_GRID['pitch']}, phase {RUN_GRID['pha
               help="Continuation step of the search [deg].")
 @click.option("--workers", type=int, default=None, help="Worker processes (default: all cores).")
 @click.option("--scheduler", default=None, help="Dask scheduler address, or 'local'.")
-@click.option("--chord", type=float, default=None, help="Mesh chord tolerance (spec units).")
+@chord_option
 @click.option("--roll-spread", type=float, default=None,
               help="Roll errors to expect, +/- degrees (default: the whole grid).")
 @condition_option
@@ -75,7 +81,8 @@ def run_command(spec_text: str, out: Path, roll: str | None, pitch: str | None,
     base = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
                                    compliance_z)
     forces = _values(compare_force, "--compare-force")
-    stiffnesses = _values(compare_stiffness, "--compare-stiffness")
+    stiffnesses: list[float | tuple[float, float]] = list(
+        _values(compare_stiffness, "--compare-stiffness"))
     compliances = [base]
     for f, k in itertools.product(forces or [base.force], stiffnesses or [base.stiffness]):
         c = dataclasses.replace(base, force=f, stiffness=k)

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from .._errors import InputError
+from .._units import MM_PER_UNIT
 from ..geometry import Pose, ThreadSpec, bolt_body, bolt_rotation, nut_body
 from ._collision import CollisionPair
 from ._exact import contact_normal, region_at, turn_axis_tangent
@@ -38,7 +39,7 @@ __all__ = ["ContactAnalyzer", "analyze", "MAX_TILT", "TRAVEL_TOLERANCE"]
 #: the nut" picture (tip first, compliance centre above the nut) no longer holds.
 MAX_TILT = 45.0
 #: Bisection tolerance on travel (bolt motion), per unit.
-TRAVEL_TOLERANCE = {"in": 1e-7, "mm": 2.54e-6}
+TRAVEL_TOLERANCE = {u: 1e-7 * MM_PER_UNIT["in"] / MM_PER_UNIT[u] for u in ("in", "mm")}
 
 
 def _positive(name: str, value: float | None) -> float | None:

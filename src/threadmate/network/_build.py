@@ -123,7 +123,7 @@ def build_network(rows: pd.DataFrame, *, active: bool = False, jump_penalty: flo
     pitch_mj = 1e3 * force * to_metres(float(meta["spec"]["pitch"]), meta["units"])
     move_penalty = pitch_mj if move_penalty is None else _finite_nonnegative(
         "move_penalty", move_penalty)
-    graph = nx.DiGraph(
+    graph: nx.DiGraph[str] = nx.DiGraph(
         units=meta["units"], cost_units=COST_UNITS, weight_formula=WEIGHT_FORMULA,
         model="mechanics", spec=json.dumps(meta["spec"], sort_keys=True),
         grid=json.dumps(meta["grid"], sort_keys=True),

@@ -201,7 +201,7 @@ def k_best_paths(graph: nx.DiGraph, k: int, roll: float, pitch: float, phase: fl
         return best
     view = graph if active else nx.subgraph_view(
         graph, filter_edge=lambda u, v: not graph.edges[u, v].get("active"))
-    work = nx.DiGraph(view)
+    work: nx.DiGraph[Any] = nx.DiGraph(view)
     work.add_edges_from((t, _SINK, {"weight": 0.0}) for t in snap_targets(graph))
     paths = nx.shortest_simple_paths(work, best.start, _SINK, weight="weight")
     # Yen's first path may be another of equal cost than Dijkstra's: skip the best by

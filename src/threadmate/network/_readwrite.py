@@ -71,7 +71,7 @@ def _clean(data: dict[str, Any]) -> dict[str, Any]:
 
 
 def _export_graph(graph: nx.DiGraph) -> nx.DiGraph:
-    out = nx.DiGraph()
+    out: nx.DiGraph[str] = nx.DiGraph()
     out.graph.update(_clean(graph.graph))
     out.add_nodes_from((str(n), _clean(d)) for n, d in graph.nodes(data=True))
     out.add_edges_from((str(u), str(v), _clean(d)) for u, v, d in graph.edges(data=True))
@@ -120,7 +120,7 @@ def write_node_link(graph: nx.DiGraph, path: str | Path) -> Path:
         return [plain(x) for x in v] if isinstance(v, list | tuple | np.ndarray) \
             else _scalar(v)
 
-    export = nx.DiGraph()
+    export: nx.DiGraph[str] = nx.DiGraph()
     export.graph.update({k: plain(v) for k, v in graph.graph.items()
                          if not str(k).startswith("_")})
     export.add_nodes_from((n, {k: plain(v) for k, v in d.items()})

@@ -209,7 +209,9 @@ def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None
         if inside.empty:
             raise InputError(f"no start within the roll spread {roll_spread:g} deg")
         for pitch, rows in inside.groupby("held_pitch", sort=True):
-            settings.append({**comp, "held_pitch": float(pitch), **_figures(rows)})
+            # pandas-stubs type a group key as any scalar; held pitches are floats.
+            settings.append({**comp, "held_pitch": float(pitch),  # type: ignore[arg-type]
+                             **_figures(rows)})
         proof += _azimuth_proof(out, spread, comp)
     settings.sort(key=_rank_key)
     proof.sort(key=_rank_key)
