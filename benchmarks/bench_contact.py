@@ -38,12 +38,13 @@ def main() -> None:
     analyzer = ContactAnalyzer(SPEC)
     build = time.perf_counter() - t0
     eng = analyzer.engine
-    print(f"analyser built in {build:.2f} s: bolt {len(eng.bolt_faces)} triangles, "
-          f"nut {len(eng.nut_faces)} triangles")
+    print(
+        f"analyser built in {build:.2f} s: bolt {len(eng.bolt_faces)} triangles, "
+        f"nut {len(eng.nut_faces)} triangles"
+    )
 
     rng = np.random.default_rng(args.seed)
-    configs = [(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(0, 360))
-               for _ in range(args.n)]
+    configs = [(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(0, 360)) for _ in range(args.n)]
     analyzer.analyze(*configs[0])  # warm caches (numpy, the profile's pieces)
 
     # Each stage's search is timed where the analyser calls it (a turn from one contact is
@@ -58,11 +59,11 @@ def main() -> None:
                 return search(*args, **kwargs)
             finally:
                 spent[stage(args)] += 1e3 * (time.perf_counter() - t)
+
         return run
 
     _analyzer.first_contact = timed(_analyzer.first_contact, lambda args: 0)
-    _analyzer.turn_to_new_contact = timed(_analyzer.turn_to_new_contact,
-                                          lambda args: len(args[4]))
+    _analyzer.turn_to_new_contact = timed(_analyzer.turn_to_new_contact, lambda args: len(args[4]))
     total, stage_ms, queries, stage_q, classes = [], [], [], [], {}
     for cfg in configs:
         spent[:] = 0.0
@@ -76,13 +77,19 @@ def main() -> None:
     total_a, q = np.array(total), np.array(queries)
     sq, sm = np.array(stage_q, dtype=float), np.array(stage_ms)
     print(f"{args.n} configurations (roll, pitch in +/-4 deg, phase 0..360):")
-    print(f"  total ms/config: mean {total_a.mean():.1f}  median {np.median(total_a):.1f}  "
-          f"p90 {np.percentile(total_a, 90):.1f}  max {total_a.max():.1f}  (target <= 20)")
+    print(
+        f"  total ms/config: mean {total_a.mean():.1f}  median {np.median(total_a):.1f}  "
+        f"p90 {np.percentile(total_a, 90):.1f}  max {total_a.max():.1f}  (target <= 20)"
+    )
     for k, name in enumerate(("first", "second", "third")):
-        print(f"  {name:6s} stage search: {sm[:, k].mean():5.1f} ms, "
-              f"{sq[:, k].mean():5.1f} queries per configuration")
-    print(f"  contacts, normals, interference, classification: "
-          f"{(total_a - sm.sum(1)).mean():5.1f} ms per configuration")
+        print(
+            f"  {name:6s} stage search: {sm[:, k].mean():5.1f} ms, "
+            f"{sq[:, k].mean():5.1f} queries per configuration"
+        )
+    print(
+        f"  contacts, normals, interference, classification: "
+        f"{(total_a - sm.sum(1)).mean():5.1f} ms per configuration"
+    )
     print(f"  collision queries/config: mean {q.mean():.1f}  max {q.max()}  (target <= 100)")
     print(f"  classifications: {classes}")
 

@@ -54,8 +54,7 @@ def main() -> None:
     mech = Mechanics(spec, Compliance())
     print(f"built in {time.perf_counter() - t0:.2f} s; compliance {mech.compliance}")
     rng = np.random.default_rng(args.seed)
-    configs = [(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(0, 360))
-               for _ in range(args.n)]
+    configs = [(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(0, 360)) for _ in range(args.n)]
     mech.settle(*configs[0])  # warm caches
 
     times, queries, steps, classes, poses = [], [], [], {}, []
@@ -83,23 +82,29 @@ def main() -> None:
         turn_queries.append(mech.engine.queries - q0)
         snaps.append(run.snap_turn)
         poses += [s.pose for s in run.states[:: max(1, len(run.states) // 10)]]
-        print(f"search {k}: start ({roll:.2f}, {pitch:.2f}, {phase:.1f}) "
-              f"snap turn {run.snap_turn} events {len(run.events)} "
-              f"{turn_times[-1]:.2f} s")
+        print(
+            f"search {k}: start ({roll:.2f}, {pitch:.2f}, {phase:.1f}) "
+            f"snap turn {run.snap_turn} events {len(run.events)} "
+            f"{turn_times[-1]:.2f} s"
+        )
 
     q = _query_time(mech, poses)
     qe = np.array(times) / q
     print(f"\none yes/no query: {1e6 * q:.0f} us (mean at the run's poses)")
-    print(f"rest state: mean {1e3 * np.mean(times):.1f} ms = {qe.mean():.1f} query equivalents "
-          f"(median {np.median(qe):.1f}, p90 {np.percentile(qe, 90):.1f}, max {qe.max():.1f});"
-          f" queries {statistics.mean(queries):.1f}, descent steps "
-          f"{statistics.mean(steps):.1f}; target <= 60")
+    print(
+        f"rest state: mean {1e3 * np.mean(times):.1f} ms = {qe.mean():.1f} query equivalents "
+        f"(median {np.median(qe):.1f}, p90 {np.percentile(qe, 90):.1f}, max {qe.max():.1f});"
+        f" queries {statistics.mean(queries):.1f}, descent steps "
+        f"{statistics.mean(steps):.1f}; target <= 60"
+    )
     print(f"rest-state classes: {classes}; not converged: {unconverged} of {len(configs)}")
     per_grid = np.array(turn_times) / np.array(grid_phases) / q
-    print(f"one turn at 5-degree grid phases: {per_grid.mean():.1f} query equivalents per grid "
-          f"phase (per start: {', '.join(f'{v:.0f}' for v in per_grid)}); queries per grid "
-          f"phase {np.mean(np.array(turn_queries) / np.array(grid_phases)):.1f}; "
-          f"target <= 100")
+    print(
+        f"one turn at 5-degree grid phases: {per_grid.mean():.1f} query equivalents per grid "
+        f"phase (per start: {', '.join(f'{v:.0f}' for v in per_grid)}); queries per grid "
+        f"phase {np.mean(np.array(turn_queries) / np.array(grid_phases)):.1f}; "
+        f"target <= 100"
+    )
 
 
 if __name__ == "__main__":

@@ -35,8 +35,10 @@ def _time(fn, repeat: int) -> float:
 
 
 def main() -> None:
-    print(f"{'pair':18} {'body':5} {'build+verify s':>14} {'triangles':>10} "
-          f"{'max deviation':>14} {'chord':>10}")
+    print(
+        f"{'pair':18} {'body':5} {'build+verify s':>14} {'triangles':>10} "
+        f"{'max deviation':>14} {'chord':>10}"
+    )
     for designation in PAIRS:
         spec = spec_from_designation(designation)
         built = {}
@@ -45,8 +47,10 @@ def main() -> None:
             tb = make(spec)
             seconds = time.perf_counter() - start
             built[name] = tb
-            print(f"{designation:18} {name:5} {seconds:14.3f} {tb.triangles:10d} "
-                  f"{tb.max_deviation:14.3e} {tb.chord:10.3e}  {spec.units}")
+            print(
+                f"{designation:18} {name:5} {seconds:14.3f} {tb.triangles:10d} "
+                f"{tb.max_deviation:14.3e} {tb.chord:10.3e}  {spec.units}"
+            )
         bolt_o = fcl.CollisionObject(_bvh(built["bolt"].mesh))
         nut_o = fcl.CollisionObject(_bvh(built["nut"].mesh))
         pose = Pose.from_angles(2.0, 0.0, 180.0, 0.04 * spec.pitch)
@@ -62,8 +66,10 @@ def main() -> None:
             return fcl.collide(bolt_o, nut_o, request, result)
 
         pairs = all_pairs()
-        print(f"{'':18} fcl yes/no {_time(yes_no, 200) * 1e3:.3f} ms, all {pairs} pairs "
-              f"{_time(all_pairs, 50) * 1e3:.3f} ms (roll 2, phase 180, tip 0.04 p into nut)")
+        print(
+            f"{'':18} fcl yes/no {_time(yes_no, 200) * 1e3:.3f} ms, all {pairs} pairs "
+            f"{_time(all_pairs, 50) * 1e3:.3f} ms (roll 2, phase 180, tip 0.04 p into nut)"
+        )
 
 
 if __name__ == "__main__":

@@ -67,49 +67,110 @@ def synthetic_rows(grid: Grid) -> pd.DataFrame:
                 serial += 3
                 ids.append(start)
                 z = 0.002 * np.cos(np.radians(phase)) + 1e-4 * tilt
-                common = dict(blank, config_id=cid + j, held_roll=roll, held_pitch=pitch,
-                              phase=phase, roll=roll * 0.6, pitch=pitch * 0.6,
-                              rotation=[1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0], centre_z=z,
-                              origin_z=z, potential=10 * z, n_contacts=2,
-                              region_combination="base/surface + +F/surface",
-                              contact_regions=["base/surface", "+F/surface"],
-                              contact_forces=[6.0, 4.0],
-                              contact_points=[0.1, 0, 0, -0.1, 0, 0],
-                              contact_normals=[0, 0, 1.0, 0, 0, 1.0])
-                rows.append(dict(common, state_id=first, role="first-contact",
-                                 classification="unstable", centre_z=z + 1e-3,
-                                 next_id=passed, transition="settling",
-                                 transition_label="unstable", transition_turn=0.0,
-                                 work_friction=0.0, work_potential=0.0, drop=5e-4))
-                rows.append(dict(common, state_id=passed, role="passed",
-                                 classification="unstable", centre_z=z + 5e-4,
-                                 next_id=start, transition="settling",
-                                 transition_label="unstable", transition_turn=0.0,
-                                 work_friction=0.0, work_potential=0.0, drop=5e-4))
-                rows.append(dict(common, state_id=start, role="start",
-                                 classification="quasi-stable", driver_torque=0.005,
-                                 friction_torque=0.004))
+                common = dict(
+                    blank,
+                    config_id=cid + j,
+                    held_roll=roll,
+                    held_pitch=pitch,
+                    phase=phase,
+                    roll=roll * 0.6,
+                    pitch=pitch * 0.6,
+                    rotation=[1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0],
+                    centre_z=z,
+                    origin_z=z,
+                    potential=10 * z,
+                    n_contacts=2,
+                    region_combination="base/surface + +F/surface",
+                    contact_regions=["base/surface", "+F/surface"],
+                    contact_forces=[6.0, 4.0],
+                    contact_points=[0.1, 0, 0, -0.1, 0, 0],
+                    contact_normals=[0, 0, 1.0, 0, 0, 1.0],
+                )
+                rows.append(
+                    dict(
+                        common,
+                        state_id=first,
+                        role="first-contact",
+                        classification="unstable",
+                        centre_z=z + 1e-3,
+                        next_id=passed,
+                        transition="settling",
+                        transition_label="unstable",
+                        transition_turn=0.0,
+                        work_friction=0.0,
+                        work_potential=0.0,
+                        drop=5e-4,
+                    )
+                )
+                rows.append(
+                    dict(
+                        common,
+                        state_id=passed,
+                        role="passed",
+                        classification="unstable",
+                        centre_z=z + 5e-4,
+                        next_id=start,
+                        transition="settling",
+                        transition_label="unstable",
+                        transition_turn=0.0,
+                        work_friction=0.0,
+                        work_potential=0.0,
+                        drop=5e-4,
+                    )
+                )
+                rows.append(
+                    dict(
+                        common,
+                        state_id=start,
+                        role="start",
+                        classification="quasi-stable",
+                        driver_torque=0.005,
+                        friction_torque=0.004,
+                    )
+                )
             snap = state_id(roll, pitch, grid.phase[snap_at] + 2.0, serial)
             n_start = len(rows) - 3 * n_phase
             for j in range(n_phase):
                 row = rows[n_start + 3 * j + 2]
                 if j == snap_at and not cycle:
-                    row.update(next_id=snap, transition="snap", transition_label="unstable",
-                               transition_turn=2.0, work_friction=0.35, work_potential=0.0,
-                               torque_peak=0.005, drop=0.003)
+                    row.update(
+                        next_id=snap,
+                        transition="snap",
+                        transition_label="unstable",
+                        transition_turn=2.0,
+                        work_friction=0.35,
+                        work_potential=0.0,
+                        torque_peak=0.005,
+                        drop=0.003,
+                    )
                 else:
                     step = (grid.phase[(j + 1) % n_phase] - grid.phase[j]) % 360.0
-                    row.update(next_id=ids[(j + 1) % n_phase], transition="turning",
-                               transition_label="quasi-stable", transition_turn=step,
-                               work_friction=0.07 * step, work_potential=0.001,
-                               torque_peak=0.005, drop=0.0)
+                    row.update(
+                        next_id=ids[(j + 1) % n_phase],
+                        transition="turning",
+                        transition_label="quasi-stable",
+                        transition_turn=step,
+                        work_friction=0.07 * step,
+                        work_potential=0.001,
+                        torque_peak=0.005,
+                        drop=0.0,
+                    )
             if not cycle:
-                rows.append(dict(blank, config_id=cid + snap_at, state_id=snap,
-                                 held_roll=roll, held_pitch=pitch,
-                                 phase=(grid.phase[snap_at] + 2.0) % 360.0,
-                                 role="after-jump", classification="in-phase",
-                                 rotation=[1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0],
-                                 centre_z=-0.003, n_contacts=1))
+                rows.append(
+                    dict(
+                        blank,
+                        config_id=cid + snap_at,
+                        state_id=snap,
+                        held_roll=roll,
+                        held_pitch=pitch,
+                        phase=(grid.phase[snap_at] + 2.0) % 360.0,
+                        role="after-jump",
+                        classification="in-phase",
+                        rotation=[1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0],
+                        centre_z=-0.003,
+                        n_contacts=1,
+                    )
+                )
             cid += n_phase
     return pd.DataFrame(rows)
 
@@ -119,11 +180,9 @@ def bench(name: str, roll: str, pitch: str, phase: str, workdir: Path) -> None:
     grid = Grid.parse(roll, pitch, phase)
     t = time.perf_counter()
     rows = synthetic_rows(grid)
-    lib = write_library(rows, workdir / name, spec, roll, pitch, phase,
-                        compliance=Compliance())
+    lib = write_library(rows, workdir / name, spec, roll, pitch, phase, compliance=Compliance())
     made = time.perf_counter() - t
-    print(f"{name}: {grid.size} starts, {len(rows)} states (synthetic, written in "
-          f"{made:.1f} s)")
+    print(f"{name}: {grid.size} starts, {len(rows)} states (synthetic, written in {made:.1f} s)")
     del rows
     t = time.perf_counter()
     g = from_library(lib)
@@ -133,11 +192,15 @@ def bench(name: str, roll: str, pitch: str, phase: str, workdir: Path) -> None:
     p = least_resistance_path(g, grid.roll[1], grid.pitch[1], grid.phase[3])
     rec = recommend(g, roll_spread=2.0)
     answered = time.perf_counter() - t
-    print(f"  build {built:.2f} s ({g.number_of_nodes()} nodes, {g.number_of_edges()} "
-          f"edges); every start's outcome, one path, the recommendation {answered:.2f} s; "
-          f"together {built + answered:.2f} s")
-    print(f"  ({int(out['snapped'].sum())} starts snap within a turn; path of {len(p.path)} "
-          f"states, cost {p.cost:.3g} mJ; pick held pitch {rec.best['held_pitch']:+g})")
+    print(
+        f"  build {built:.2f} s ({g.number_of_nodes()} nodes, {g.number_of_edges()} "
+        f"edges); every start's outcome, one path, the recommendation {answered:.2f} s; "
+        f"together {built + answered:.2f} s"
+    )
+    print(
+        f"  ({int(out['snapped'].sum())} starts snap within a turn; path of {len(p.path)} "
+        f"states, cost {p.cost:.3g} mJ; pick held pitch {rec.best['held_pitch']:+g})"
+    )
     t = time.perf_counter()
     write_graphml(g, workdir / f"{name}.graphml")
     graphml = time.perf_counter() - t

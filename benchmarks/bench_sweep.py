@@ -80,8 +80,12 @@ def _poses(rows, model: str, most: int = 40) -> list:
     if model == "mechanics":
         rest = rows[(rows["role"] == "start") & (rows["error"] == "")]
         for _, r in rest.iloc[:: max(1, len(rest) // most)].iterrows():
-            poses.append(Pose(np.reshape(np.asarray(r["rotation"], dtype=float), (3, 3)),
-                              np.array([r["origin_x"], r["origin_y"], r["origin_z"]])))
+            poses.append(
+                Pose(
+                    np.reshape(np.asarray(r["rotation"], dtype=float), (3, 3)),
+                    np.array([r["origin_x"], r["origin_y"], r["origin_z"]]),
+                )
+            )
         return poses
     for _, r in rows.iloc[:: max(1, len(rows) // most)].iterrows():
         for s in ("third", "second", "first"):
@@ -107,15 +111,15 @@ def _one(args: argparse.Namespace) -> None:
         kwargs["step"] = args.step
     else:
         kwargs["chunk_size"] = args.chunk_size or min(
-            256, max(4, -(-grid.size // (16 * args.workers))))
+            256, max(4, -(-grid.size // (16 * args.workers)))
+        )
     start = time.perf_counter()
     sweep(spec, args.roll, args.pitch, args.phase, out=out, **kwargs)
     wall = time.perf_counter() - start
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
     me = resource.getrusage(resource.RUSAGE_SELF)
     # workers=1 runs in this process: its CPU time is the work's.
-    cpu = (children.ru_utime + children.ru_stime if args.workers > 1
-           else me.ru_utime + me.ru_stime)
+    cpu = children.ru_utime + children.ru_stime if args.workers > 1 else me.ru_utime + me.ru_stime
     doc = info(out)
     size = sum(p.stat().st_size for p in out.iterdir())
     to_mb = 1 / 1024  # ru_maxrss is in KiB on Linux
@@ -127,19 +131,33 @@ def _one(args: argparse.Namespace) -> None:
     rows = load(out)
     q = _query_time(mech.engine, _poses(rows, args.model), mech.tolerance)
     n = doc["done"]
-    print(json.dumps({
-        "model": args.model, "grid": doc["grid"], "configurations": n,
-        "held_tilts": n_tilts, "workers": args.workers, "step": args.step,
-        "wall_s": wall, "cpu_s": cpu, "query_us": 1e6 * q,
-        "qe_per_config_cpu": cpu / n / q, "qe_per_config_wall": wall / n / q,
-        "ms_per_config_cpu": 1e3 * cpu / n,
-        "thesis_grid_wall_s": wall * THESIS_CONFIGURATIONS / n,
-        # What the workers' CPU time gives when the cores are not shared with other work.
-        "thesis_grid_cpu_bound_s": cpu * THESIS_CONFIGURATIONS / n / args.workers,
-        "states": doc["states"], "classifications": doc["classifications"],
-        "peak_main_mb": main_mb, "peak_worker_mb": worker_mb if args.workers > 1 else 0.0,
-        "library_mb": size / 2**20, "parts": doc["parts"],
-    }))
+    print(
+        json.dumps(
+            {
+                "model": args.model,
+                "grid": doc["grid"],
+                "configurations": n,
+                "held_tilts": n_tilts,
+                "workers": args.workers,
+                "step": args.step,
+                "wall_s": wall,
+                "cpu_s": cpu,
+                "query_us": 1e6 * q,
+                "qe_per_config_cpu": cpu / n / q,
+                "qe_per_config_wall": wall / n / q,
+                "ms_per_config_cpu": 1e3 * cpu / n,
+                "thesis_grid_wall_s": wall * THESIS_CONFIGURATIONS / n,
+                # What the workers' CPU time gives when the cores are not shared with other work.
+                "thesis_grid_cpu_bound_s": cpu * THESIS_CONFIGURATIONS / n / args.workers,
+                "states": doc["states"],
+                "classifications": doc["classifications"],
+                "peak_main_mb": main_mb,
+                "peak_worker_mb": worker_mb if args.workers > 1 else 0.0,
+                "library_mb": size / 2**20,
+                "parts": doc["parts"],
+            }
+        )
+    )
 
 
 def main() -> None:
@@ -148,13 +166,20 @@ def main() -> None:
     parser.add_argument("--roll", default="-3,2", help="held roll values (default -3,2)")
     parser.add_argument("--pitch", default="1", help="held pitch values (default 1)")
     parser.add_argument("--phase", default=THESIS[2], help="phases (default 0:355:5)")
-    parser.add_argument("--workers", default="2",
-                        help="comma list of worker counts (default 2)")
-    parser.add_argument("--step", type=float, default=CONTINUATION_STEP,
-                        help=f"mechanics: continuation step in degrees (default "
-                             f"{CONTINUATION_STEP:g}, the sweep's)")
-    parser.add_argument("--chord", type=float, default=None,
-                        help="chord tolerance in inches (default: threadmate's default)")
+    parser.add_argument("--workers", default="2", help="comma list of worker counts (default 2)")
+    parser.add_argument(
+        "--step",
+        type=float,
+        default=CONTINUATION_STEP,
+        help=f"mechanics: continuation step in degrees (default "
+        f"{CONTINUATION_STEP:g}, the sweep's)",
+    )
+    parser.add_argument(
+        "--chord",
+        type=float,
+        default=None,
+        help="chord tolerance in inches (default: threadmate's default)",
+    )
     parser.add_argument("--chunk-size", type=int, default=None, help="thesis model only")
     parser.add_argument("--keep", default=None, help="keep the libraries under this folder")
     parser.add_argument("--_one", action="store_true", help=argparse.SUPPRESS)
@@ -171,41 +196,67 @@ def main() -> None:
         for w in (int(x) for x in args.workers.split(",")):
             out = root / f"{args.model}-w{w}"
             shutil.rmtree(out, ignore_errors=True)
-            cmd = [sys.executable, __file__, "--_one", "--model", args.model,
-                   f"--roll={args.roll}", f"--pitch={args.pitch}", f"--phase={args.phase}",
-                   "--workers", str(w), "--out", str(out), "--step", str(args.step)]
+            cmd = [
+                sys.executable,
+                __file__,
+                "--_one",
+                "--model",
+                args.model,
+                f"--roll={args.roll}",
+                f"--pitch={args.pitch}",
+                f"--phase={args.phase}",
+                "--workers",
+                str(w),
+                "--out",
+                str(out),
+                "--step",
+                str(args.step),
+            ]
             if args.chord is not None:
                 cmd += ["--chord", str(args.chord)]
             if args.chunk_size:
                 cmd += ["--chunk-size", str(args.chunk_size)]
-            proc = subprocess.run(cmd, capture_output=True, text=True,
-                                  env={**os.environ, "PYTHONUNBUFFERED": "1"})
+            proc = subprocess.run(
+                cmd, capture_output=True, text=True, env={**os.environ, "PYTHONUNBUFFERED": "1"}
+            )
             if proc.returncode:
                 sys.exit(f"benchmark run failed:\n{proc.stderr}")
             r = json.loads(proc.stdout.strip().splitlines()[-1])
             results.append(r)
-            print(f"{r['model']}: {r['grid']}, {w} worker(s): {r['wall_s']:.1f} s wall, "
-                  f"{r['cpu_s']:.1f} s worker CPU")
-            print(f"  one yes/no query {r['query_us']:.0f} us; per grid configuration "
-                  f"{r['ms_per_config_cpu']:.0f} ms CPU = {r['qe_per_config_cpu']:.0f} query "
-                  f"equivalents (wall on {w}: {r['qe_per_config_wall']:.0f}); target <= 100")
-            print(f"  thesis grid (81 held tilts x 72 phases) on {w} worker(s): about "
-                  f"{r['thesis_grid_wall_s'] / 60:.1f} min at this run's wall rate, "
-                  f"{r['thesis_grid_cpu_bound_s'] / 60:.1f} min at its CPU rate (cores not "
-                  "shared)")
+            print(
+                f"{r['model']}: {r['grid']}, {w} worker(s): {r['wall_s']:.1f} s wall, "
+                f"{r['cpu_s']:.1f} s worker CPU"
+            )
+            print(
+                f"  one yes/no query {r['query_us']:.0f} us; per grid configuration "
+                f"{r['ms_per_config_cpu']:.0f} ms CPU = {r['qe_per_config_cpu']:.0f} query "
+                f"equivalents (wall on {w}: {r['qe_per_config_wall']:.0f}); target <= 100"
+            )
+            print(
+                f"  thesis grid (81 held tilts x 72 phases) on {w} worker(s): about "
+                f"{r['thesis_grid_wall_s'] / 60:.1f} min at this run's wall rate, "
+                f"{r['thesis_grid_cpu_bound_s'] / 60:.1f} min at its CPU rate (cores not "
+                "shared)"
+            )
             if r["states"]:
-                print(f"  states: {r['states']['total']} ({r['states']['by_role']}); "
-                      f"rest states of the starts: {r['classifications']}")
+                print(
+                    f"  states: {r['states']['total']} ({r['states']['by_role']}); "
+                    f"rest states of the starts: {r['classifications']}"
+                )
             else:
                 print(f"  classes: {r['classifications']}")
-            print(f"  peak memory: sweeping process {r['peak_main_mb']:.0f} MB, largest worker "
-                  f"{r['peak_worker_mb']:.0f} MB; library {r['library_mb']:.2f} MB in "
-                  f"{r['parts']} parts")
+            print(
+                f"  peak memory: sweeping process {r['peak_main_mb']:.0f} MB, largest worker "
+                f"{r['peak_worker_mb']:.0f} MB; library {r['library_mb']:.2f} MB in "
+                f"{r['parts']} parts"
+            )
         if len(results) >= 2:
             base = results[0]
             for r in results[1:]:
-                print(f"speed-up {base['workers']} -> {r['workers']} workers: "
-                      f"{base['wall_s'] / r['wall_s']:.2f}x")
+                print(
+                    f"speed-up {base['workers']} -> {r['workers']} workers: "
+                    f"{base['wall_s'] / r['wall_s']:.2f}x"
+                )
         print(json.dumps(results))
     finally:
         if not args.keep:

@@ -26,16 +26,20 @@ from threadmate.geometry import spec_from_designation
 def main(lib: Path, out: Path) -> None:
     # 1. The network of the library's states (its compliance is in the library).
     g = network.from_library(lib)
-    print(f"{g.number_of_nodes()} states, {g.number_of_edges()} transitions, "
-          f"{len(network.snap_targets(g))} in-phase (snap) states")
+    print(
+        f"{g.number_of_nodes()} states, {g.number_of_edges()} transitions, "
+        f"{len(network.snap_targets(g))} in-phase (snap) states"
+    )
 
     # 2. The passive search from one start, read off the network (the nearest start of
     #    the grid: the request is off it).
     try:
         p = network.least_resistance_path(g, roll=0.4, pitch=-1, phase=95, nearest=True)
-        print(f"from {p.start}: snap after {p.turn:.1f} deg at phase {p.snap['phase']:.2f} "
-              f"deg, click {p.snap['drop']:.4g} in, driver's work {p.cost:.3g} mJ"
-              + ("; passes an unstable transition" if p.passes_unstable else ""))
+        print(
+            f"from {p.start}: snap after {p.turn:.1f} deg at phase {p.snap['phase']:.2f} "
+            f"deg, click {p.snap['drop']:.4g} in, driver's work {p.cost:.3g} mJ"
+            + ("; passes an unstable transition" if p.passes_unstable else "")
+        )
     except NoPathError as exc:
         print(f"no path: {exc}")
 
@@ -54,8 +58,9 @@ def main(lib: Path, out: Path) -> None:
     network.write_recommendation(rec, out / "recommendation.json")
     network.plot_recommendation(rec, out / "recommendation.png")
     starts.to_csv(out / "starts.csv", index=False)
-    print(f"wrote {out / 'network.graphml'}, recommendation.json, recommendation.png and "
-          "starts.csv")
+    print(
+        f"wrote {out / 'network.graphml'}, recommendation.json, recommendation.png and starts.csv"
+    )
 
 
 if __name__ == "__main__":
@@ -64,9 +69,13 @@ if __name__ == "__main__":
         lib = Path(sys.argv[1])
     else:
         spec = spec_from_designation("1/4-20 UNC-2A/2B")
-        lib = library.sweep(spec, roll="0:1:1", pitch="-1:1:1", phase="0:330:30",
-                            out=out / "library", compliance=Compliance(force=8.0,
-                                                                         stiffness=0.8,
-                                                                         friction=0.12))
+        lib = library.sweep(
+            spec,
+            roll="0:1:1",
+            pitch="-1:1:1",
+            phase="0:330:30",
+            out=out / "library",
+            compliance=Compliance(force=8.0, stiffness=0.8, friction=0.12),
+        )
     main(lib, out)
     print(f"output kept in {out.resolve()}")

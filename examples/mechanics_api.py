@@ -23,20 +23,30 @@ mech = Mechanics(spec, compliance)
 rest = settle(mech, 4, 0, 185)
 s = rest.state
 tilt = math.degrees(math.acos(math.cos(math.radians(s.roll)) * math.cos(math.radians(s.pitch))))
-print(f"settle (4, 0, 185): {rest.classification}; rests at roll {s.roll:.3f}, pitch "
-      f"{s.pitch:.3f} deg (axis {tilt:.3f} deg from vertical, held 4 deg)")
+print(
+    f"settle (4, 0, 185): {rest.classification}; rests at roll {s.roll:.3f}, pitch "
+    f"{s.pitch:.3f} deg (axis {tilt:.3f} deg from vertical, held 4 deg)"
+)
 for c in s.touching:
-    print(f"  {c.regions:16s} force {c.force:7.3f} N at "
-          f"({c.point[0]:+.4f}, {c.point[1]:+.4f}, {c.point[2]:+.4f}) {spec.units}")
-print(f"  driver torque {s.driver_torque * 1e3:.3f} N mm, potential {s.potential:.3f} mJ, "
-      f"{len(rest.path)} unstable state(s) on the way")
+    print(
+        f"  {c.regions:16s} force {c.force:7.3f} N at "
+        f"({c.point[0]:+.4f}, {c.point[1]:+.4f}, {c.point[2]:+.4f}) {spec.units}"
+    )
+print(
+    f"  driver torque {s.driver_torque * 1e3:.3f} N mm, potential {s.potential:.3f} mJ, "
+    f"{len(rest.path)} unstable state(s) on the way"
+)
 
 # The counter-clockwise search from phase 300: it snaps within a turn.
 run = search(mech, 4, 0, 300, turns=1)
 if run.snap is None:
     print(f"search: no snap within {run.turns:g} turn")
 else:
-    print(f"search from (4, 0, 300): snap at phase {run.snap.phase:.2f} deg after "
-          f"{run.snap_turn:.2f} deg, click {run.snap.drop:.5f} {spec.units}")
-print(f"  work {run.work:.3f} mJ (friction {run.work_friction:.3f}, potential "
-      f"{run.work_potential:.3f}); events: {', '.join(e.kind for e in run.events) or 'none'}")
+    print(
+        f"search from (4, 0, 300): snap at phase {run.snap.phase:.2f} deg after "
+        f"{run.snap_turn:.2f} deg, click {run.snap.drop:.5f} {spec.units}"
+    )
+print(
+    f"  work {run.work:.3f} mJ (friction {run.work_friction:.3f}, potential "
+    f"{run.work_potential:.3f}); events: {', '.join(e.kind for e in run.events) or 'none'}"
+)

@@ -48,8 +48,9 @@ def nut_top(spec, x, y):
     return np.where((r < n.minor / 2) | (r > n.outer_radius), -np.inf, z)
 
 
-def exact_centre_height(spec, rotation, compliance_z=0.0, n_theta=1200, n_v=48,
-                        sectors=48, refined=16):
+def exact_centre_height(
+    spec, rotation, compliance_z=0.0, n_theta=1200, n_v=48, sectors=48, refined=16
+):
     """Height of the compliance centre C (held at x = y = 0) at which the exact bolt, at
     ``rotation``, first touches the exact nut when lowered along -Z.
 
@@ -78,8 +79,7 @@ def exact_centre_height(spec, rotation, compliance_z=0.0, n_theta=1200, n_v=48,
 
     def tip(th, s):
         r = s * bolt.section_radius(th, 0.0)
-        return lowest(np.stack([r * np.cos(th), r * np.sin(th), 0 * r - compliance_z], -1)
-                      @ R.T)
+        return lowest(np.stack([r * np.cos(th), r * np.sin(th), 0 * r - compliance_z], -1) @ R.T)
 
     best = -np.inf
     for f, top in ((lateral, length), (tip, 1.0)):
@@ -114,7 +114,6 @@ def exact_first_height(spec, roll, pitch, phase, n_theta=2400, n_v=80):
     """Origin (tip-centre) height at which the exact bolt at (roll, pitch, phase), its
     origin over x = y = 0, first touches the exact nut."""
     return exact_centre_height(spec, rot(roll, pitch, phase), 0.0, n_theta, n_v)
-
 
 
 def _material(bolt, a, d, s):
@@ -154,8 +153,9 @@ def _nut_edges(spec, edge, theta):
     n, p = spec.nut, spec.pitch
     t0 = -spec.handedness * spec.lead * theta / (2 * math.pi)
     t0 = t0 - p * np.floor(t0 / p + 0.5)
-    r_top = np.clip(n.pitch_diameter / 2 + math.sqrt(3) * (p / 4 - np.abs(t0)),
-                    n.minor / 2, n.major / 2)
+    r_top = np.clip(
+        n.pitch_diameter / 2 + math.sqrt(3) * (p / 4 - np.abs(t0)), n.minor / 2, n.major / 2
+    )
     u_c = float(np.clip(p / 4 + (n.pitch_diameter - n.minor) / 2 / math.sqrt(3), 0, p / 2))
     # Corner edges: t = +-u_c on the crest's corners, t = z + t0 (mod p): z = t - t0 + k p.
     k = np.where(edge % 2 == 1, 1, -1) * u_c - t0 + ((edge - 1) // 2 - _TURNS) * p
@@ -179,8 +179,9 @@ def _over_edges(spec, bolt, R, compliance_z, n_theta=720, refined=12):
         ok = np.isfinite(z)
         if ok.any():
             th = theta[ok]
-            out[ok] = z[ok] - _bolt_bottom(spec, bolt, R, compliance_z, r[ok] * np.cos(th),
-                                           r[ok] * np.sin(th), n_s)
+            out[ok] = z[ok] - _bolt_bottom(
+                spec, bolt, R, compliance_z, r[ok] * np.cos(th), r[ok] * np.sin(th), n_s
+            )
         return out
 
     n_edges = 1 + 2 * (2 * _TURNS + 1)

@@ -45,8 +45,14 @@ def mechanics_library(tmp_path_factory: Any) -> Path:
     """The session's real mechanics library (built once, on 2 workers)."""
     if "real" not in _BUILT:
         out = tmp_path_factory.mktemp("mechanics-library") / "library"
-        sweep(spec_from_designation(DESIGNATION), REAL_GRID["roll"], REAL_GRID["pitch"],
-              REAL_GRID["phase"], out=out, workers=2)
+        sweep(
+            spec_from_designation(DESIGNATION),
+            REAL_GRID["roll"],
+            REAL_GRID["pitch"],
+            REAL_GRID["phase"],
+            out=out,
+            workers=2,
+        )
         _BUILT["real"] = out
     return _BUILT["real"]
 
@@ -64,35 +70,78 @@ class _Rows:
         g = self.grid
         return g.config_id(g.roll.index(r), g.pitch.index(p), g.phase.index(ph % 360.0))
 
-    def add(self, r: float, p: float, ph: float, role: str, cls: str, *, cid: int,
-            z: float, torque: float = math.nan, error: str = "") -> str:
+    def add(
+        self,
+        r: float,
+        p: float,
+        ph: float,
+        role: str,
+        cls: str,
+        *,
+        cid: int,
+        z: float,
+        torque: float = math.nan,
+        error: str = "",
+    ) -> str:
         sid = state_id(r, p, ph, self.serial[(r, p)])
         self.serial[(r, p)] += 1
         row = blank_row(state_schema())
-        row.update(config_id=cid, state_id=sid, held_roll=r, held_pitch=p, phase=ph % 360.0,
-                   role=role, classification=cls, roll=r, pitch=p, origin_z=z - 0.2,
-                   centre_z=z, centre_x=0.0, centre_y=0.0, origin_x=0.0, origin_y=0.0,
-                   rotation=[1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0], potential=10.0 * z,
-                   driver_torque=torque, friction_torque=torque, error=error,
-                   n_contacts=0 if cls == "error" else 2,
-                   region_combination="" if cls == "error" else "flank/flank + crest/root",
-                   contact_regions=[] if cls == "error" else ["flank/flank", "crest/root"],
-                   contact_forces=[] if cls == "error" else [6.0, 4.0],
-                   contact_points=[] if cls == "error" else [0.1, 0, 0, -0.1, 0, 0.01],
-                   contact_normals=[] if cls == "error" else [0, 0, 1.0, 0, 0.6, 0.8])
+        row.update(
+            config_id=cid,
+            state_id=sid,
+            held_roll=r,
+            held_pitch=p,
+            phase=ph % 360.0,
+            role=role,
+            classification=cls,
+            roll=r,
+            pitch=p,
+            origin_z=z - 0.2,
+            centre_z=z,
+            centre_x=0.0,
+            centre_y=0.0,
+            origin_x=0.0,
+            origin_y=0.0,
+            rotation=[1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0],
+            potential=10.0 * z,
+            driver_torque=torque,
+            friction_torque=torque,
+            error=error,
+            n_contacts=0 if cls == "error" else 2,
+            region_combination="" if cls == "error" else "flank/flank + crest/root",
+            contact_regions=[] if cls == "error" else ["flank/flank", "crest/root"],
+            contact_forces=[] if cls == "error" else [6.0, 4.0],
+            contact_points=[] if cls == "error" else [0.1, 0, 0, -0.1, 0, 0.01],
+            contact_normals=[] if cls == "error" else [0, 0, 1.0, 0, 0.6, 0.8],
+        )
         self.rows[sid] = row
         return sid
 
-    def link(self, a: str, b: str, kind: str, label: str, *, turn: float = 0.0,
-             wf: float = 0.0, wp: float = 0.0, peak: float = math.nan) -> None:
-        self.rows[a].update(next_id=b, transition=kind, transition_label=label,
-                            transition_turn=turn, work_friction=wf, work_potential=wp,
-                            torque_peak=peak,
-                            drop=self.rows[a]["centre_z"] - self.rows[b]["centre_z"],
-                            tilt_change=0.1)
+    def link(
+        self,
+        a: str,
+        b: str,
+        kind: str,
+        label: str,
+        *,
+        turn: float = 0.0,
+        wf: float = 0.0,
+        wp: float = 0.0,
+        peak: float = math.nan,
+    ) -> None:
+        self.rows[a].update(
+            next_id=b,
+            transition=kind,
+            transition_label=label,
+            transition_turn=turn,
+            work_friction=wf,
+            work_potential=wp,
+            torque_peak=peak,
+            drop=self.rows[a]["centre_z"] - self.rows[b]["centre_z"],
+            tilt_change=0.1,
+        )
 
-    def drop(self, r: float, p: float, ph: float, cls: str, z: float,
-             torque: float = 0.004) -> str:
+    def drop(self, r: float, p: float, ph: float, cls: str, z: float, torque: float = 0.004) -> str:
         """A start: its first contact (2 thousandths above), settling to the rest state."""
         cid = self.config(r, p, ph)
         first = self.add(r, p, ph, "first-contact", "unstable", cid=cid, z=z + 0.002)
@@ -104,12 +153,36 @@ class _Rows:
         """Turn from ``sid`` to a fold at phase ``at``, then snap into the thread."""
         row = self.rows[sid]
         r, p, ph, cid = row["held_roll"], row["held_pitch"], row["phase"], row["config_id"]
-        before = self.add(r, p, at, "before-jump", "quasi-stable", cid=cid,
-                          z=row["centre_z"] - 0.0002, torque=0.005)
-        after = self.add(r, p, at + 0.01, "after-jump", "in-phase", cid=cid,
-                         z=row["centre_z"] - 0.0052, torque=0.006)
-        self.link(sid, before, "turning", "quasi-stable", turn=(at - ph) % 360.0, wf=0.4,
-                  wp=0.05, peak=0.0045)
+        before = self.add(
+            r,
+            p,
+            at,
+            "before-jump",
+            "quasi-stable",
+            cid=cid,
+            z=row["centre_z"] - 0.0002,
+            torque=0.005,
+        )
+        after = self.add(
+            r,
+            p,
+            at + 0.01,
+            "after-jump",
+            "in-phase",
+            cid=cid,
+            z=row["centre_z"] - 0.0052,
+            torque=0.006,
+        )
+        self.link(
+            sid,
+            before,
+            "turning",
+            "quasi-stable",
+            turn=(at - ph) % 360.0,
+            wf=0.4,
+            wp=0.05,
+            peak=0.0045,
+        )
         self.link(before, after, "snap", "unstable", turn=0.01)
 
 
@@ -131,8 +204,14 @@ def synthetic_rows() -> pd.DataFrame:
     Rest heights differ by held tilt so that active moves lift or drop.
     """
     b = _Rows()
-    z0 = {(0.0, -1.0): 0.010, (1.0, -1.0): 0.011, (0.0, 0.0): 0.009, (1.0, 0.0): 0.012,
-          (0.0, 1.0): 0.013, (1.0, 1.0): 0.008}
+    z0 = {
+        (0.0, -1.0): 0.010,
+        (1.0, -1.0): 0.011,
+        (0.0, 0.0): 0.009,
+        (1.0, 0.0): 0.012,
+        (0.0, 1.0): 0.013,
+        (1.0, 1.0): 0.008,
+    }
     phases = SYNTH_GRID["phase"]
     # (0, -1)
     r, p = 0.0, -1.0
@@ -145,11 +224,27 @@ def synthetic_rows() -> pd.DataFrame:
     r, p = 1.0, -1.0
     s0 = b.drop(r, p, 0.0, "quasi-stable", z0[r, p])
     s1 = b.drop(r, p, 90.0, "quasi-stable", z0[r, p])
-    bad = b.add(r, p, 180.0, "start", "error", cid=b.config(r, p, 180.0), z=math.nan,
-                error="RuntimeError: the drop found no contact")
+    bad = b.add(
+        r,
+        p,
+        180.0,
+        "start",
+        "error",
+        cid=b.config(r, p, 180.0),
+        z=math.nan,
+        error="RuntimeError: the drop found no contact",
+    )
     s3 = b.drop(r, p, 270.0, "quasi-stable", z0[r, p])
-    c2 = b.add(r, p, 180.0, "continued", "quasi-stable", cid=b.rows[s1]["config_id"],
-               z=z0[r, p], torque=0.004)
+    c2 = b.add(
+        r,
+        p,
+        180.0,
+        "continued",
+        "quasi-stable",
+        cid=b.rows[s1]["config_id"],
+        z=z0[r, p],
+        torque=0.004,
+    )
     b.link(s0, s1, "turning", "quasi-stable", turn=90, wf=1.0, wp=0.0, peak=0.005)
     b.link(s1, c2, "turning", "quasi-stable", turn=90, wf=1.1, wp=0.2, peak=0.0052)
     b.link(c2, s3, "turning", "quasi-stable", turn=90, wf=0.7, wp=0.1, peak=0.0049)
@@ -167,10 +262,12 @@ def synthetic_rows() -> pd.DataFrame:
     r, p = 1.0, 0.0
     s = [b.drop(r, p, ph, "quasi-stable", z0[r, p]) for ph in phases]
     cid = b.rows[s[0]]["config_id"]
-    fold = b.add(r, p, 40.0, "before-jump", "quasi-stable", cid=cid, z=z0[r, p] + 0.0003,
-                 torque=0.008)
-    land = b.add(r, p, 40.005, "after-jump", "quasi-stable", cid=cid, z=z0[r, p] - 0.0007,
-                 torque=0.004)
+    fold = b.add(
+        r, p, 40.0, "before-jump", "quasi-stable", cid=cid, z=z0[r, p] + 0.0003, torque=0.008
+    )
+    land = b.add(
+        r, p, 40.005, "after-jump", "quasi-stable", cid=cid, z=z0[r, p] - 0.0007, torque=0.004
+    )
     b.link(s[0], fold, "turning", "quasi-stable", turn=40, wf=0.5, wp=0.2, peak=0.0095)
     b.link(fold, land, "jump", "unstable", turn=0.005)
     b.link(land, s[1], "turning", "quasi-stable", turn=49.995, wf=0.6, wp=-0.1, peak=0.005)
@@ -181,8 +278,7 @@ def synthetic_rows() -> pd.DataFrame:
     r, p = 0.0, 1.0
     s = [b.drop(r, p, ph, "quasi-stable", z0[r, p]) for ph in phases]
     for i, peak in enumerate((0.0058, 0.0051, 0.0053, 0.005)):  # the largest on 0 -> 90
-        b.link(s[i], s[(i + 1) % 4], "turning", "quasi-stable", turn=90, wf=1.0, wp=0.0,
-               peak=peak)
+        b.link(s[i], s[(i + 1) % 4], "turning", "quasi-stable", turn=90, wf=1.0, wp=0.0, peak=peak)
     # (1, +1): a second sheet; the snap beyond one turn from 90
     r, p = 1.0, 1.0
     b.drop(r, p, 0.0, "in-phase", z0[r, p] - 0.005, torque=0.0065)
@@ -190,8 +286,10 @@ def synthetic_rows() -> pd.DataFrame:
     s2 = b.drop(r, p, 180.0, "quasi-stable", z0[r, p])
     s3 = b.drop(r, p, 270.0, "quasi-stable", z0[r, p])
     cid = b.rows[s1]["config_id"]
-    sheet = [b.add(r, p, ph, "continued", "quasi-stable", cid=cid, z=z0[r, p] + 0.001,
-                   torque=0.004) for ph in (180.0, 270.0, 0.0, 90.0)]
+    sheet = [
+        b.add(r, p, ph, "continued", "quasi-stable", cid=cid, z=z0[r, p] + 0.001, torque=0.004)
+        for ph in (180.0, 270.0, 0.0, 90.0)
+    ]
     b.link(s1, sheet[0], "turning", "quasi-stable", turn=90, wf=1.0, wp=0.5, peak=0.006)
     for u, v in zip(sheet, sheet[1:], strict=False):
         b.link(u, v, "turning", "quasi-stable", turn=90, wf=1.0, wp=0.0, peak=0.006)
@@ -201,15 +299,25 @@ def synthetic_rows() -> pd.DataFrame:
     return pd.DataFrame(list(b.rows.values()))
 
 
-def synthetic_library(out: Path, spec: Any, rows: pd.DataFrame | None = None,
-                      roll: list[float] | None = None, pitch: list[float] | None = None
-                      ) -> Path:
+def synthetic_library(
+    out: Path,
+    spec: Any,
+    rows: pd.DataFrame | None = None,
+    roll: list[float] | None = None,
+    pitch: list[float] | None = None,
+) -> Path:
     """Write the hand-made rows (or a subset: ``rows`` on the held rolls ``roll`` and
     pitches ``pitch``) as a library with the public writer."""
     rows = synthetic_rows() if rows is None else rows
-    return write_library(rows, out, spec, roll or SYNTH_GRID["roll"],
-                         pitch or SYNTH_GRID["pitch"], SYNTH_GRID["phase"],
-                         compliance=SYNTH_COMPLIANCE)
+    return write_library(
+        rows,
+        out,
+        spec,
+        roll or SYNTH_GRID["roll"],
+        pitch or SYNTH_GRID["pitch"],
+        SYNTH_GRID["phase"],
+        compliance=SYNTH_COMPLIANCE,
+    )
 
 
 # -- the independent reading --------------------------------------------------------------
@@ -266,24 +374,37 @@ def walk_starts(rows: pd.DataFrame, jump_penalty: float = 0.0) -> pd.DataFrame:
             seen.add(nxt)
             node = by_id.loc[nxt]
         finite = [float(t) for t in peaks if np.isfinite(t)]
-        out.append({
-            "node": sid, "held_roll": start["held_roll"], "held_pitch": start["held_pitch"],
-            "phase": start["phase"], "classification": start["classification"],
-            "failed": start["classification"] == "error", "reaches": reaches,
-            "snapped": reaches and turn <= 360.0 + 1e-9,
-            "turn": turn if reaches else math.nan, "work": work if reaches else math.nan,
-            "click": click if reaches else math.nan,
-            "snap_phase": by_id.loc[path[-1], "phase"] if reaches else math.nan,
-            "torque_peak": max(finite) if finite else math.nan,
-            "passes_unstable": unstable, "path": path})
+        out.append(
+            {
+                "node": sid,
+                "held_roll": start["held_roll"],
+                "held_pitch": start["held_pitch"],
+                "phase": start["phase"],
+                "classification": start["classification"],
+                "failed": start["classification"] == "error",
+                "reaches": reaches,
+                "snapped": reaches and turn <= 360.0 + 1e-9,
+                "turn": turn if reaches else math.nan,
+                "work": work if reaches else math.nan,
+                "click": click if reaches else math.nan,
+                "snap_phase": by_id.loc[path[-1], "phase"] if reaches else math.nan,
+                "torque_peak": max(finite) if finite else math.nan,
+                "passes_unstable": unstable,
+                "path": path,
+            }
+        )
     return pd.DataFrame(out).set_index("node")
 
 
-def setting_figures(walked: pd.DataFrame, held_pitch: float, roll_spread: float = math.inf
-                    ) -> dict[str, float | None]:
+def setting_figures(
+    walked: pd.DataFrame, held_pitch: float, roll_spread: float = math.inf
+) -> dict[str, float | None]:
     """The recommendation's figures of one held pitch, from :func:`walk_starts`."""
-    sel = walked[(walked["held_pitch"] == held_pitch)
-                 & (walked["held_roll"].abs() <= roll_spread) & ~walked["failed"]]
+    sel = walked[
+        (walked["held_pitch"] == held_pitch)
+        & (walked["held_roll"].abs() <= roll_spread)
+        & ~walked["failed"]
+    ]
     ok = sel[sel["snapped"]]
     clicks = ok.loc[ok["turn"] > 0, "click"]
 
@@ -293,11 +414,17 @@ def setting_figures(walked: pd.DataFrame, held_pitch: float, roll_spread: float 
             return None
         return sum(values) / len(values) if how == "mean" else max(values)
 
-    return {"starts": len(sel), "share_snap": len(ok) / len(sel),
-            "turn_mean": agg(ok["turn"], "mean"), "turn_worst": agg(ok["turn"], "max"),
-            "work_mean": agg(ok["work"], "mean"), "work_worst": agg(ok["work"], "max"),
-            "click_mean": agg(clicks, "mean"), "torque_peak": agg(sel["torque_peak"], "max"),
-            "share_unstable": float(sel["passes_unstable"].mean())}
+    return {
+        "starts": len(sel),
+        "share_snap": len(ok) / len(sel),
+        "turn_mean": agg(ok["turn"], "mean"),
+        "turn_worst": agg(ok["turn"], "max"),
+        "work_mean": agg(ok["work"], "mean"),
+        "work_worst": agg(ok["work"], "max"),
+        "click_mean": agg(clicks, "mean"),
+        "torque_peak": agg(sel["torque_peak"], "max"),
+        "share_unstable": float(sel["passes_unstable"].mean()),
+    }
 
 
 def library_rows(path: Path) -> pd.DataFrame:
@@ -309,7 +436,10 @@ def library_rows(path: Path) -> pd.DataFrame:
 def compliance_of(path: Path) -> Compliance:
     """The compliance the library's metadata records."""
     c = load(path, columns=["config_id"]).attrs["threadmate"]["compliance"]
-    return Compliance(force=c["force"], stiffness=(c["stiffness"]["roll"],
-                                                    c["stiffness"]["pitch"]),
-                      lateral_stiffness=c["lateral_stiffness"],
-                      compliance_z=c["compliance_z"], friction=c["friction"])
+    return Compliance(
+        force=c["force"],
+        stiffness=(c["stiffness"]["roll"], c["stiffness"]["pitch"]),
+        lateral_stiffness=c["lateral_stiffness"],
+        compliance_z=c["compliance_z"],
+        friction=c["friction"],
+    )

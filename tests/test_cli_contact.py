@@ -14,8 +14,7 @@ from _cli import run_cli
 SPEC = {
     "units": "in",
     "pitch": 0.05,
-    "bolt": {"major": 0.24485, "pitch_diameter": 0.21455, "minor": 0.1887,
-             "root_fillet": 0.00625},
+    "bolt": {"major": 0.24485, "pitch_diameter": 0.21455, "minor": 0.1887, "root_fillet": 0.00625},
     "nut": {"major": 0.25, "pitch_diameter": 0.21995, "minor": 0.2015},
 }
 
@@ -25,14 +24,15 @@ def run(argv, capsys):
 
 
 def test_json_document(spec_file, capsys):
-    rc, out, err = run(["contact", str(spec_file), "--roll", "4", "--pitch", "4",
-                        "--phase", "235", "--json"], capsys)
+    rc, out, err = run(
+        ["contact", str(spec_file), "--roll", "4", "--pitch", "4", "--phase", "235", "--json"],
+        capsys,
+    )
     assert rc == 0
     doc = json.loads(out)  # exactly one JSON document on stdout
     assert doc["units"] == "in"
     assert (doc["roll"], doc["pitch"], doc["phase"]) == (4.0, 4.0, 235.0)
-    assert doc["classification"] in ("stable", "quasi-stable", "unstable", "in-phase",
-                                     "no-contact")
+    assert doc["classification"] in ("stable", "quasi-stable", "unstable", "in-phase", "no-contact")
     for key in ("interference", "origin_drop", "stages", "pivot_offset", "rolling"):
         assert key in doc
     assert isinstance(doc["rolling"], bool)
@@ -60,12 +60,24 @@ def test_json_document(spec_file, capsys):
 
 
 def test_text_output_has_the_figure_4_1_fields(spec_file, capsys):
-    rc, out, err = run(["contact", str(spec_file), "--roll", "-4", "--pitch", "0",
-                        "--phase", "131"], capsys)
+    rc, out, err = run(
+        ["contact", str(spec_file), "--roll", "-4", "--pitch", "0", "--phase", "131"], capsys
+    )
     assert rc == 0
-    for field in ("ROLL = -4", "PHASE = 131", "Classification:", "1st contact",
-                  "2nd contact", "3rd contact", "BOLT origin", "pairs", "bolt/nut",
-                  "Interference", "origin drop", "rolling pivot axis: "):
+    for field in (
+        "ROLL = -4",
+        "PHASE = 131",
+        "Classification:",
+        "1st contact",
+        "2nd contact",
+        "3rd contact",
+        "BOLT origin",
+        "pairs",
+        "bolt/nut",
+        "Interference",
+        "origin drop",
+        "rolling pivot axis: ",
+    ):
         assert field in out
 
 
@@ -73,15 +85,24 @@ def test_help_names_the_fixed_pivot_procedure_and_the_thesis_criteria(capsys):
     rc, out, err = run(["contact", "--help"], capsys)
     assert rc == 0
     text = " ".join(out.split())
-    for phrase in ("fixed-pivot procedure", "compliance holding the bolt is ignored",
-                   "threadmate settle", "threadmate search", "section 4.2", "unstable",
-                   "quasi-stable", "stable", "rolling"):
+    for phrase in (
+        "fixed-pivot procedure",
+        "compliance holding the bolt is ignored",
+        "threadmate settle",
+        "threadmate search",
+        "section 4.2",
+        "unstable",
+        "quasi-stable",
+        "stable",
+        "rolling",
+    ):
         assert phrase in text, phrase
 
 
 def test_in_phase_configuration(spec_file, capsys):
-    rc, out, err = run(["contact", str(spec_file), "--roll", "0", "--pitch", "0",
-                        "--phase", "0", "--json"], capsys)
+    rc, out, err = run(
+        ["contact", str(spec_file), "--roll", "0", "--pitch", "0", "--phase", "0", "--json"], capsys
+    )
     assert rc == 0
     doc = json.loads(out)
     assert doc["classification"] == "in-phase"
@@ -90,14 +111,17 @@ def test_in_phase_configuration(spec_file, capsys):
     assert doc["stages"]["second"]["found"] is False
 
 
-@pytest.mark.parametrize("argv", [
-    ["--roll", "50", "--pitch", "0", "--phase", "0"],
-    ["--roll", "0", "--pitch", "-45.5", "--phase", "0"],
-    ["--roll", "nan", "--pitch", "0", "--phase", "0"],
-    ["--roll", "0", "--pitch", "0", "--phase", "inf"],
-    ["--roll", "0", "--pitch", "0", "--phase", "0", "--chord", "-1e-6"],
-    ["--roll", "0", "--pitch", "0", "--phase", "0", "--chord", "0.01"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--roll", "50", "--pitch", "0", "--phase", "0"],
+        ["--roll", "0", "--pitch", "-45.5", "--phase", "0"],
+        ["--roll", "nan", "--pitch", "0", "--phase", "0"],
+        ["--roll", "0", "--pitch", "0", "--phase", "inf"],
+        ["--roll", "0", "--pitch", "0", "--phase", "0", "--chord", "-1e-6"],
+        ["--roll", "0", "--pitch", "0", "--phase", "0", "--chord", "0.01"],
+    ],
+)
 def test_bad_input_exits_2(spec_file, capsys, argv):
     rc, out, err = run(["contact", str(spec_file), *argv, "--json"], capsys)
     assert rc == 2
@@ -109,11 +133,14 @@ def test_bad_spec_exits_2(tmp_path, capsys):
     bad = dict(SPEC, bolt=dict(SPEC["bolt"], pitch_diameter=0.23))  # bolt PD > nut PD
     path = tmp_path / "bad.json"
     path.write_text(json.dumps(bad))
-    rc, out, err = run(["contact", str(path), "--roll", "0", "--pitch", "0", "--phase", "0"],
-                       capsys)
+    rc, out, err = run(
+        ["contact", str(path), "--roll", "0", "--pitch", "0", "--phase", "0"], capsys
+    )
     assert rc == 2 and out == "" and "pitch_diameter" in err
-    rc, out, err = run(["contact", str(tmp_path / "missing.json"), "--roll", "0", "--pitch",
-                        "0", "--phase", "0"], capsys)
+    rc, out, err = run(
+        ["contact", str(tmp_path / "missing.json"), "--roll", "0", "--pitch", "0", "--phase", "0"],
+        capsys,
+    )
     assert rc == 2 and "not found" in err
 
 
@@ -125,8 +152,21 @@ def test_missing_option_is_a_usage_error(spec_file, capsys):
 # -- issue 11 ------------------------------------------------------------------------------
 @pytest.mark.parametrize("value", ["1e308", "-1001", "nan", "inf"])
 def test_absurd_compliance_z_exits_2_with_range(spec_file, capsys, value):
-    rc, out, err = run(["contact", str(spec_file), "--roll", "4", "--pitch", "0",
-                        "--phase", "185", "--compliance-z", value], capsys)
+    rc, out, err = run(
+        [
+            "contact",
+            str(spec_file),
+            "--roll",
+            "4",
+            "--pitch",
+            "0",
+            "--phase",
+            "185",
+            "--compliance-z",
+            value,
+        ],
+        capsys,
+    )
     assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
     assert "--compliance-z" in err
     if value not in ("nan", "inf"):
@@ -136,8 +176,12 @@ def test_absurd_compliance_z_exits_2_with_range(spec_file, capsys, value):
 def test_absurd_spec_and_empty_designation(tmp_path, capsys):
     absurd = tmp_path / "absurd.json"
     absurd.write_text(json.dumps({**SPEC, "pitch": 1e308}))
-    for spec, text in ((absurd, "from 0.0001 to 1000 in"), ("", "empty thread designation"),
-                       (tmp_path, "is a directory, not a spec file")):
-        rc, out, err = run(["contact", str(spec), "--roll", "4", "--pitch", "0",
-                            "--phase", "185"], capsys)
+    for spec, text in (
+        (absurd, "from 0.0001 to 1000 in"),
+        ("", "empty thread designation"),
+        (tmp_path, "is a directory, not a spec file"),
+    ):
+        rc, out, err = run(
+            ["contact", str(spec), "--roll", "4", "--pitch", "0", "--phase", "185"], capsys
+        )
         assert rc == 2 and out == "" and text in err and "Traceback" not in err

@@ -21,9 +21,9 @@ from threadmate.contact import Compliance, ContactAnalyzer, Mechanics
 from threadmate.geometry import save_spec
 from threadmate.library import METADATA_FILE, load, sweep
 
-CHORD = "1e-4"      # the thesis's model only; the mechanics run at the default chord
-STEP = "10"         # the mechanics' continuation step (degrees; coarse, for speed)
-GRID = ["--roll", "1,2", "--pitch", "-1", "--phase", "0:270:90"]    # 2 held tilts x 4 phases
+CHORD = "1e-4"  # the thesis's model only; the mechanics run at the default chord
+STEP = "10"  # the mechanics' continuation step (degrees; coarse, for speed)
+GRID = ["--roll", "1,2", "--pitch", "-1", "--phase", "0:270:90"]  # 2 held tilts x 4 phases
 
 
 run = run_cli
@@ -44,8 +44,20 @@ def swept(spec_file, tmp_path_factory):
     """A mechanics library made by the command (the default model)."""
     out = tmp_path_factory.mktemp("cli") / "lib"
     with pytest.raises(SystemExit) as exc:
-        main(["sweep", str(spec_file), *GRID, "-o", str(out), "--step", STEP, "--workers",
-              "2", "--json"])
+        main(
+            [
+                "sweep",
+                str(spec_file),
+                *GRID,
+                "-o",
+                str(out),
+                "--step",
+                STEP,
+                "--workers",
+                "2",
+                "--json",
+            ]
+        )
     assert exc.value.code == 0
     return out
 
@@ -56,24 +68,59 @@ def thesis_swept(spec_file, tmp_path_factory):
     120, 240."""
     out = tmp_path_factory.mktemp("cli") / "thesis"
     with pytest.raises(SystemExit) as exc:
-        main(["sweep", str(spec_file), "--model", "thesis", "--roll", "-1:1:1", "--pitch",
-              "1", "--phase", "0:360:120", "-o", str(out), "--chord", CHORD, "--workers",
-              "2", "--json"])
+        main(
+            [
+                "sweep",
+                str(spec_file),
+                "--model",
+                "thesis",
+                "--roll",
+                "-1:1:1",
+                "--pitch",
+                "1",
+                "--phase",
+                "0:360:120",
+                "-o",
+                str(out),
+                "--chord",
+                CHORD,
+                "--workers",
+                "2",
+                "--json",
+            ]
+        )
     assert exc.value.code == 0
     return out
 
 
 def test_thesis_sweep_json_is_one_clean_document(spec_file, tmp_path, capsys, quarter_20):
     out = tmp_path / "lib"
-    rc, stdout, stderr = run(capsys, "sweep", str(spec_file), "--model", "thesis", "--roll",
-                             "0,4", "--pitch", "0", "--phase", "185", "-o", str(out),
-                             "--chord", CHORD, "--workers", "1", "--json")
+    rc, stdout, stderr = run(
+        capsys,
+        "sweep",
+        str(spec_file),
+        "--model",
+        "thesis",
+        "--roll",
+        "0,4",
+        "--pitch",
+        "0",
+        "--phase",
+        "185",
+        "-o",
+        str(out),
+        "--chord",
+        CHORD,
+        "--workers",
+        "1",
+        "--json",
+    )
     assert rc == 0
     doc = json.loads(stdout)
     assert doc["model"] == "thesis" and doc["units"]["length"] == "in"
     assert doc["configurations"] == doc["done"] == 2 and doc["complete"]
     assert not doc["resumed"] and doc["done_before"] == 0
-    assert "2/2" in stderr                       # the progress bar went to stderr
+    assert "2/2" in stderr  # the progress bar went to stderr
     assert "resuming" not in stderr
     analyzer = ContactAnalyzer(quarter_20, chord=float(CHORD))
     expected = [analyzer.analyze(r, 0, 185).classification for r in (0, 4)]
@@ -89,16 +136,41 @@ def test_mechanics_sweep_json_and_metadata(swept, capsys, mech):
     rows = pd.read_parquet(swept)
     starts = rows[rows["role"] == "start"]
     for _, row in starts.iterrows():
-        assert row["classification"] == mech.settle(row["held_roll"], row["held_pitch"],
-                                                    row["phase"]).classification
+        assert (
+            row["classification"]
+            == mech.settle(row["held_roll"], row["held_pitch"], row["phase"]).classification
+        )
 
 
 def test_mechanics_sweep_with_compliance_options(spec_file, tmp_path, capsys, quarter_20):
     out = tmp_path / "stiff"
-    args = ["sweep", str(spec_file), "--roll", "1", "--pitch", "-1", "--phase", "90",
-            "-o", str(out), "--step", STEP, "--phase-tolerance", "0.02", "--force", "20",
-            "--stiffness", "0.5,2", "--friction", "0.1", "--compliance-z", "0.01",
-            "--workers", "1", "--json"]
+    args = [
+        "sweep",
+        str(spec_file),
+        "--roll",
+        "1",
+        "--pitch",
+        "-1",
+        "--phase",
+        "90",
+        "-o",
+        str(out),
+        "--step",
+        STEP,
+        "--phase-tolerance",
+        "0.02",
+        "--force",
+        "20",
+        "--stiffness",
+        "0.5,2",
+        "--friction",
+        "0.1",
+        "--compliance-z",
+        "0.01",
+        "--workers",
+        "1",
+        "--json",
+    ]
     rc, stdout, stderr = run(capsys, *args)
     assert rc == 0, stderr
     doc = json.loads(stdout)
@@ -106,12 +178,19 @@ def test_mechanics_sweep_with_compliance_options(spec_file, tmp_path, capsys, qu
     assert doc["model"] == "mechanics" and doc["done"] == 1
     assert doc["compliance"] == json.loads(json.dumps(compliance.to_dict()))
     assert doc["continuation"]["phase_tolerance"] == 0.02
-    assert doc["units"] == {"length": "in", "angle": "deg", "force": "N", "torque": "N m",
-                            "potential": "mJ", "work": "mJ"}
+    assert doc["units"] == {
+        "length": "in",
+        "angle": "deg",
+        "force": "N",
+        "torque": "N m",
+        "potential": "mJ",
+        "work": "mJ",
+    }
     mech = Mechanics(quarter_20, compliance)
     starts = pd.read_parquet(out).query("role == 'start'").sort_values("config_id")
-    for phase, cls, z in zip(starts["phase"], starts["classification"], starts["centre_z"],
-                             strict=True):
+    for phase, cls, z in zip(
+        starts["phase"], starts["classification"], starts["centre_z"], strict=True
+    ):
         rest = mech.settle(1, -1, phase)
         assert cls == rest.classification
         assert z == pytest.approx(rest.state.centre[2], abs=1e-12)
@@ -133,8 +212,19 @@ def test_interrupted_mechanics_sweep_resumes_and_says_so(swept, spec_file, tmp_p
     parts = sorted(out.glob("part-*.parquet"))
     assert len(parts) == 2
     parts[-1].unlink()
-    rc, stdout, stderr = run(capsys, "sweep", str(spec_file), *GRID, "-o", str(out),
-                             "--step", STEP, "--workers", "1", "--json")
+    rc, stdout, stderr = run(
+        capsys,
+        "sweep",
+        str(spec_file),
+        *GRID,
+        "-o",
+        str(out),
+        "--step",
+        STEP,
+        "--workers",
+        "1",
+        "--json",
+    )
     assert rc == 0
     assert f"resuming {out}: 4 of 8 configurations were already done" in stderr
     doc = json.loads(stdout)
@@ -156,11 +246,34 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     rc, out, _ = run(capsys, "library", "info", str(swept))
     assert rc == 0 and "mechanics model" in out and "compliance: force 10 N" in out
 
-    rc, _, err = run(capsys, "library", "query", str(swept), "--roll", "1.9", "--pitch", "-1",
-                     "--phase", "-90", "--json")
+    rc, _, err = run(
+        capsys,
+        "library",
+        "query",
+        str(swept),
+        "--roll",
+        "1.9",
+        "--pitch",
+        "-1",
+        "--phase",
+        "-90",
+        "--json",
+    )
     assert rc == 2 and "nearest configuration is roll 2, pitch -1, phase 270" in err
-    rc, out, _ = run(capsys, "library", "query", str(swept), "--roll", "1.9", "--pitch", "-1",
-                     "--phase", "-90", "--nearest", "--json")
+    rc, out, _ = run(
+        capsys,
+        "library",
+        "query",
+        str(swept),
+        "--roll",
+        "1.9",
+        "--pitch",
+        "-1",
+        "--phase",
+        "-90",
+        "--nearest",
+        "--json",
+    )
     assert rc == 0
     q = json.loads(out)
     assert q["model"] == "mechanics" and q["units"]["length"] == "in"
@@ -170,13 +283,15 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     assert q["record"]["classification"] == direct.classification
     assert q["record"]["contact_regions"] == [c.regions for c in direct.state.touching]
 
-    rc, out, _ = run(capsys, "library", "query", str(swept), "--roll", "2", "--pitch", "-1",
-                     "--phase", "270")
+    rc, out, _ = run(
+        capsys, "library", "query", str(swept), "--roll", "2", "--pitch", "-1", "--phase", "270"
+    )
     assert rc == 0 and "snapped" not in out and f"Rest state: {direct.classification}" in out
 
     figs = tmp_path / "figs"
-    rc, out, _ = run(capsys, "library", "summary", str(swept), "--phase", "90", "-o",
-                     str(figs), "--json")
+    rc, out, _ = run(
+        capsys, "library", "summary", str(swept), "--phase", "90", "-o", str(figs), "--json"
+    )
     assert rc == 0
     s = json.loads(out)
     assert s["model"] == "mechanics" and s["units"]["length"] == "in"
@@ -185,7 +300,10 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     assert s["states"]["by_class"] == rows["classification"].value_counts().to_dict()
     assert s["at_phase"]["phase"] == 90.0
     assert sorted(p.name for p in figs.iterdir()) == [
-        "phase_strips.png", "region_combinations.png", "stability_map.png"]
+        "phase_strips.png",
+        "region_combinations.png",
+        "stability_map.png",
+    ]
 
     rc, out, _ = run(capsys, "library", "summary", str(swept))
     assert rc == 0 and "Rest state reached" in out and "Contact-region combinations" in out
@@ -199,8 +317,20 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
     assert doc["model"] == "thesis" and doc["units"] == {"length": "in", "angle": "deg"}
     assert doc["configurations"] == doc["done"] == 9
 
-    rc, out, _ = run(capsys, "library", "query", str(thesis_swept), "--roll", "0.9", "--pitch",
-                     "1", "--phase", "-120", "--nearest", "--json")
+    rc, out, _ = run(
+        capsys,
+        "library",
+        "query",
+        str(thesis_swept),
+        "--roll",
+        "0.9",
+        "--pitch",
+        "1",
+        "--phase",
+        "-120",
+        "--nearest",
+        "--json",
+    )
     assert rc == 0
     q = json.loads(out)
     assert q["model"] == "thesis" and q["units"]["length"] == "in"
@@ -209,8 +339,18 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
     assert q["record"]["classification"] == direct["classification"]
     assert q["record"]["n_contacts"] == direct["n_contacts"]
 
-    rc, out, _ = run(capsys, "library", "query", str(thesis_swept), "--roll", "1", "--pitch",
-                     "1", "--phase", "240")
+    rc, out, _ = run(
+        capsys,
+        "library",
+        "query",
+        str(thesis_swept),
+        "--roll",
+        "1",
+        "--pitch",
+        "1",
+        "--phase",
+        "240",
+    )
     assert rc == 0 and "snapped" not in out and direct["classification"] in out
 
     rc, out, _ = run(capsys, "library", "summary", str(thesis_swept), "--json")
@@ -224,26 +364,28 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
     assert rc == 0 and "thesis model" in out and "compliance_z 0" in out
 
 
-@pytest.mark.parametrize(("args", "words"), [
-    (["--roll", "0:4:0"], "--roll: step 0"),
-    (["--pitch", "50"], "--pitch: 50 deg is out of range"),
-    (["--phase", "abc"], "--phase: 'abc' is not a number"),
-    (["--workers", "0"], "--workers 0"),
-    (["--chord", "-1"], "--chord"),
-    (["--model", "thesis", "--chunk-size", "0"], "--chunk-size 0"),
-    (["--chunk-size", "4"], "--chunk-size applies to --model thesis only"),
-    (["--step", "0"], "--step 0 is out of range"),
-    (["--step", "11"], "--step 11 is out of range"),
-    (["--step", "2", "--phase-tolerance", "3"], "--phase-tolerance 3 is out of range"),
-    (["--force", "-1"], "force -1 N is out of range"),
-    (["--stiffness", "1,2,3"], "--stiffness '1,2,3'"),
-    (["--friction", "nan"], "friction must be finite"),
-    (["--compliance-z", "100"], "compliance_z 100 is out of range"),
-    (["--model", "thesis", "--force", "20"], "--force applies to --model mechanics only"),
-    (["--model", "thesis", "--step", "1"], "--step applies to --model mechanics only"),
-])
-def test_sweep_bad_input_exits_2_and_writes_nothing(args, words, spec_file, tmp_path,
-                                                    capsys):
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--roll", "0:4:0"], "--roll: step 0"),
+        (["--pitch", "50"], "--pitch: 50 deg is out of range"),
+        (["--phase", "abc"], "--phase: 'abc' is not a number"),
+        (["--workers", "0"], "--workers 0"),
+        (["--chord", "-1"], "--chord"),
+        (["--model", "thesis", "--chunk-size", "0"], "--chunk-size 0"),
+        (["--chunk-size", "4"], "--chunk-size applies to --model thesis only"),
+        (["--step", "0"], "--step 0 is out of range"),
+        (["--step", "11"], "--step 11 is out of range"),
+        (["--step", "2", "--phase-tolerance", "3"], "--phase-tolerance 3 is out of range"),
+        (["--force", "-1"], "force -1 N is out of range"),
+        (["--stiffness", "1,2,3"], "--stiffness '1,2,3'"),
+        (["--friction", "nan"], "friction must be finite"),
+        (["--compliance-z", "100"], "compliance_z 100 is out of range"),
+        (["--model", "thesis", "--force", "20"], "--force applies to --model mechanics only"),
+        (["--model", "thesis", "--step", "1"], "--step applies to --model mechanics only"),
+    ],
+)
+def test_sweep_bad_input_exits_2_and_writes_nothing(args, words, spec_file, tmp_path, capsys):
     out = tmp_path / "never"
     rc, stdout, stderr = run(capsys, "sweep", str(spec_file), "-o", str(out), *args)
     assert rc == 2
@@ -256,18 +398,20 @@ def test_mismatched_library_exits_2(swept, spec_file, capsys):
     before = sorted(p.name for p in swept.iterdir())
     phase = ["--phase", "0:270:90"]
     for argv, words in (
-            (["--roll", "1,2", "--pitch", "-2", *phase, "--step", STEP], "grid pitch values"),
-            ([*GRID, "--step", "2"], "continuation settings"),
-            ([*GRID, "--step", STEP, "--stiffness", "2"], "compliance"),
-            ([*GRID, "--model", "thesis"], "model")):
+        (["--roll", "1,2", "--pitch", "-2", *phase, "--step", STEP], "grid pitch values"),
+        ([*GRID, "--step", "2"], "continuation settings"),
+        ([*GRID, "--step", STEP, "--stiffness", "2"], "compliance"),
+        ([*GRID, "--model", "thesis"], "model"),
+    ):
         rc, stdout, stderr = run(capsys, "sweep", str(spec_file), *argv, "-o", str(swept))
         assert rc == 2 and "refusing to mix" in stderr and words in stderr, (argv, stderr)
         assert stdout == ""
     assert sorted(p.name for p in swept.iterdir()) == before
 
 
-@pytest.mark.parametrize("command", [["info"], ["query", "--roll", "0", "--pitch", "0",
-                                                "--phase", "0"], ["summary"]])
+@pytest.mark.parametrize(
+    "command", [["info"], ["query", "--roll", "0", "--pitch", "0", "--phase", "0"], ["summary"]]
+)
 def test_reading_a_non_library_exits_2(command, tmp_path, capsys):
     (tmp_path / "empty").mkdir()
     for path in (tmp_path / "missing", tmp_path / "empty"):
@@ -275,20 +419,38 @@ def test_reading_a_non_library_exits_2(command, tmp_path, capsys):
         assert rc == 2 and stderr.startswith("threadmate: error:") and stdout == ""
 
 
-def test_ctrl_c_then_resume_equals_an_uninterrupted_sweep(spec_file, quarter_20, tmp_path,
-                                                         capsys):
-    grid = {"roll": "-2:2:1", "pitch": "0,3", "phase": "0:355:45"}    # 80 configurations
+def test_ctrl_c_then_resume_equals_an_uninterrupted_sweep(spec_file, quarter_20, tmp_path, capsys):
+    grid = {"roll": "-2:2:1", "pitch": "0,3", "phase": "0:355:45"}  # 80 configurations
     out = tmp_path / "interrupted"
-    cmd = [sys.executable, "-c", "from threadmate.cli import main; main()", "sweep",
-           str(spec_file), "--model", "thesis", "--roll", grid["roll"], "--pitch",
-           grid["pitch"], "--phase", grid["phase"], "-o", str(out), "--chord", CHORD,
-           "--workers", "1", "--chunk-size", "2"]
+    cmd = [
+        sys.executable,
+        "-c",
+        "from threadmate.cli import main; main()",
+        "sweep",
+        str(spec_file),
+        "--model",
+        "thesis",
+        "--roll",
+        grid["roll"],
+        "--pitch",
+        grid["pitch"],
+        "--phase",
+        grid["phase"],
+        "-o",
+        str(out),
+        "--chord",
+        CHORD,
+        "--workers",
+        "1",
+        "--chunk-size",
+        "2",
+    ]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         deadline = time.monotonic() + 60
         while len(list(out.glob("part-*.parquet"))) < 3 and time.monotonic() < deadline:
             time.sleep(0.005)
-        proc.send_signal(signal.SIGINT)                 # what Ctrl-C sends
+        proc.send_signal(signal.SIGINT)  # what Ctrl-C sends
         _, stderr = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
@@ -302,8 +464,17 @@ def test_ctrl_c_then_resume_equals_an_uninterrupted_sweep(spec_file, quarter_20,
     assert rc == 0 and json.loads(stdout)["done"] == 80
     assert f"{len(partial)} of 80 configurations were already done" in stderr
     resumed = load(out)
-    reference = load(sweep(quarter_20, grid["roll"], grid["pitch"], grid["phase"],
-                           out=tmp_path / "reference", workers=2, chord=float(CHORD),
-                           model="thesis"))
+    reference = load(
+        sweep(
+            quarter_20,
+            grid["roll"],
+            grid["pitch"],
+            grid["phase"],
+            out=tmp_path / "reference",
+            workers=2,
+            chord=float(CHORD),
+            model="thesis",
+        )
+    )
     pd.testing.assert_frame_equal(resumed, reference)
     assert not [p for p in os.listdir(out) if p.endswith(".tmp")]

@@ -42,12 +42,23 @@ def _one_line_error(err: str, after_progress: bool = False) -> None:
 
 
 def test_settle_json_document(capsys):
-    rc, out, err = run(["settle", DESIGNATION, "--roll", "4", "--pitch", "0", "--phase",
-                        "170", "--json"], capsys)
+    rc, out, err = run(
+        ["settle", DESIGNATION, "--roll", "4", "--pitch", "0", "--phase", "170", "--json"], capsys
+    )
     assert rc == 0, err
     doc = json.loads(out)  # exactly one JSON document on stdout
-    for key in ("units", "held", "phase", "parameters", "classification", "rest",
-                "contacts", "potential", "driver_torque", "path"):
+    for key in (
+        "units",
+        "held",
+        "phase",
+        "parameters",
+        "classification",
+        "rest",
+        "contacts",
+        "potential",
+        "driver_torque",
+        "path",
+    ):
         assert key in doc, key
     assert doc["units"]["length"] == "in" and doc["units"]["angle"] == "deg"
     assert doc["units"]["force"] == "N" and doc["units"]["torque"] == "N m"
@@ -80,28 +91,59 @@ def test_settle_json_document(capsys):
 
 
 def test_settle_text_on_a_spec_file(spec_file, capsys):
-    rc, out, err = run(["settle", str(spec_file), "--roll", "4", "--pitch", "0", "--phase",
-                        "170", "--stiffness", "1,2", "--friction", "0.1"], capsys)
+    rc, out, err = run(
+        [
+            "settle",
+            str(spec_file),
+            "--roll",
+            "4",
+            "--pitch",
+            "0",
+            "--phase",
+            "170",
+            "--stiffness",
+            "1,2",
+            "--friction",
+            "0.1",
+        ],
+        capsys,
+    )
     assert rc == 0, err
-    for field in ("held at roll 4, pitch 0 deg", "phase 170 deg", "force 10 N",
-                  "1 (roll), 2 (pitch) N m/rad", "friction 0.1", "Class: ", "Rest pose:",
-                  "compliance centre height", "force N", "bolt/nut", "Potential:", " mJ",
-                  "driver torque:", " N m", "Path from first contact"):
+    for field in (
+        "held at roll 4, pitch 0 deg",
+        "phase 170 deg",
+        "force 10 N",
+        "1 (roll), 2 (pitch) N m/rad",
+        "friction 0.1",
+        "Class: ",
+        "Rest pose:",
+        "compliance centre height",
+        "force N",
+        "bolt/nut",
+        "Potential:",
+        " mJ",
+        "driver torque:",
+        " N m",
+        "Path from first contact",
+    ):
         assert field in out, field
     cls = out.split("Class: ", 1)[1].split()[0]
     assert cls in ("stable", "quasi-stable", "in-phase")
 
 
-@pytest.mark.parametrize("argv, words", [
-    (["--force", "-1"], "force"),
-    (["--force", "nan"], "force"),
-    (["--stiffness", "inf"], "stiffness"),
-    (["--stiffness", "1,2,3"], "--stiffness"),
-    (["--stiffness", "stiff"], "--stiffness"),
-    (["--friction", "-0.1"], "friction"),
-    (["--lateral-stiffness", "0"], "lateral_stiffness"),
-    (["--roll", "100"], "--roll"),
-])
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["--force", "-1"], "force"),
+        (["--force", "nan"], "force"),
+        (["--stiffness", "inf"], "stiffness"),
+        (["--stiffness", "1,2,3"], "--stiffness"),
+        (["--stiffness", "stiff"], "--stiffness"),
+        (["--friction", "-0.1"], "friction"),
+        (["--lateral-stiffness", "0"], "lateral_stiffness"),
+        (["--roll", "100"], "--roll"),
+    ],
+)
 def test_settle_bad_parameters_exit_2(capsys, argv, words):
     base = {"--roll": "4", "--pitch": "0", "--phase": "170"}
     args = [a for k, v in base.items() if k not in argv for a in (k, v)]
@@ -111,14 +153,17 @@ def test_settle_bad_parameters_exit_2(capsys, argv, words):
     assert err.startswith("threadmate: error:") and words in err
 
 
-@pytest.mark.parametrize("argv", [
-    ["--turns", "0"],
-    ["--turns", "11"],
-    ["--step", "0"],
-    ["--force", "-1"],
-    ["--stiffness", "1,2,3"],
-    ["--roll", "100"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--turns", "0"],
+        ["--turns", "11"],
+        ["--step", "0"],
+        ["--force", "-1"],
+        ["--stiffness", "1,2,3"],
+        ["--roll", "100"],
+    ],
+)
 def test_search_bad_input_writes_nothing(tmp_path, capsys, argv):
     fig = tmp_path / "out.png"
     base = {"--roll": "4", "--pitch": "0", "--phase": "170"}
@@ -131,41 +176,72 @@ def test_search_bad_input_writes_nothing(tmp_path, capsys, argv):
 
 def test_search_bad_figure_suffix_is_refused_first(tmp_path, capsys):
     # The spec file does not exist: the figure's name is checked first.
-    rc, out, err = run(["search", str(tmp_path / "missing.json"), "--roll", "0", "--pitch",
-                        "0", "--phase", "0", "--plot", str(tmp_path / "out.jpg")], capsys)
+    rc, out, err = run(
+        [
+            "search",
+            str(tmp_path / "missing.json"),
+            "--roll",
+            "0",
+            "--pitch",
+            "0",
+            "--phase",
+            "0",
+            "--plot",
+            str(tmp_path / "out.jpg"),
+        ],
+        capsys,
+    )
     assert rc == 2 and out == "" and ".jpg" in err
     assert list(tmp_path.iterdir()) == []
 
 
 def test_search_without_snap_exits_3_after_printing(capsys):
-    rc, out, err = run(["search", DESIGNATION, "--roll", "4", "--pitch", "0", "--phase", "170",
-                        "--turns", "0.05", "--json"], capsys)
+    rc, out, err = run(
+        [
+            "search",
+            DESIGNATION,
+            "--roll",
+            "4",
+            "--pitch",
+            "0",
+            "--phase",
+            "170",
+            "--turns",
+            "0.05",
+            "--json",
+        ],
+        capsys,
+    )
     assert rc == 3
     doc = json.loads(out)  # the document is printed all the same, and only it
     assert doc["snap"] is None and doc["turns"] == 0.05
     assert doc["start"] == {"roll": 4.0, "pitch": 0.0, "phase": 170.0}
     assert set(doc["work"]) >= {"total", "friction", "potential"}
-    assert doc["work"]["total"] == pytest.approx(doc["work"]["friction"]
-                                                 + doc["work"]["potential"])
+    assert doc["work"]["total"] == pytest.approx(doc["work"]["friction"] + doc["work"]["potential"])
     assert all(e["kind"] != "snap" for e in doc["events"])
     assert doc["states"] and all(s["classification"] != "in-phase" for s in doc["states"])
     _one_line_error(err, after_progress=True)
     assert "no snap within 0.05 turn(s)" in err
     # The same in text (the Mechanics is cached in-process: a short second run).
-    rc, out, err = run(["search", DESIGNATION, "--roll", "4", "--pitch", "0", "--phase", "170",
-                        "--turns", "0.02"], capsys)
+    rc, out, err = run(
+        ["search", DESIGNATION, "--roll", "4", "--pitch", "0", "--phase", "170", "--turns", "0.02"],
+        capsys,
+    )
     assert rc == 3
-    for field in ("counter-clockwise search from roll 4, pitch 0 deg, phase 170 deg",
-                  "Snap: no snap within 0.02 turn(s)", "Work over the turns searched: total",
-                  "mJ", "Events (0)"):
+    for field in (
+        "counter-clockwise search from roll 4, pitch 0 deg, phase 170 deg",
+        "Snap: no snap within 0.02 turn(s)",
+        "Work over the turns searched: total",
+        "mJ",
+        "Events (0)",
+    ):
         assert field in out, field
     _one_line_error(err, after_progress=True)
 
 
 def test_search_that_snaps_with_plot(tmp_path, capsys):
     fig = tmp_path / "signature.png"
-    rc, out, err = run(["search", DESIGNATION, *UPRIGHT, "--json", "--plot", str(fig)],
-                       capsys)
+    rc, out, err = run(["search", DESIGNATION, *UPRIGHT, "--json", "--plot", str(fig)], capsys)
     assert rc == 0, err
     doc = json.loads(out)
     for key in ("units", "parameters", "start", "snap", "work", "events", "states"):
@@ -178,8 +254,7 @@ def test_search_that_snaps_with_plot(tmp_path, capsys):
     assert doc["events"][-1]["kind"] == "snap"
     assert doc["states"][-1]["classification"] == "in-phase"
     for state in doc["states"]:
-        for key in ("phase", "classification", "origin", "rotation", "contacts",
-                    "driver_torque"):
+        for key in ("phase", "classification", "origin", "rotation", "contacts", "driver_torque"):
             assert key in state, key
     assert fig.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert [p.name for p in tmp_path.iterdir()] == [fig.name]  # no temporary file left
@@ -190,7 +265,15 @@ def test_help_says_units_and_defaults(capsys):
         rc, out, err = run([command, "--help"], capsys)
         assert rc == 0
         text = " ".join(out.split())
-        for phrase in ("in N", "N m/rad", "N/m", "spec's length units", "degrees",
-                       "Compliance", "Whitney", "VDI 2230"):
+        for phrase in (
+            "in N",
+            "N m/rad",
+            "N/m",
+            "spec's length units",
+            "degrees",
+            "Compliance",
+            "Whitney",
+            "VDI 2230",
+        ):
             assert phrase in text, (command, phrase)
     assert "work in mJ" in text and "--turns" in text and ".pdf" in text

@@ -24,8 +24,9 @@ def spec_file(quarter_20, tmp_path_factory):
 
 def test_json_from_spec_file(capsys, tmp_path, spec_file, quarter_20):
     out_dir = tmp_path / "out"
-    rc, out, err = run(capsys, "mesh", str(spec_file), "-o", str(out_dir), "--chord", CHORD,
-                       "--json")
+    rc, out, err = run(
+        capsys, "mesh", str(spec_file), "-o", str(out_dir), "--chord", CHORD, "--json"
+    )
     assert rc == 0, err
     doc = json.loads(out)  # exactly one JSON document on stdout
     assert doc["units"] == "in" and doc["chord"] == pytest.approx(1e-4)
@@ -43,15 +44,17 @@ def test_json_from_spec_file(capsys, tmp_path, spec_file, quarter_20):
 
 
 def test_designation_and_summary(capsys, tmp_path):
-    rc, out, err = run(capsys, "mesh", "M6x1-6g/6H", "-o", str(tmp_path), "--chord", "0.0025",
-                       "--condition", "max")
+    rc, out, err = run(
+        capsys, "mesh", "M6x1-6g/6H", "-o", str(tmp_path), "--chord", "0.0025", "--condition", "max"
+    )
     assert rc == 0, err
     assert "bolt" in out and "nut" in out and "triangles" in out and "mm" in out
     assert (tmp_path / "bolt.stl").is_file() and (tmp_path / "nut.stl").is_file()
     # Maximum material: the bolt reaches its largest major diameter, 5.974 mm (ISO 965-1).
     data = (tmp_path / "bolt.stl").read_bytes()
-    verts = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)),
-                                                      ("a", "<u2")]))["v"].reshape(-1, 3)
+    verts = np.frombuffer(
+        data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    )["v"].reshape(-1, 3)
     assert np.hypot(verts[:, 0], verts[:, 1]).max() == pytest.approx(5.974 / 2, abs=1e-5)
 
 
@@ -92,8 +95,7 @@ def test_existing_files_replaced_whole(capsys, tmp_path, spec_file):
 
 
 # -- issue 11 ------------------------------------------------------------------------------
-def test_absurd_outer_radius_exits_2_with_range_and_writes_nothing(capsys, tmp_path,
-                                                                   quarter_20):
+def test_absurd_outer_radius_exits_2_with_range_and_writes_nothing(capsys, tmp_path, quarter_20):
     data = quarter_20.to_dict()
     data["nut"]["outer_radius"] = 1e300
     spec = tmp_path / "absurd.json"
@@ -115,8 +117,7 @@ def test_uncreatable_output_exits_2(capsys, spec_file, target):
 def test_output_under_a_file_exits_2(capsys, tmp_path, spec_file):
     blocker = tmp_path / "taken"
     blocker.write_text("not a folder")
-    rc, out, err = run(capsys, "mesh", str(spec_file), "-o", str(blocker / "sub"),
-                       "--chord", CHORD)
+    rc, out, err = run(capsys, "mesh", str(spec_file), "-o", str(blocker / "sub"), "--chord", CHORD)
     assert rc == 2 and out == "" and "Traceback" not in err
     assert "is not a directory" in err and blocker.read_text() == "not a folder"
 

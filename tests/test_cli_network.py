@@ -23,8 +23,15 @@ from threadmate.contact import thesis_schema
 from threadmate.library import write_library
 from threadmate.network import METRICS
 
-SETTING_KEYS = ("share_snap", "turn_mean", "turn_worst", "work_mean", "work_worst",
-                "click_mean", "torque_peak")
+SETTING_KEYS = (
+    "share_snap",
+    "turn_mean",
+    "turn_worst",
+    "work_mean",
+    "work_worst",
+    "click_mean",
+    "torque_peak",
+)
 
 
 @pytest.fixture(scope="module")
@@ -40,8 +47,15 @@ def synth_lib(tmp_path_factory, quarter_20):
 @pytest.fixture(scope="module")
 def thesis_lib(tmp_path_factory, quarter_20):
     out = tmp_path_factory.mktemp("cli-thesis") / "lib"
-    return write_library(pd.DataFrame(columns=thesis_schema().names), out, quarter_20, 0, 0,
-                         "0:180:180", model="thesis")
+    return write_library(
+        pd.DataFrame(columns=thesis_schema().names),
+        out,
+        quarter_20,
+        0,
+        0,
+        "0:180:180",
+        model="thesis",
+    )
 
 
 def one_error(err: str) -> str:
@@ -58,15 +72,25 @@ def test_network_json_and_files(request, which, tmp_path, capsys):
     lib = request.getfixturevalue(which)
     rows = library_rows(lib)
     walked = walk_starts(rows)
-    rc, out, err = run_cli(capsys, "network", lib, "-o", tmp_path / "net.graphml",
-                           "--json-graph", tmp_path / "net.json", "--starts-csv",
-                           tmp_path / "starts.csv", "--json")
+    rc, out, err = run_cli(
+        capsys,
+        "network",
+        lib,
+        "-o",
+        tmp_path / "net.graphml",
+        "--json-graph",
+        tmp_path / "net.json",
+        "--starts-csv",
+        tmp_path / "starts.csv",
+        "--json",
+    )
     assert rc == 0, err
     doc = json.loads(out)
     assert doc["units"] == {"length": "in", "angle": "deg", "cost": "mJ"}
     assert doc["nodes"] == len(rows) and doc["edges"] == int((rows["next_id"] != "").sum())
-    assert doc["edge_kinds"] == rows.loc[rows["next_id"] != "", "transition"] \
-        .value_counts().to_dict()
+    assert (
+        doc["edge_kinds"] == rows.loc[rows["next_id"] != "", "transition"].value_counts().to_dict()
+    )
     assert doc["starts"] == len(walked)
     ok = walked[~walked["failed"]]
     assert sorted(doc["never_snap"]) == sorted(ok.index[~ok["snapped"]])
@@ -87,8 +111,17 @@ def test_network_json_and_files(request, which, tmp_path, capsys):
 
 
 def test_network_active_counts_the_moves(synth_lib, tmp_path, capsys):
-    rc, out, err = run_cli(capsys, "network", synth_lib, "-o", tmp_path / "a.graphml",
-                           "--active", "--move-penalty", "2", "--json")
+    rc, out, err = run_cli(
+        capsys,
+        "network",
+        synth_lib,
+        "-o",
+        tmp_path / "a.graphml",
+        "--active",
+        "--move-penalty",
+        "2",
+        "--json",
+    )
     assert rc == 0, err
     doc = json.loads(out)
     assert doc["active"] is True and doc["edge_kinds"]["tilt-step"] > 0
@@ -106,11 +139,23 @@ def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
     rows = library_rows(real_lib)
     by_id = rows.set_index("state_id")
     walked = walk_starts(rows)
-    node = walked.index[(walked["held_roll"] == start[0]) & (walked["held_pitch"] == start[1])
-                        & (walked["phase"] == start[2])][0]
+    node = walked.index[
+        (walked["held_roll"] == start[0])
+        & (walked["held_pitch"] == start[1])
+        & (walked["phase"] == start[2])
+    ][0]
     w = walked.loc[node]
-    args = ["path", real_lib, "--roll", start[0], "--pitch", start[1], "--phase", start[2],
-            "--json"]
+    args = [
+        "path",
+        real_lib,
+        "--roll",
+        start[0],
+        "--pitch",
+        start[1],
+        "--phase",
+        start[2],
+        "--json",
+    ]
     rc, out, err = run_cli(capsys, *args)
     if not w["reaches"]:
         assert rc == 3 and "no path" in one_error(err)
@@ -123,8 +168,9 @@ def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
     assert doc["start"]["node"] == node and doc["start"]["moved"] is False
     assert doc["path"] == w["path"]
     assert doc["labels"] == list(by_id.loc[w["path"][:-1], "transition_label"])
-    assert doc["cost"] == pytest.approx(sum(expected_weight(by_id.loc[n])
-                                            for n in w["path"][:-1]), abs=1e-12)
+    assert doc["cost"] == pytest.approx(
+        sum(expected_weight(by_id.loc[n]) for n in w["path"][:-1]), abs=1e-12
+    )
     assert doc["snap"]["phase"] == pytest.approx(w["snap_phase"])
     assert doc["snap"]["turn"] == pytest.approx(w["turn"])
     assert doc["snap"]["drop"] == pytest.approx(w["click"])
@@ -132,8 +178,7 @@ def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
 
 
 def test_path_text_lists_each_transition(synth_lib, capsys):
-    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "1", "--pitch", "0",
-                           "--phase", "0")
+    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "1", "--pitch", "0", "--phase", "0")
     assert rc == 0, err
     assert "least-resistance path: 7 transitions" in out
     assert "passes an unstable transition" in out
@@ -141,32 +186,64 @@ def test_path_text_lists_each_transition(synth_lib, capsys):
 
 
 def test_path_off_the_grid_needs_nearest(synth_lib, capsys):
-    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0.3", "--pitch", "-1",
-                           "--phase", "85", "--json")
+    rc, out, err = run_cli(
+        capsys, "path", synth_lib, "--roll", "0.3", "--pitch", "-1", "--phase", "85", "--json"
+    )
     assert rc == 2 and out == ""
     msg = one_error(err)
     assert msg.startswith("threadmate: error:") and "--nearest" in msg
     assert "roll 0, pitch -1, phase 90" in msg
-    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0.3", "--pitch", "-1",
-                           "--phase", "85", "--nearest", "--json")
+    rc, out, err = run_cli(
+        capsys,
+        "path",
+        synth_lib,
+        "--roll",
+        "0.3",
+        "--pitch",
+        "-1",
+        "--phase",
+        "85",
+        "--nearest",
+        "--json",
+    )
     assert rc == 0, err
     doc = json.loads(out)
-    assert doc["start"] == {"node": "r+0_p-1_ph090.000_s3", "roll": 0.3, "pitch": -1.0,
-                            "phase": 85.0, "moved": True}
+    assert doc["start"] == {
+        "node": "r+0_p-1_ph090.000_s3",
+        "roll": 0.3,
+        "pitch": -1.0,
+        "phase": 85.0,
+        "moved": True,
+    }
     assert doc["snap"]["turn"] == pytest.approx(200.01)
 
 
 def test_no_path_exits_3(synth_lib, capsys):
-    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0", "--pitch", "1",
-                           "--phase", "180", "--json")
+    rc, out, err = run_cli(
+        capsys, "path", synth_lib, "--roll", "0", "--pitch", "1", "--phase", "180", "--json"
+    )
     assert rc == 3 and out == ""
     assert one_error(err).startswith("threadmate: no path:")
-    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "1", "--pitch", "-1",
-                           "--phase", "180")
+    rc, out, err = run_cli(
+        capsys, "path", synth_lib, "--roll", "1", "--pitch", "-1", "--phase", "180"
+    )
     assert rc == 3 and "failed" in one_error(err)
     # With active moves the robot can leave the cycle by changing the held tilt.
-    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0", "--pitch", "1",
-                           "--phase", "180", "--active", "--k", "3", "--json")
+    rc, out, err = run_cli(
+        capsys,
+        "path",
+        synth_lib,
+        "--roll",
+        "0",
+        "--pitch",
+        "1",
+        "--phase",
+        "180",
+        "--active",
+        "--k",
+        "3",
+        "--json",
+    )
     assert rc == 0, err
     doc = json.loads(out)
     assert doc["active"] is True and doc["active_moves"] >= 1
@@ -178,13 +255,16 @@ def test_no_path_exits_3(synth_lib, capsys):
 
 @pytest.mark.parametrize("k", ["0", "1000", "-3"])
 def test_path_bad_k(synth_lib, capsys, k):
-    rc, out, err = run_cli(capsys, "path", synth_lib, "--roll", "0", "--pitch", "0",
-                           "--phase", "180", "--k", k)
+    rc, out, err = run_cli(
+        capsys, "path", synth_lib, "--roll", "0", "--pitch", "0", "--phase", "180", "--k", k
+    )
     assert rc == 2 and out == "" and "--k" in one_error(err)
 
 
-@pytest.mark.parametrize("extra", [["--roll", "nan"], ["--pitch", "50"],
-                                   ["--jump-penalty", "-1"], ["--move-penalty", "inf"]])
+@pytest.mark.parametrize(
+    "extra",
+    [["--roll", "nan"], ["--pitch", "50"], ["--jump-penalty", "-1"], ["--move-penalty", "inf"]],
+)
 def test_path_bad_numbers(synth_lib, capsys, extra):
     args = {"--roll": "0", "--pitch": "0", "--phase": "180"}
     args.update(dict(zip(extra[::2], extra[1::2], strict=True)))
@@ -199,8 +279,9 @@ def test_path_bad_numbers(synth_lib, capsys, extra):
 def test_recommend_json(request, which, tmp_path, capsys):
     lib = request.getfixturevalue(which)
     walked = walk_starts(library_rows(lib))
-    rc, out, err = run_cli(capsys, "recommend", lib, "--json", "--plot", tmp_path / "r.png",
-                           "-o", tmp_path / "r.json")
+    rc, out, err = run_cli(
+        capsys, "recommend", lib, "--json", "--plot", tmp_path / "r.png", "-o", tmp_path / "r.json"
+    )
     assert rc == 0, err
     doc = json.loads(out)
     assert doc["units"]["work"] == "mJ" and doc["units"]["length"] == "in"
@@ -236,9 +317,11 @@ def test_recommend_text_and_roll_spread(synth_lib, capsys):
 
 # -- refused libraries --------------------------------------------------------------------
 def _commands(lib, tmp_path):
-    return [["network", lib, "-o", tmp_path / "x.graphml"],
-            ["path", lib, "--roll", "0", "--pitch", "0", "--phase", "0"],
-            ["recommend", lib]]
+    return [
+        ["network", lib, "-o", tmp_path / "x.graphml"],
+        ["path", lib, "--roll", "0", "--pitch", "0", "--phase", "0"],
+        ["recommend", lib],
+    ]
 
 
 def test_missing_library_exits_2(tmp_path, capsys):
@@ -257,12 +340,15 @@ def test_thesis_library_exits_2(thesis_lib, tmp_path, capsys):
     assert not (tmp_path / "x.graphml").exists()
 
 
-@pytest.mark.parametrize("args", [
-    ["network", "{lib}", "-o", "{tmp}/net.txt"],
-    ["network", "{lib}", "-o", "{tmp}"],
-    ["recommend", "{lib}", "--plot", "{tmp}/fig.bmp"],
-    ["recommend", "{lib}", "--roll-spread", "-1"],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["network", "{lib}", "-o", "{tmp}/net.txt"],
+        ["network", "{lib}", "-o", "{tmp}"],
+        ["recommend", "{lib}", "--plot", "{tmp}/fig.bmp"],
+        ["recommend", "{lib}", "--roll-spread", "-1"],
+    ],
+)
 def test_bad_outputs_exit_2(synth_lib, tmp_path, capsys, args):
     args = [a.format(lib=synth_lib, tmp=tmp_path) for a in args]
     rc, out, err = run_cli(capsys, *args)
@@ -273,21 +359,24 @@ def test_bad_outputs_exit_2(synth_lib, tmp_path, capsys, args):
 
 def test_nan_free_documents(synth_lib, tmp_path, capsys):
     """Missing numbers are null in every document, never NaN."""
+
     def refuse(name):
         raise AssertionError(name)
 
-    for args in (["network", synth_lib, "-o", tmp_path / "n.graphml", "--json"],
-                 ["path", synth_lib, "--roll", "0", "--pitch", "0", "--phase", "0", "--json"],
-                 ["recommend", synth_lib, "--json"]):
+    for args in (
+        ["network", synth_lib, "-o", tmp_path / "n.graphml", "--json"],
+        ["path", synth_lib, "--roll", "0", "--pitch", "0", "--phase", "0", "--json"],
+        ["recommend", synth_lib, "--json"],
+    ):
         rc, out, err = run_cli(capsys, *args)
         assert rc == 0, err
         json.loads(out, parse_constant=refuse)
 
 
-def test_recommend_compares_libraries_of_one_grid_only(synth_lib, tmp_path, quarter_20,
-                                                       capsys):
+def test_recommend_compares_libraries_of_one_grid_only(synth_lib, tmp_path, quarter_20, capsys):
     rows = library_rows(synth_lib)
-    other = synthetic_library(tmp_path / "lower", quarter_20,
-                              rows=rows[rows["held_pitch"] < 1], pitch=[-1.0, 0.0])
+    other = synthetic_library(
+        tmp_path / "lower", quarter_20, rows=rows[rows["held_pitch"] < 1], pitch=[-1.0, 0.0]
+    )
     rc, out, err = run_cli(capsys, "recommend", synth_lib, other)
     assert rc == 2 and out == "" and "one grid" in one_error(err)

@@ -30,13 +30,22 @@ def test_json_document(spec_file, capsys):
     rc, out, err = run(["planar", str(spec_file), "--json"], capsys)
     assert rc == 0
     doc = json.loads(out)  # exactly one document
-    for key in ("units", "phase", "in_phase", "in_phase_window", "contact_angle",
-                "pivot_axis_length", "contacts", "critical_phases", "figures"):
+    for key in (
+        "units",
+        "phase",
+        "in_phase",
+        "in_phase_window",
+        "contact_angle",
+        "pivot_axis_length",
+        "contacts",
+        "critical_phases",
+        "figures",
+    ):
         assert key in doc
     assert doc["units"] == "in" and doc["figures"] == []
     # The default phase is the thesis's example, 30 degrees, with two contacts.
     assert doc["phase"] == 30.0 and doc["in_phase"] is False and len(doc["contacts"]) == 2
-    (a, b), = doc["in_phase_window"]
+    ((a, b),) = doc["in_phase_window"]
     assert b == pytest.approx(HALF_WINDOW, abs=1e-9) and a == pytest.approx(-HALF_WINDOW)
     for i, c in enumerate(doc["contacts"]):
         for key in ("theta", "x", "y", "bolt_region", "nut_region", "normal"):
@@ -73,8 +82,10 @@ def test_plots(spec_file, tmp_path, capsys):
     for f in (disk, pivot):
         assert f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     svg = tmp_path / "pivot.svg"
-    rc, out, _ = run(["planar", str(spec_file), "--plot", str(tmp_path / "d.svg"),
-                      "--pivot-plot", str(svg)], capsys)
+    rc, out, _ = run(
+        ["planar", str(spec_file), "--plot", str(tmp_path / "d.svg"), "--pivot-plot", str(svg)],
+        capsys,
+    )
     assert rc == 0 and "contact 1" in out
     assert ET.parse(svg).getroot().tag.endswith("svg")
     assert ET.parse(tmp_path / "d.svg").getroot().tag.endswith("svg")
@@ -90,11 +101,14 @@ def test_non_finite_phase_is_refused(spec_file, capsys, phase):
 
 def test_bad_plot_suffix_is_refused_before_any_work(tmp_path, capsys):
     # The spec does not exist: the figure name is checked first, and nothing is written.
-    rc, out, err = run(["planar", str(tmp_path / "missing.json"), "--plot",
-                        str(tmp_path / "disk.pdf")], capsys)
+    rc, out, err = run(
+        ["planar", str(tmp_path / "missing.json"), "--plot", str(tmp_path / "disk.pdf")], capsys
+    )
     assert rc == 2 and out == "" and "disk.pdf" in err and ".png" in err
-    rc, out, err = run(["planar", str(tmp_path / "missing.json"), "--pivot-plot",
-                        str(tmp_path / "pivot.jpeg")], capsys)
+    rc, out, err = run(
+        ["planar", str(tmp_path / "missing.json"), "--pivot-plot", str(tmp_path / "pivot.jpeg")],
+        capsys,
+    )
     assert rc == 2 and "pivot.jpeg" in err
     assert list(tmp_path.iterdir()) == []
 
@@ -104,8 +118,7 @@ def test_missing_and_invalid_spec(tmp_path, capsys):
     assert rc == 2 and out == "" and "nope.json" in err
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps({**SPEC, "nut": {**SPEC["nut"], "pitch_diameter": 0.2}}))
-    rc, out, err = run(["planar", str(bad), "--json", "--plot", str(tmp_path / "d.png")],
-                       capsys)
+    rc, out, err = run(["planar", str(bad), "--json", "--plot", str(tmp_path / "d.png")], capsys)
     assert rc == 2 and out == "" and "pitch_diameter" in err
     assert not (tmp_path / "d.png").exists()
 
@@ -115,17 +128,17 @@ def test_designation(capsys):
     assert rc == 0, err
     doc = json.loads(out)
     # Mean pitch diameters from ASME B1.1: bolt 0.2127-0.2164, nut 0.2175-0.2224.
-    (a, b), = doc["in_phase_window"]
-    assert b == pytest.approx(HALF_WINDOW, abs=1e-6) and a == pytest.approx(-HALF_WINDOW,
-                                                                             abs=1e-6)
+    ((a, b),) = doc["in_phase_window"]
+    assert b == pytest.approx(HALF_WINDOW, abs=1e-6) and a == pytest.approx(-HALF_WINDOW, abs=1e-6)
     assert doc["units"] == "in" and len(doc["contacts"]) == 2
 
 
 def test_unwritable_figure_location(spec_file, tmp_path, capsys):
     blocker = tmp_path / "blocker"
     blocker.write_text("a file where a folder is needed")
-    rc, out, err = run(["planar", str(spec_file), "--json", "--plot",
-                        str(blocker / "disk.png")], capsys)
+    rc, out, err = run(
+        ["planar", str(spec_file), "--json", "--plot", str(blocker / "disk.png")], capsys
+    )
     assert rc == 2 and out == "" and "disk.png" in err and "Traceback" not in err
 
 
@@ -135,8 +148,7 @@ def test_absurd_pitch_exits_2_with_range_and_writes_nothing(tmp_path, capsys):
     spec.parent.mkdir()
     spec.write_text(json.dumps({**SPEC, "pitch": 1e308}))
     out_dir = tmp_path / "figs"
-    rc, out, err = run(["planar", str(spec), "--json", "--plot", str(out_dir / "d.png")],
-                       capsys)
+    rc, out, err = run(["planar", str(spec), "--json", "--plot", str(out_dir / "d.png")], capsys)
     assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
     assert "'pitch'" in err and "from 0.0001 to 1000 in" in err
     assert not out_dir.exists()

@@ -26,8 +26,15 @@ from _libraries import (
 )
 from threadmate.cli import main
 
-SETTING_KEYS = ("share_snap", "turn_mean", "turn_worst", "work_mean", "work_worst",
-                "click_mean", "torque_peak")
+SETTING_KEYS = (
+    "share_snap",
+    "turn_mean",
+    "turn_worst",
+    "work_mean",
+    "work_worst",
+    "click_mean",
+    "torque_peak",
+)
 EMBED = re.compile(r"!\[[^\]]*\]\((figures/[^)\s]+)\)")
 
 
@@ -39,12 +46,28 @@ def job(tmp_path_factory):
     out = tmp_path_factory.mktemp("run") / "job"
     shutil.copytree(lib, out / "library")
     before = {p.name: p.stat().st_size for p in (out / "library").iterdir()}
-    argv = ["run", DESIGNATION, "-o", str(out), "--roll", REAL_GRID["roll"], "--pitch",
-            REAL_GRID["pitch"], "--phase", REAL_GRID["phase"], "--workers", "2", "--json"]
+    argv = [
+        "run",
+        DESIGNATION,
+        "-o",
+        str(out),
+        "--roll",
+        REAL_GRID["roll"],
+        "--pitch",
+        REAL_GRID["pitch"],
+        "--phase",
+        REAL_GRID["phase"],
+        "--workers",
+        "2",
+        "--json",
+    ]
     # capsys is function-scoped: capture this module-scoped run by hand.
     stdout, stderr = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr), \
-            pytest.raises(SystemExit) as exc:
+    with (
+        contextlib.redirect_stdout(stdout),
+        contextlib.redirect_stderr(stderr),
+        pytest.raises(SystemExit) as exc,
+    ):
         main(argv)
     assert exc.value.code == 0, stderr.getvalue()
     return out, json.loads(stdout.getvalue()), before
@@ -52,12 +75,23 @@ def job(tmp_path_factory):
 
 def test_run_writes_the_layout_and_reuses_the_library(job):
     out, doc, before = job
-    for name in ("network.graphml", "network.json", "starts.csv", "recommendation.json",
-                 "report.md"):
+    for name in (
+        "network.graphml",
+        "network.json",
+        "starts.csv",
+        "recommendation.json",
+        "report.md",
+    ):
         assert (out / name).is_file(), name
     assert {p.name: p.stat().st_size for p in (out / "library").iterdir()} == before
-    assert doc["units"] == {"length": "in", "angle": "deg", "work": "mJ", "torque": "N m",
-                            "force": "N", "stiffness": "N m/rad"}
+    assert doc["units"] == {
+        "length": "in",
+        "angle": "deg",
+        "work": "mJ",
+        "torque": "N m",
+        "force": "N",
+        "stiffness": "N m/rad",
+    }
     rows = library_rows(out / "library")
     graph = nx.read_graphml(out / "network.graphml")
     assert graph.number_of_nodes() == len(rows)
@@ -87,9 +121,15 @@ def test_report_says_what_to_set_and_with_what(job):
     report = (out / "report.md").read_text()
     best = json.loads((out / "recommendation.json").read_text())["recommended"]
     assert f"**Pre-tilt (held pitch): {best['held_pitch']:+g} deg**" in report
-    for text in ("axial force 10 N", "rotational stiffness 1/1 N m/rad", "friction 0.15",
-                 "roll 0..1 (2) x pitch -1..1 (3) x phase 0..330 (12)", "**quasi-stable**",
-                 "**in-phase**", "Work: turning: max(0, work_friction + work_potential)"):
+    for text in (
+        "axial force 10 N",
+        "rotational stiffness 1/1 N m/rad",
+        "friction 0.15",
+        "roll 0..1 (2) x pitch -1..1 (3) x phase 0..330 (12)",
+        "**quasi-stable**",
+        "**in-phase**",
+        "Work: turning: max(0, work_friction + work_potential)",
+    ):
         assert text in report, text
     paragraphs = [p.strip() for p in report.split("\n\n") if p.strip()]
     assert len(paragraphs) == len(set(paragraphs)), "a paragraph twice"
@@ -106,8 +146,9 @@ def test_recommendation_and_starts_agree(job):
     for col in ("snapped", "reaches", "failed", "passes_unstable"):
         assert list(starts[col]) == list(walked[col]), col
     for col in ("turn", "work", "click", "torque_peak"):
-        assert starts[col].to_numpy() == pytest.approx(walked[col].to_numpy(float),
-                                                       nan_ok=True, rel=1e-9), col
+        assert starts[col].to_numpy() == pytest.approx(
+            walked[col].to_numpy(float), nan_ok=True, rel=1e-9
+        ), col
     assert sorted(s["held_pitch"] for s in rec["settings"]) == sorted(set(starts["held_pitch"]))
     for s in rec["settings"]:
         assert set(SETTING_KEYS) <= set(s)
@@ -128,8 +169,21 @@ def test_run_from_scratch_on_one_tilt(tmp_path, capsys):
     """A grid no library holds yet: the sweep stage runs, then everything else; with one
     setting there is no margin and no edge."""
     out = tmp_path / "tiny"
-    rc, stdout, err = run_cli(capsys, "run", DESIGNATION, "-o", out, "--roll", "0",
-                              "--pitch", "0", "--phase", "300,330", "--workers", "1")
+    rc, stdout, err = run_cli(
+        capsys,
+        "run",
+        DESIGNATION,
+        "-o",
+        out,
+        "--roll",
+        "0",
+        "--pitch",
+        "0",
+        "--phase",
+        "300,330",
+        "--workers",
+        "1",
+    )
     assert rc == 0, err
     assert "recommended pre-tilt: held pitch +0 deg" in stdout
     rows = library_rows(out / "library")
@@ -144,15 +198,18 @@ def test_run_from_scratch_on_one_tilt(tmp_path, capsys):
     assert "Margin over the next setting" not in report
 
 
-@pytest.mark.parametrize("args", [
-    ["M7x9"],
-    [DESIGNATION, "--roll", "99"],
-    [DESIGNATION, "--phase", "0:10:-1"],
-    [DESIGNATION, "--roll-spread", "-1"],
-    [DESIGNATION, "--workers", "0"],
-    [DESIGNATION, "--compare-force", "ten"],
-    [DESIGNATION, "--force", "-5"],
-])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["M7x9"],
+        [DESIGNATION, "--roll", "99"],
+        [DESIGNATION, "--phase", "0:10:-1"],
+        [DESIGNATION, "--roll-spread", "-1"],
+        [DESIGNATION, "--workers", "0"],
+        [DESIGNATION, "--compare-force", "ten"],
+        [DESIGNATION, "--force", "-5"],
+    ],
+)
 def test_run_refuses_bad_input(tmp_path, capsys, args):
     out = tmp_path / "x"
     rc, stdout, err = run_cli(capsys, "run", *args, "-o", out)

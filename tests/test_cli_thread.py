@@ -173,13 +173,17 @@ def test_real_process_no_traceback():
     code = "from threadmate.cli import main; main()"
     proc = subprocess.run(
         [sys.executable, "-c", code, "thread", "1/4-20 UNK-2A"],
-        capture_output=True, text=True, timeout=120,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert proc.returncode == 2 and proc.stdout == ""
     assert "unknown thread series 'UNK'" in proc.stderr and "Traceback" not in proc.stderr
     proc = subprocess.run(
         [sys.executable, "-c", code, "thread", "1/2-13 UNC-2A/2B LH", "--json"],
-        capture_output=True, text=True, timeout=120,
+        capture_output=True,
+        text=True,
+        timeout=120,
     )
     assert proc.returncode == 0
     doc = json.loads(proc.stdout)

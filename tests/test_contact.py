@@ -43,6 +43,7 @@ ACCURACY = 5e-6  # inch: the issue's first-contact accuracy at the default chord
 
 # -- triangle pairs ---------------------------------------------------------------------
 
+
 def test_segment_of_crossing_triangles_is_bounded_by_both():
     a = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)  # in z = 0, hypotenuse x + y = 1
     # Vertical triangle in x = 0.25; its section at z = 0 spans y in [-0.25, 1.25].
@@ -141,6 +142,7 @@ def test_sector_queries_agree_with_the_whole_nut(analyzer):
 
 # -- the analyser -------------------------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def analyzer(quarter_20):
     return ContactAnalyzer(quarter_20)
@@ -158,8 +160,7 @@ def test_reference_matches_closed_form(quarter_20):
     c = quarter_20.axial_clearance
     for phase in (0.0, 6.0, -8.0):
         s = quarter_20.lead * phase / 360
-        assert exact_first_height(quarter_20, 0, 0, phase) == pytest.approx(-(c / 2 - s),
-                                                                            abs=2e-8)
+        assert exact_first_height(quarter_20, 0, 0, phase) == pytest.approx(-(c / 2 - s), abs=2e-8)
 
 
 @pytest.mark.parametrize("phase", [0.0, 6.0, -8.0, 90.0, 200.0])
@@ -293,16 +294,23 @@ def test_classifications_follow_the_thesis_rules(results, analyzer):
             assert result.interference > result.origin_drop
         if result.classification == "stable":  # thesis 4.2.3
             assert result.n_contacts >= 3
-            assert result.interference <= max(result.origin_drop,
-                                              analyzer.interference_tolerance)
+            assert result.interference <= max(result.origin_drop, analyzer.interference_tolerance)
 
 
 def test_classification_rules_and_their_order():
     from threadmate.contact._stability import classify
 
-    base = dict(first_found=True, in_phase=False, second_found=True, offset=0.1,
-                third_found=True, interference=0.004, origin_drop=0.001,
-                quasi_tolerance=0.005, interference_tolerance=1e-5)
+    base = dict(
+        first_found=True,
+        in_phase=False,
+        second_found=True,
+        offset=0.1,
+        third_found=True,
+        interference=0.004,
+        origin_drop=0.001,
+        quasi_tolerance=0.005,
+        interference_tolerance=1e-5,
+    )
 
     def cls(**kw):
         return classify(**{**base, **kw})
@@ -321,8 +329,7 @@ def test_classification_rules_and_their_order():
     assert cls(second_found=False, offset=0.0) == "no-contact"
     assert cls(offset=0.005) == "quasi-stable"  # even though it embedded
     assert cls(offset=0.001, third_found=False) == "quasi-stable"
-    assert cls(third_found=False, interference=math.nan,
-               origin_drop=math.nan) == "no-contact"
+    assert cls(third_found=False, interference=math.nan, origin_drop=math.nan) == "no-contact"
 
 
 def test_rolling_is_a_pivot_contact_gaining_triangle_pairs(results, analyzer):
@@ -339,25 +346,43 @@ def test_rolling_is_a_pivot_contact_gaining_triangle_pairs(results, analyzer):
             continue
         # The third stage lists the pivot contacts first, in the second stage's order (a
         # rolling contact moves along its own end of the axis, never to the other end).
-        d = np.linalg.norm(np.subtract([c.point for c in c3[:2]],
-                                       np.array([c.point for c in c2])[:, None]), axis=-1)
+        d = np.linalg.norm(
+            np.subtract([c.point for c in c3[:2]], np.array([c.point for c in c2])[:, None]),
+            axis=-1,
+        )
         assert d[0, 0] < d[1, 0] and d[1, 1] < d[0, 1], cfg
         grew = c3[0].pairs > c2[0].pairs or c3[1].pairs > c2[1].pairs
         assert result.rolling is grew, cfg
-        assert rec["rolling"] == (rec["third_c1_pairs"] > rec["second_c1_pairs"]
-                                  or rec["third_c2_pairs"] > rec["second_c2_pairs"])
+        assert rec["rolling"] == (
+            rec["third_c1_pairs"] > rec["second_c1_pairs"]
+            or rec["third_c2_pairs"] > rec["second_c2_pairs"]
+        )
         seen.add(grew)
     assert seen == {True, False}, "expected rolling and non-rolling pivots among the samples"
 
 
 # -- record and JSON ---------------------------------------------------------------------
 
+
 def _architecture_columns():
     """The contact record's columns as docs/architecture.md lists them."""
-    cols = ["roll", "pitch", "phase", "classification", "n_contacts", "region_combination",
-            "interference", "origin_drop", "pivot_offset", "rolling", "final_roll",
-            "final_pitch",
-            "final_phase", "final_origin_z", "queries"]
+    cols = [
+        "roll",
+        "pitch",
+        "phase",
+        "classification",
+        "n_contacts",
+        "region_combination",
+        "interference",
+        "origin_drop",
+        "pivot_offset",
+        "rolling",
+        "final_roll",
+        "final_pitch",
+        "final_phase",
+        "final_origin_z",
+        "queries",
+    ]
     for s in ("first", "second", "third"):
         cols += [f"{s}_found", f"{s}_angle", f"{s}_origin_x", f"{s}_origin_y", f"{s}_origin_z"]
         cols += [f"{s}_r{i}{j}" for i in range(3) for j in range(3)]
@@ -388,8 +413,9 @@ def test_record_values(results):
         assert (rec["roll"], rec["pitch"], rec["phase"]) == cfg
         last = result.last_stage
         assert rec["n_contacts"] == len(last.contacts)
-        assert rec["region_combination"].count("+ ") + 1 == len(last.contacts) or \
-            rec["region_combination"].count(" + ") + 1 == len(last.contacts)
+        assert rec["region_combination"].count("+ ") + 1 == len(last.contacts) or rec[
+            "region_combination"
+        ].count(" + ") + 1 == len(last.contacts)
         assert rec["final_origin_z"] == last.origin[2]
         fr, fp, fph = rec["final_roll"], rec["final_pitch"], rec["final_phase"]
         np.testing.assert_allclose(_rot(fr, fp, fph), np.array(last.rotation), atol=1e-9)
@@ -422,8 +448,18 @@ def test_json_document_layout(results):
     from threadmate.cli._common import to_jsonable
 
     doc = json.loads(json.dumps(to_jsonable(results[(4, 4, 235)].to_dict())))
-    assert {"units", "roll", "pitch", "phase", "classification", "stages", "interference",
-            "origin_drop", "pivot_offset", "rolling"} <= set(doc)
+    assert {
+        "units",
+        "roll",
+        "pitch",
+        "phase",
+        "classification",
+        "stages",
+        "interference",
+        "origin_drop",
+        "pivot_offset",
+        "rolling",
+    } <= set(doc)
     assert isinstance(doc["rolling"], bool)
     assert doc["units"] == "in"
     first = doc["stages"]["first"]
@@ -435,8 +471,10 @@ def test_json_document_layout(results):
 
 # -- bad input ---------------------------------------------------------------------------
 
-@pytest.mark.parametrize("angles", [(46, 0, 0), (0, -60, 0), (float("nan"), 0, 0),
-                                    (0, 0, float("inf"))])
+
+@pytest.mark.parametrize(
+    "angles", [(46, 0, 0), (0, -60, 0), (float("nan"), 0, 0), (0, 0, float("inf"))]
+)
 def test_bad_angles_are_refused(analyzer, angles):
     with pytest.raises(InputError):
         analyzer.analyze(*angles)

@@ -152,8 +152,15 @@ def test_limits_object():
 
 @pytest.mark.parametrize(
     ("alias", "expected"),
-    [("max", "max"), ("maximum", "max"), ("MMC", "max"), ("min", "min"),
-     ("Minimum", "min"), ("lmc", "min"), ("mean", "mean")],
+    [
+        ("max", "max"),
+        ("maximum", "max"),
+        ("MMC", "max"),
+        ("min", "min"),
+        ("Minimum", "min"),
+        ("lmc", "min"),
+        ("mean", "mean"),
+    ],
 )
 def test_condition_aliases(alias, expected):
     assert expected in MATERIAL_CONDITIONS

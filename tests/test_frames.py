@@ -43,9 +43,7 @@ def test_rotation_about_a_line_fixes_the_line():
     turned = pose.rotated_about(point, axis, 7.5)
     # Points on the line stay put; the turn angle between the bolt axes is at most 7.5 deg.
     on_line = point + 0.37 * axis
-    np.testing.assert_allclose(
-        turned.to_fixed(pose.to_bolt(on_line)), on_line, atol=1e-14
-    )
+    np.testing.assert_allclose(turned.to_fixed(pose.to_bolt(on_line)), on_line, atol=1e-14)
     cosang = np.clip(pose.axis @ turned.axis, -1, 1)
     assert np.degrees(np.arccos(cosang)) <= 7.5 + 1e-9
 

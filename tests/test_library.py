@@ -49,7 +49,7 @@ from threadmate.library import (
 )
 
 CHORD = 1e-4
-ROLL, PITCH, PHASE = "-3,0,4", "0,2", "0,185,235"   # 18 configurations
+ROLL, PITCH, PHASE = "-3,0,4", "0,2", "0,185,235"  # 18 configurations
 
 
 class FlakyAnalyzer(ContactAnalyzer):
@@ -85,8 +85,17 @@ def analyzer(quarter_20):
 def library(quarter_20, tmp_path_factory):
     """One uninterrupted sweep of the thesis's model with a two-process pool."""
     out = tmp_path_factory.mktemp("lib") / "quarter-20"
-    sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=4, chord=CHORD,
-          model="thesis")
+    sweep(
+        quarter_20,
+        ROLL,
+        PITCH,
+        PHASE,
+        out=out,
+        workers=2,
+        chunk_size=4,
+        chord=CHORD,
+        model="thesis",
+    )
     return out
 
 
@@ -95,7 +104,8 @@ def _same_row(row: pd.Series, rec: dict) -> None:
         got = row[name]
         if isinstance(value, float):
             assert (math.isnan(got) and math.isnan(value)) or got == pytest.approx(
-                value, rel=1e-12, abs=1e-15), name
+                value, rel=1e-12, abs=1e-15
+            ), name
         else:
             assert got == value, name
 
@@ -126,10 +136,11 @@ def test_metadata_round_trip(library, quarter_20, analyzer):
     assert meta["contact"]["compliance_z"] == 0.0
     assert meta["contact"]["tolerances"] == pytest.approx(analyzer.tolerances)
     from threadmate import __version__
+
     assert meta["threadmate_version"] == __version__
     # Every part carries the same metadata in its Arrow schema.
     parts = sorted(library.glob("part-*.parquet"))
-    assert len(parts) == 5     # 18 configurations in chunks of 4
+    assert len(parts) == 5  # 18 configurations in chunks of 4
     for part in parts:
         assert json.loads(pq.read_schema(part).metadata[b"threadmate"]) == meta
     assert load(library).attrs["threadmate"] == meta
@@ -143,21 +154,43 @@ def test_read_directly_with_pyarrow_pandas_and_duckdb(library):
     direct = pd.read_parquet(library).sort_values("config_id").reset_index(drop=True)
     pd.testing.assert_frame_equal(direct, ours, check_like=False)
     duckdb = pytest.importorskip("duckdb")
-    rows = duckdb.sql(f"SELECT config_id, classification FROM "
-                      f"read_parquet('{library}/*.parquet') ORDER BY config_id").fetchall()
+    rows = duckdb.sql(
+        f"SELECT config_id, classification FROM "
+        f"read_parquet('{library}/*.parquet') ORDER BY config_id"
+    ).fetchall()
     assert rows == list(zip(ours["config_id"], ours["classification"], strict=True))
 
 
 def test_resumed_sweep_equals_uninterrupted(library, quarter_20, tmp_path):
     out = tmp_path / "resumed"
-    sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=4, chord=CHORD,
-          max_chunks=2, model="thesis")
+    sweep(
+        quarter_20,
+        ROLL,
+        PITCH,
+        PHASE,
+        out=out,
+        workers=2,
+        chunk_size=4,
+        chord=CHORD,
+        max_chunks=2,
+        model="thesis",
+    )
     partial = info(out)
     assert partial["done"] == 8 and not partial["complete"]
     seen = []
     # Resume with another chunk size and in-process: only the missing 10 are computed.
-    sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=1, chunk_size=3, chord=CHORD,
-          progress=lambda done, total: seen.append((done, total)), model="thesis")
+    sweep(
+        quarter_20,
+        ROLL,
+        PITCH,
+        PHASE,
+        out=out,
+        workers=1,
+        chunk_size=3,
+        chord=CHORD,
+        progress=lambda done, total: seen.append((done, total)),
+        model="thesis",
+    )
     assert seen[0] == (8, 18) and seen[-1] == (18, 18)
     assert len(seen) == 1 + math.ceil(10 / 3)
     resumed = load(out)
@@ -173,38 +206,77 @@ def test_killed_worker_then_resume_equals_uninterrupted(library, quarter_20, tmp
     out = tmp_path / "killed"
     factory = functools.partial(KillOnceAnalyzer, marker=str(tmp_path / "killed-once"))
     with pytest.raises(SweepInterrupted, match="run the same sweep again to resume"):
-        sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=1, chord=CHORD,
-              analyzer=factory, model="thesis")
+        sweep(
+            quarter_20,
+            ROLL,
+            PITCH,
+            PHASE,
+            out=out,
+            workers=2,
+            chunk_size=1,
+            chord=CHORD,
+            analyzer=factory,
+            model="thesis",
+        )
     assert info(out)["done"] < 18
-    sweep(quarter_20, ROLL, PITCH, PHASE, out=out, workers=2, chunk_size=1, chord=CHORD,
-          analyzer=factory, model="thesis")
+    sweep(
+        quarter_20,
+        ROLL,
+        PITCH,
+        PHASE,
+        out=out,
+        workers=2,
+        chunk_size=1,
+        chord=CHORD,
+        analyzer=factory,
+        model="thesis",
+    )
     pd.testing.assert_frame_equal(load(out), load(library))
 
 
 def test_mismatched_library_is_refused_not_mixed(library, quarter_20):
     before = sorted(p.name for p in library.iterdir())
     with pytest.raises(LibraryError, match="grid phase values"):
-        sweep(quarter_20, ROLL, PITCH, "0:355:5", out=library, workers=1, chord=CHORD,
-              model="thesis")
+        sweep(
+            quarter_20, ROLL, PITCH, "0:355:5", out=library, workers=1, chord=CHORD, model="thesis"
+        )
     with pytest.raises(LibraryError, match="chord"):
-        sweep(quarter_20, ROLL, PITCH, PHASE, out=library, workers=1, chord=5e-5,
-              model="thesis")
+        sweep(quarter_20, ROLL, PITCH, PHASE, out=library, workers=1, chord=5e-5, model="thesis")
     with pytest.raises(LibraryError, match="compliance"):
-        sweep(quarter_20, ROLL, PITCH, PHASE, out=library, workers=1, chord=CHORD,
-              model="thesis", compliance=Compliance(compliance_z=0.1))
+        sweep(
+            quarter_20,
+            ROLL,
+            PITCH,
+            PHASE,
+            out=library,
+            workers=1,
+            chord=CHORD,
+            model="thesis",
+            compliance=Compliance(compliance_z=0.1),
+        )
     with pytest.raises(LibraryError, match="model"):
         sweep(quarter_20, ROLL, PITCH, PHASE, out=library, workers=1, chord=CHORD)
-    other = ThreadSpec.from_dict({**quarter_20.to_dict(),
-                                  "nut": {**quarter_20.to_dict()["nut"],
-                                          "pitch_diameter": 0.2200}})
+    other = ThreadSpec.from_dict(
+        {**quarter_20.to_dict(), "nut": {**quarter_20.to_dict()["nut"], "pitch_diameter": 0.2200}}
+    )
     with pytest.raises(LibraryError, match=r"spec \(nut.pitch_diameter"):
         sweep(other, ROLL, PITCH, PHASE, out=library, workers=1, chord=CHORD, model="thesis")
     assert sorted(p.name for p in library.iterdir()) == before
 
 
 def test_error_rows_are_recorded_and_the_sweep_goes_on(quarter_20, analyzer, tmp_path):
-    out = sweep(quarter_20, "0,4", "0", PHASE, out=tmp_path / "flaky", workers=2,
-                chunk_size=2, chord=CHORD, analyzer=FlakyAnalyzer, model="thesis")
+    out = sweep(
+        quarter_20,
+        "0,4",
+        "0",
+        PHASE,
+        out=tmp_path / "flaky",
+        workers=2,
+        chunk_size=2,
+        chord=CHORD,
+        analyzer=FlakyAnalyzer,
+        model="thesis",
+    )
     df = load(out)
     assert len(df) == 6
     bad = df[df["phase"] == 185.0]
@@ -255,8 +327,7 @@ def test_query_takes_the_nearest_grid_state_only_when_asked(library, analyzer):
     assert exact["record"]["classification"] == direct["classification"]
     assert exact["record"]["third_c1_x"] == pytest.approx(direct["third_c1_x"], nan_ok=True)
     # 3.2 -> 4, 1.4 -> 2, -130 (= 230) -> 235: refused with the nearest named, or taken.
-    with pytest.raises(InputError, match="nearest configuration is roll 4, pitch 2, "
-                                         "phase 235"):
+    with pytest.raises(InputError, match="nearest configuration is roll 4, pitch 2, phase 235"):
         query(library, 3.2, 1.4, -130)
     snapped = query(library, 3.2, 1.4, -130, nearest=True)
     assert snapped["snapped"] and snapped["grid"] == exact["grid"]
@@ -264,7 +335,7 @@ def test_query_takes_the_nearest_grid_state_only_when_asked(library, analyzer):
 
 
 def test_summary_counts_and_figures(library, tmp_path):
-    df = pd.read_parquet(library)          # counted independently of the library API
+    df = pd.read_parquet(library)  # counted independently of the library API
     counts = df["classification"].value_counts().to_dict()
     doc = summary(library, phase=186)
     assert doc["done"] == 18 and doc["configurations"] == 18
@@ -275,10 +346,12 @@ def test_summary_counts_and_figures(library, tmp_path):
     at = doc["at_phase"]
     assert at["phase"] == 185.0
     assert sum(at["counts"].values()) == 6
-    assert at["counts"]["unstable"] == int(((df["phase"] == 185.0)
-                                            & (df["classification"] == "unstable")).sum())
+    assert at["counts"]["unstable"] == int(
+        ((df["phase"] == 185.0) & (df["classification"] == "unstable")).sum()
+    )
     figures = write_figures(library, tmp_path / "figs", phase=185)
     import matplotlib.image as mpimg
+
     for path in figures.values():
         img = mpimg.imread(path)
         assert img.ndim == 3 and img.shape[0] > 100 and img.shape[1] > 100
@@ -292,22 +365,31 @@ def test_sweep_without_out_returns_the_rows(quarter_20, analyzer):
 
 def test_bad_requests_raise_input_errors(quarter_20, tmp_path):
     out = tmp_path / "never"
-    for kwargs, words in (({"roll": "0:4:0"}, "--roll"), ({"workers": 0}, "--workers"),
-                          ({"chord": -1.0}, "--chord"), ({"chord": 0.01}, "too coarse"),
-                          ({"scheduler": 5}, "--scheduler"), ({"chunk_size": 0}, "chunk_size"),
-                          ({"model": "fixed"}, "--model"), ({"step": 0.0}, "step"),
-                          ({"step": 2.0, "phase_tolerance": 5.0}, "phase_tolerance"),
-                          ({"compliance": "stiff"}, "compliance"),
-                          ({"compliance": Compliance(compliance_z=1e3)}, "compliance_z"),
-                          ({"analyzer": FlakyAnalyzer}, "thesis")):
+    for kwargs, words in (
+        ({"roll": "0:4:0"}, "--roll"),
+        ({"workers": 0}, "--workers"),
+        ({"chord": -1.0}, "--chord"),
+        ({"chord": 0.01}, "too coarse"),
+        ({"scheduler": 5}, "--scheduler"),
+        ({"chunk_size": 0}, "chunk_size"),
+        ({"model": "fixed"}, "--model"),
+        ({"step": 0.0}, "step"),
+        ({"step": 2.0, "phase_tolerance": 5.0}, "phase_tolerance"),
+        ({"compliance": "stiff"}, "compliance"),
+        ({"compliance": Compliance(compliance_z=1e3)}, "compliance_z"),
+        ({"analyzer": FlakyAnalyzer}, "thesis"),
+    ):
         with pytest.raises(InputError, match=words):
-            sweep(quarter_20, **{"roll": "0", "pitch": "0", "phase": "0", "chord": CHORD,
-                                 **kwargs}, out=out)
+            sweep(
+                quarter_20,
+                **{"roll": "0", "pitch": "0", "phase": "0", "chord": CHORD, **kwargs},
+                out=out,
+            )
     assert not out.exists()
 
 
 def test_scheduler_without_dask_says_how_to_install(quarter_20, tmp_path, monkeypatch):
-    monkeypatch.setitem(sys.modules, "distributed", None)   # as if not installed
+    monkeypatch.setitem(sys.modules, "distributed", None)  # as if not installed
     with pytest.raises(InputError, match=r"pip install threadmate\[dask\]"):
         sweep(quarter_20, "0", "0", "0", out=tmp_path / "d", scheduler="local", chord=CHORD)
     assert not (tmp_path / "d").exists()
@@ -326,17 +408,27 @@ def test_dask_scheduler_setting_is_read(monkeypatch):
 @pytest.mark.slow
 def test_dask_local_cluster_gives_the_same_rows(library, quarter_20, tmp_path):
     pytest.importorskip("distributed")
-    out = sweep(quarter_20, ROLL, PITCH, PHASE, out=tmp_path / "dask", scheduler="local",
-                workers=2, chunk_size=5, chord=CHORD, model="thesis")
+    out = sweep(
+        quarter_20,
+        ROLL,
+        PITCH,
+        PHASE,
+        out=tmp_path / "dask",
+        scheduler="local",
+        workers=2,
+        chunk_size=5,
+        chord=CHORD,
+        model="thesis",
+    )
     rows = load(out)
     pd.testing.assert_frame_equal(rows, load(library))
     assert np.array_equal(rows["config_id"], np.arange(18))
 
 
 # -- the mechanics (the default model) -----------------------------------------------------
-M_ROLL, M_PITCH, M_PHASE = "-2,2", "-1", "0:315:45"    # 2 held tilts x 8 phases
-M_STEP = 5.0              # continuation step (degrees); a divisor of the grid's 45
-M_PHASE_STEP = 45.0       # the grid's phase step
+M_ROLL, M_PITCH, M_PHASE = "-2,2", "-1", "0:315:45"  # 2 held tilts x 8 phases
+M_STEP = 5.0  # continuation step (degrees); a divisor of the grid's 45
+M_PHASE_STEP = 45.0  # the grid's phase step
 M_SIZE = 16
 
 
@@ -392,8 +484,11 @@ def test_mechanics_rows_follow_the_record_contract(mech_library, mech_rows, quar
     starts = mech_rows[mech_rows["role"] == "start"].sort_values("config_id")
     assert list(starts["config_id"]) == list(range(M_SIZE))
     for _, row in starts.iterrows():
-        assert grid.configuration(row["config_id"]) == (row["held_roll"], row["held_pitch"],
-                                                        row["phase"])
+        assert grid.configuration(row["config_id"]) == (
+            row["held_roll"],
+            row["held_pitch"],
+            row["phase"],
+        )
     # One Parquet part per held tilt, each holding that tilt only.
     parts = sorted(mech_library.glob("part-*.parquet"))
     assert len(parts) == 2
@@ -418,20 +513,23 @@ def test_every_start_is_a_direct_settle(mech_rows, mech):
         assert row["centre_z"] == pytest.approx(s.centre[2], abs=1e-12)
         assert row["potential"] == pytest.approx(s.potential, rel=1e-9)
         assert list(row["contact_regions"]) == [c.regions for c in s.touching]
-        assert list(row["contact_forces"]) == pytest.approx([c.force for c in s.touching],
-                                                            rel=1e-9, abs=1e-12)
+        assert list(row["contact_forces"]) == pytest.approx(
+            [c.force for c in s.touching], rel=1e-9, abs=1e-12
+        )
         assert row["n_contacts"] == len(s.touching)
         # The first contact and the states passed on the way settle into this start.
-        before = mech_rows[(mech_rows["next_id"] == row["state_id"])
-                           & (mech_rows["transition"] == "settling")]
+        before = mech_rows[
+            (mech_rows["next_id"] == row["state_id"]) & (mech_rows["transition"] == "settling")
+        ]
         chain = 0
         while len(before):
             assert len(before) == 1
             chain += 1
             prev = before.iloc[0]
             assert rows.loc[prev["state_id"], "classification"] == "unstable"
-            before = mech_rows[(mech_rows["next_id"] == prev["state_id"])
-                               & (mech_rows["transition"] == "settling")]
+            before = mech_rows[
+                (mech_rows["next_id"] == prev["state_id"]) & (mech_rows["transition"] == "settling")
+            ]
         assert chain == len(rest.path)
         if rest.path:
             assert prev["role"] == "first-contact"
@@ -471,8 +569,11 @@ def test_passive_path_from_every_start_ends_in_the_snap(mech_rows):
 
 @pytest.mark.parametrize(("roll", "phase"), [(2.0, 315.0), (-2.0, 315.0), (2.0, 135.0)])
 def test_passive_path_agrees_with_search(mech_rows, mech, roll, phase):
-    start = mech_rows[(mech_rows["role"] == "start") & (mech_rows["held_roll"] == roll)
-                      & (mech_rows["phase"] == phase)].iloc[0]
+    start = mech_rows[
+        (mech_rows["role"] == "start")
+        & (mech_rows["held_roll"] == roll)
+        & (mech_rows["phase"] == phase)
+    ].iloc[0]
     path = _path(mech_rows, start["state_id"])
     by_id = mech_rows.set_index("state_id")
     run = search(mech, roll, -1.0, phase, step=M_STEP, phase_tolerance=0.01)
@@ -483,8 +584,9 @@ def test_passive_path_agrees_with_search(mech_rows, mech, roll, phase):
     snap_row = by_id.loc[path[-2]]
     assert snap_row["transition"] == "snap"
     assert snap_row["drop"] == pytest.approx(run.snap.drop, rel=0.05)
-    work = sum(by_id.loc[sid, "work_friction"] + by_id.loc[sid, "work_potential"]
-               for sid in path[:-1])
+    work = sum(
+        by_id.loc[sid, "work_friction"] + by_id.loc[sid, "work_potential"] for sid in path[:-1]
+    )
     joins = sum(by_id.loc[sid, "role"] == "start" for sid in path[1:])
     if joins == 0:
         # The same walk as the search's: the same snap and the same work.
@@ -499,23 +601,33 @@ def test_mechanics_summary_query_and_figures(mech_library, mech_rows, mech, tmp_
     doc = summary(mech_library, phase=140)
     assert doc["model"] == "mechanics" and doc["units"] == "in"
     assert doc["done"] == M_SIZE == doc["configurations"]
-    assert {k: v for k, v in doc["counts"].items() if v} == \
-        starts["classification"].value_counts().to_dict()
+    assert {k: v for k, v in doc["counts"].items() if v} == starts[
+        "classification"
+    ].value_counts().to_dict()
     assert "no-contact" not in doc["counts"]
     assert doc["states"]["total"] == len(mech_rows)
     assert doc["states"]["by_role"] == mech_rows["role"].value_counts().to_dict()
     assert doc["states"]["by_class"] == mech_rows["classification"].value_counts().to_dict()
     for role, counts in doc["states"]["by_role_and_class"].items():
-        assert counts == mech_rows.loc[mech_rows["role"] == role,
-                                       "classification"].value_counts().to_dict()
+        assert (
+            counts
+            == mech_rows.loc[mech_rows["role"] == role, "classification"].value_counts().to_dict()
+        )
     moves = mech_rows[mech_rows["transition"] != ""]
     assert sum(sum(v.values()) for v in doc["states"]["transitions"].values()) == len(moves)
     assert doc["at_phase"]["phase"] == 135.0
     assert sum(doc["at_phase"]["counts"].values()) == 2
     configs = configurations(mech_library)
     assert list(configs["config_id"]) == list(range(M_SIZE))
-    assert list(configs.columns) == ["config_id", "roll", "pitch", "phase", "classification",
-                                     "n_contacts", "region_combination"]
+    assert list(configs.columns) == [
+        "config_id",
+        "roll",
+        "pitch",
+        "phase",
+        "classification",
+        "n_contacts",
+        "region_combination",
+    ]
 
     q = query(mech_library, 2.3, -1, 136, nearest=True)
     assert q["snapped"] and q["model"] == "mechanics" and q["units"] == "in"
@@ -525,6 +637,7 @@ def test_mechanics_summary_query_and_figures(mech_library, mech_rows, mech, tmp_
 
     figures = write_figures(mech_library, tmp_path / "figs", phase=135)
     import matplotlib.image as mpimg
+
     for path in figures.values():
         img = mpimg.imread(path)
         assert img.ndim == 3 and img.shape[0] > 100 and img.shape[1] > 100
@@ -532,26 +645,42 @@ def test_mechanics_summary_query_and_figures(mech_library, mech_rows, mech, tmp_
 
 def test_mechanics_resume_refuses_other_settings(mech_library, quarter_20):
     before = sorted(p.name for p in mech_library.iterdir())
-    for kwargs, words in (({"compliance": Compliance(force=20.0)}, "compliance"),
-                          ({"compliance": Compliance(stiffness=(1.0, 2.0))}, "compliance"),
-                          ({"compliance": Compliance(friction=0.1)}, "compliance"),
-                          ({"step": 2.0}, "continuation settings"),
-                          ({"model": "thesis"}, "model")):
+    for kwargs, words in (
+        ({"compliance": Compliance(force=20.0)}, "compliance"),
+        ({"compliance": Compliance(stiffness=(1.0, 2.0))}, "compliance"),
+        ({"compliance": Compliance(friction=0.1)}, "compliance"),
+        ({"step": 2.0}, "continuation settings"),
+        ({"model": "thesis"}, "model"),
+    ):
         with pytest.raises(LibraryError, match=words):
-            sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=mech_library, workers=1,
-                  **{"step": M_STEP, **kwargs})
+            sweep(
+                quarter_20,
+                M_ROLL,
+                M_PITCH,
+                M_PHASE,
+                out=mech_library,
+                workers=1,
+                **{"step": M_STEP, **kwargs},
+            )
     assert sorted(p.name for p in mech_library.iterdir()) == before
 
 
 def test_partial_mechanics_sweep_resumes_exactly(mech_library, quarter_20, tmp_path):
     out = tmp_path / "partial"
-    sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=out, workers=2, step=M_STEP,
-          max_chunks=1)
+    sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=out, workers=2, step=M_STEP, max_chunks=1)
     partial = info(out)
     assert partial["done"] == 8 and not partial["complete"] and partial["parts"] == 1
     seen = []
-    sweep(quarter_20, M_ROLL, M_PITCH, M_PHASE, out=out, workers=1, step=M_STEP,
-          progress=lambda done, total: seen.append((done, total)))
+    sweep(
+        quarter_20,
+        M_ROLL,
+        M_PITCH,
+        M_PHASE,
+        out=out,
+        workers=1,
+        step=M_STEP,
+        progress=lambda done, total: seen.append((done, total)),
+    )
     assert seen == [(8, M_SIZE), (M_SIZE, M_SIZE)]
     resumed = load(out)
     pd.testing.assert_frame_equal(resumed, load(mech_library))
@@ -560,8 +689,9 @@ def test_partial_mechanics_sweep_resumes_exactly(mech_library, quarter_20, tmp_p
 
 def test_write_library_round_trips_rows(mech_library, library, quarter_20, tmp_path):
     rows = load(mech_library)
-    out = write_library(rows, tmp_path / "written", quarter_20, M_ROLL, M_PITCH, M_PHASE,
-                        step=M_STEP)
+    out = write_library(
+        rows, tmp_path / "written", quarter_20, M_ROLL, M_PITCH, M_PHASE, step=M_STEP
+    )
     again = load(out)
     pd.testing.assert_frame_equal(again, rows)
     assert again.attrs["threadmate"]["model"] == "mechanics"
@@ -571,8 +701,16 @@ def test_write_library_round_trips_rows(mech_library, library, quarter_20, tmp_p
     pd.testing.assert_frame_equal(load(out), rows)
     # The thesis's rows, as plain dicts.
     thesis = load(library)
-    out = write_library(thesis.to_dict("records"), tmp_path / "thesis", quarter_20, ROLL,
-                        PITCH, PHASE, model="thesis", chord=CHORD)
+    out = write_library(
+        thesis.to_dict("records"),
+        tmp_path / "thesis",
+        quarter_20,
+        ROLL,
+        PITCH,
+        PHASE,
+        model="thesis",
+        chord=CHORD,
+    )
     pd.testing.assert_frame_equal(load(out), thesis)
 
 
@@ -583,6 +721,5 @@ def test_write_library_refuses_rows_missing_a_column(mech_library, quarter_20, t
         write_library(rows, out, quarter_20, M_ROLL, M_PITCH, M_PHASE, step=M_STEP)
     assert not out.exists()
     with pytest.raises(InputError, match="model"):
-        write_library(load(mech_library), out, quarter_20, M_ROLL, M_PITCH, M_PHASE,
-                      model="fixed")
+        write_library(load(mech_library), out, quarter_20, M_ROLL, M_PITCH, M_PHASE, model="fixed")
     assert not out.exists()

@@ -50,9 +50,23 @@ def _alive(pid: int) -> bool:
 def test_killed_sweep_leaves_no_worker_behind(tmp_path):
     lib = tmp_path / "lib"
     # Four held tilts of the mechanics: each worker is busy for many seconds per chunk.
-    cmd = [sys.executable, "-c", "from threadmate.cli import main; main()", "sweep",
-           DESIGNATION, "--roll", "0:3:1", "--pitch", "0", "--phase", "0:270:90",
-           "--workers", "2", "-o", str(lib)]
+    cmd = [
+        sys.executable,
+        "-c",
+        "from threadmate.cli import main; main()",
+        "sweep",
+        DESIGNATION,
+        "--roll",
+        "0:3:1",
+        "--pitch",
+        "0",
+        "--phase",
+        "0:270:90",
+        "--workers",
+        "2",
+        "-o",
+        str(lib),
+    ]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     workers: list[int] = []
     deadline = time.monotonic() + 120
@@ -75,8 +89,7 @@ def test_killed_sweep_leaves_no_worker_behind(tmp_path):
 @pytest.fixture(scope="module")
 def small_library(tmp_path_factory, quarter_20):
     out = tmp_path_factory.mktemp("faults") / "lib"
-    return library.sweep(quarter_20, "0", "0", "0:180:180", out=out, workers=1,
-                         model="thesis")
+    return library.sweep(quarter_20, "0", "0", "0:180:180", out=out, workers=1, model="thesis")
 
 
 def test_stray_parquet_file_is_named(small_library, tmp_path, capsys):
@@ -94,8 +107,9 @@ def test_stray_parquet_file_is_named(small_library, tmp_path, capsys):
 def test_part_of_another_library_is_named(small_library, tmp_path, quarter_20):
     lib = tmp_path / "lib"
     shutil.copytree(small_library, lib)
-    other = library.sweep(quarter_20, "0", "0", "0:180:180", out=tmp_path / "other",
-                          workers=1, model="thesis")
+    other = library.sweep(
+        quarter_20, "0", "0", "0:180:180", out=tmp_path / "other", workers=1, model="thesis"
+    )
     part = next(other.glob("part-*.parquet"))
     shutil.copy(part, lib / "part-00099.parquet")
     with pytest.raises(LibraryError, match="part-00099.parquet does not belong"):
@@ -112,13 +126,27 @@ def test_stale_temporaries_are_removed_on_resume(small_library, tmp_path, quarte
 
 
 @pytest.mark.parametrize("scheduler", ["nonsense", "tcp://", "http:/host", "12 34"])
-def test_unknown_scheduler_is_refused_before_anything_is_written(tmp_path, quarter_20,
-                                                                   scheduler, capsys):
+def test_unknown_scheduler_is_refused_before_anything_is_written(
+    tmp_path, quarter_20, scheduler, capsys
+):
     with pytest.raises(InputError, match="--scheduler"):
         library.sweep(quarter_20, "0", "0", "0", out=tmp_path / "lib", scheduler=scheduler)
     assert not (tmp_path / "lib").exists()
-    code, _, err = run_cli(capsys, "sweep", DESIGNATION, "--roll", "0", "--pitch", "0",
-                           "--phase", "0", "--scheduler", scheduler, "-o", tmp_path / "lib2")
+    code, _, err = run_cli(
+        capsys,
+        "sweep",
+        DESIGNATION,
+        "--roll",
+        "0",
+        "--pitch",
+        "0",
+        "--phase",
+        "0",
+        "--scheduler",
+        scheduler,
+        "-o",
+        tmp_path / "lib2",
+    )
     assert code == 2
     assert "--scheduler" in err and "Traceback" not in err
     assert not (tmp_path / "lib2").exists()
@@ -126,7 +154,8 @@ def test_unknown_scheduler_is_refused_before_anything_is_written(tmp_path, quart
 
 @pytest.mark.parametrize("chord", [0.004, 1e-9])
 def test_chord_out_of_the_meshes_range_is_refused_before_anything_is_written(
-        tmp_path, quarter_20, chord):
+    tmp_path, quarter_20, chord
+):
     # 0.004 in lies between the mesh's limit (pitch x 0.02 = 0.001 in) and a tenth of the
     # pitch (0.005 in), where the sweep used to start and then fail in its worker.
     with pytest.raises(InputError, match="chord"):
@@ -149,14 +178,24 @@ def test_every_command_takes_the_same_condition_spellings(capsys):
 
     _register()
 
-    with_condition = {" ".join(path): cmd for path, cmd in _all_commands(cli)
-                      if any(p.name == "condition" for p in cmd.params)}
-    assert {"thread", "planar", "mesh", "contact", "settle", "search", "sweep",
-            "run"} <= set(with_condition)
+    with_condition = {
+        " ".join(path): cmd
+        for path, cmd in _all_commands(cli)
+        if any(p.name == "condition" for p in cmd.params)
+    }
+    assert {"thread", "planar", "mesh", "contact", "settle", "search", "sweep", "run"} <= set(
+        with_condition
+    )
     for cmd in with_condition.values():
         option = next(p for p in cmd.params if p.name == "condition")
-        for spelling, canonical in (("MMC", "max"), ("maximum", "max"), ("lmc", "min"),
-                                    ("Minimum", "min"), ("mid", "mean"), ("mean", "mean")):
+        for spelling, canonical in (
+            ("MMC", "max"),
+            ("maximum", "max"),
+            ("lmc", "min"),
+            ("Minimum", "min"),
+            ("mid", "mean"),
+            ("mean", "mean"),
+        ):
             assert option.type.convert(spelling, option, None) == canonical
     # And the command line agrees: the same limits for two spellings of one condition.
     _, a, _ = run_cli(capsys, "thread", DESIGNATION, "--condition", "mmc", "--json")

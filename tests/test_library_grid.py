@@ -41,19 +41,22 @@ def test_single_values_and_comma_lists():
     assert parse_range([4, -4, 0], "roll") == (-4.0, 0.0, 4.0)
 
 
-@pytest.mark.parametrize(("text", "option", "words"), [
-    ("0:4:0", "roll", "step 0"),
-    ("0:4:-1", "pitch", "step -1"),
-    ("4:0:1", "roll", "below start"),
-    ("a", "phase", "'a' is not a number"),
-    ("0:x:1", "roll", "'x' is not a number"),
-    ("1:2", "pitch", "START:STOP:STEP"),
-    ("", "roll", "no values"),
-    ("1,,2", "roll", "empty item"),
-    ("0:50:5", "roll", "out of range"),
-    ("-46", "pitch", "out of range"),
-    ("nan", "phase", "not a finite angle"),
-])
+@pytest.mark.parametrize(
+    ("text", "option", "words"),
+    [
+        ("0:4:0", "roll", "step 0"),
+        ("0:4:-1", "pitch", "step -1"),
+        ("4:0:1", "roll", "below start"),
+        ("a", "phase", "'a' is not a number"),
+        ("0:x:1", "roll", "'x' is not a number"),
+        ("1:2", "pitch", "START:STOP:STEP"),
+        ("", "roll", "no values"),
+        ("1,,2", "roll", "empty item"),
+        ("0:50:5", "roll", "out of range"),
+        ("-46", "pitch", "out of range"),
+        ("nan", "phase", "not a finite angle"),
+    ],
+)
 def test_bad_ranges_name_the_option(text, option, words):
     with pytest.raises(InputError) as err:
         parse_range(text, option)
@@ -84,10 +87,10 @@ def test_config_ids_are_roll_major_phase_fastest():
 
 def test_nearest_configuration_snaps_each_angle():
     grid = Grid.parse("-4:4:1", "-4:4:1", "0:355:5")
-    cid, values = grid.nearest(0.4, -3.6, 358.0)   # phase 358 is nearer 0 than 355
+    cid, values = grid.nearest(0.4, -3.6, 358.0)  # phase 358 is nearer 0 than 355
     assert values == (0.0, -4.0, 0.0)
     assert cid == grid.config_id(4, 0, 0)
-    _, values = grid.nearest(9.0, 0.0, -2.0)       # beyond the grid: the edge value
+    _, values = grid.nearest(9.0, 0.0, -2.0)  # beyond the grid: the edge value
     assert values == (4.0, 0.0, 0.0)
 
 

@@ -45,6 +45,7 @@ def inch(spec):
 
 # -- thread pairs and compliances ---------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def m6():
     """M6x1-6g/6H at mean material, from the ISO 965-1/-2 limits for P = 1, d = 6.
@@ -62,8 +63,7 @@ def m6():
 
 def left_hand(spec):
     """The same pair with a left-hand thread."""
-    return ThreadSpec(units=spec.units, pitch=spec.pitch, bolt=spec.bolt, nut=spec.nut,
-                      hand="left")
+    return ThreadSpec(units=spec.units, pitch=spec.pitch, bolt=spec.bolt, nut=spec.nut, hand="left")
 
 
 DEFAULT = Compliance()
@@ -97,11 +97,31 @@ def mech_stiff(quarter_20):
 
 # Varied held tilts and phases, |roll|, |pitch| <= 4; the last two settle in-phase (the
 # bolt comes to rest in the thread: the same conditions hold there).
-Q20_CONFIGS = [(4, 0, 185), (4, 4, 235), (-4, 0, 131), (2, -3, 40), (-3, 2, 300),
-               (1, 0.5, 10), (0, 0, 90), (3, 3, 70), (-2, -4, 160), (0, 4, 250),
-               (-1, 2, 330), (3, 0, -10), (0, 0, 5), (1, 0, -5)]
-M6_CONFIGS = [(-2, 3, 110), (1, 1, 200), (-4, -2, 290), (0, 2.5, 160), (2, 0, 70),
-              (-1, -3, 330), (3, -1, 20)]
+Q20_CONFIGS = [
+    (4, 0, 185),
+    (4, 4, 235),
+    (-4, 0, 131),
+    (2, -3, 40),
+    (-3, 2, 300),
+    (1, 0.5, 10),
+    (0, 0, 90),
+    (3, 3, 70),
+    (-2, -4, 160),
+    (0, 4, 250),
+    (-1, 2, 330),
+    (3, 0, -10),
+    (0, 0, 5),
+    (1, 0, -5),
+]
+M6_CONFIGS = [
+    (-2, 3, 110),
+    (1, 1, 200),
+    (-4, -2, 290),
+    (0, 2.5, 160),
+    (2, 0, 70),
+    (-1, -3, 330),
+    (3, -1, 20),
+]
 # Starts at which a soft compliance lets the bolt settle on three points.
 SOFT_CANDIDATES = [(-3, 2, 300), (1, 0.5, 10), (0, 0, 200), (4, 4, 235)]
 
@@ -123,6 +143,7 @@ def soft_rests(mech_soft):
 
 # -- independent collision checks -----------------------------------------------------------
 
+
 class Collider:
     """python-fcl BVHs of the spec's generated meshes, built here, whole (no sectors)."""
 
@@ -135,15 +156,17 @@ class Collider:
     def _bvh(mesh):
         model = fcl.BVHModel()
         model.beginModel(len(mesh.vertices), len(mesh.faces))
-        model.addSubModel(np.asarray(mesh.vertices, dtype=float),
-                          np.asarray(mesh.faces, dtype=np.int32))
+        model.addSubModel(
+            np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int32)
+        )
         model.endModel()
         return model
 
     def contacts(self, rotation, origin):
         """Where the bolt at (rotation, origin) intersects the nut (empty: it does not)."""
-        self.bolt.setTransform(fcl.Transform(np.asarray(rotation, dtype=float),
-                                             np.asarray(origin, dtype=float)))
+        self.bolt.setTransform(
+            fcl.Transform(np.asarray(rotation, dtype=float), np.asarray(origin, dtype=float))
+        )
         request = fcl.CollisionRequest(num_max_contacts=100000, enable_contact=True)
         result = fcl.CollisionResult()
         fcl.collide(self.bolt, self.nut, request, result)
@@ -156,6 +179,7 @@ def collider(spec):
 
 
 # -- the mechanics recomputed from a state ----------------------------------------------------
+
 
 def generalised_rows(spec, state):
     """Rows (n_z, X . (r x n), Y' . (r x n)) of the touching contacts, r = p - C in metres,
@@ -176,9 +200,13 @@ def generalised_rows(spec, state):
 def spring(comp, rest):
     """Generalised force of the load and the spring: (F, k_r (roll - roll0), k_p ...)."""
     s = rest.state
-    return np.array([comp.force,
-                     comp.roll_stiffness * math.radians(s.roll - rest.held_roll),
-                     comp.pitch_stiffness * math.radians(s.pitch - rest.held_pitch)])
+    return np.array(
+        [
+            comp.force,
+            comp.roll_stiffness * math.radians(s.roll - rest.held_roll),
+            comp.pitch_stiffness * math.radians(s.pitch - rest.held_pitch),
+        ]
+    )
 
 
 def radius_m(spec):
@@ -275,22 +303,30 @@ def test_settle_reaches_a_rest_state_soft_compliance(mech_soft, quarter_20, cfg)
     check_kkt(quarter_20, SOFT, mech_soft.settle(*cfg))
 
 
-FIRST_TOUCH_MISSED = ("the first lowering from above passes a thin wedge of nut (where its "
-                      "thread runs out on the top face) within one step: python-fcl sees "
-                      "crossing triangles at the step's ends, never a wedge passed whole, so "
-                      "the first contact is found about 1.3e-3 mm below the exact first touch "
-                      "(an fcl sweep in fine steps agrees with the exact reference)")
+FIRST_TOUCH_MISSED = (
+    "the first lowering from above passes a thin wedge of nut (where its "
+    "thread runs out on the top face) within one step: python-fcl sees "
+    "crossing triangles at the step's ends, never a wedge passed whole, so "
+    "the first contact is found about 1.3e-3 mm below the exact first touch "
+    "(an fcl sweep in fine steps agrees with the exact reference)"
+)
 # Held tilts at which, with the M6 compliance (centre 2 mm above the tip), the code's first
 # contact is found below the exact (and a fine fcl sweep's) height.
 M6_MISSED = [(-1.6, -2.28, 342.7), (2.22, 3.67, 321.46)]
 
 
-@pytest.mark.parametrize("which, cfg", [("q20", c) for c in Q20_CONFIGS]
-                         + [("m6", c) for c in M6_CONFIGS if c not in M6_MISSED]
-                         + [pytest.param("m6", c, marks=pytest.mark.xfail(
-                             strict=False, reason=FIRST_TOUCH_MISSED)) for c in M6_MISSED])
-def test_first_contact_is_the_exact_first_touch(which, cfg, q20_rests, m6_rests, mech_m6,
-                                                quarter_20, m6):
+@pytest.mark.parametrize(
+    "which, cfg",
+    [("q20", c) for c in Q20_CONFIGS]
+    + [("m6", c) for c in M6_CONFIGS if c not in M6_MISSED]
+    + [
+        pytest.param("m6", c, marks=pytest.mark.xfail(strict=False, reason=FIRST_TOUCH_MISSED))
+        for c in M6_MISSED
+    ],
+)
+def test_first_contact_is_the_exact_first_touch(
+    which, cfg, q20_rests, m6_rests, mech_m6, quarter_20, m6
+):
     """settle starts where the bolt, at the held tilt with its compliance centre over
     x = y = 0, first touches the nut lowered from above: its first state's z_C is the exact
     reference's within 5e-6 in (the meshes' first-contact accuracy)."""
@@ -307,8 +343,7 @@ def test_first_contact_is_the_exact_first_touch(which, cfg, q20_rests, m6_rests,
     assert first.centre[2] == pytest.approx(h, abs=5e-6 * inch(spec))
 
 
-def test_rest_heights_are_the_exact_first_touch(q20_rests, m6_rests, soft_rests, quarter_20,
-                                                m6):
+def test_rest_heights_are_the_exact_first_touch(q20_rests, m6_rests, soft_rests, quarter_20, m6):
     """A rest state that has not dropped into the thread rests on the nut as the bolt,
     lowered from above at the rest tilt, would first touch it: z_C is the exact reference's
     height at the rest tilt within 5e-6 in."""
@@ -319,12 +354,18 @@ def test_rest_heights_are_the_exact_first_touch(q20_rests, m6_rests, soft_rests,
             continue
         h = exact_height(spec, s.roll, s.pitch, rest.phase, comp.compliance_z)
         assert s.centre[2] == pytest.approx(h, abs=5e-6 * inch(spec)), (
-            spec.units, rest.held_roll, rest.held_pitch, rest.phase, (s.centre[2] - h))
+            spec.units,
+            rest.held_roll,
+            rest.held_pitch,
+            rest.phase,
+            (s.centre[2] - h),
+        )
         checked += 1
     assert checked >= 15
 
 
 # -- perturbation with the exact bodies -------------------------------------------------------
+
 
 @functools.lru_cache(maxsize=4096)
 def exact_height(spec, roll, pitch, phase, compliance_z):
@@ -336,21 +377,28 @@ def exact_potential(spec, comp, rest, roll, pitch, stiffness=None):
     """U (J) with the exact lowering height at (roll, pitch) and the rest state's phase."""
     kr, kp = (comp.roll_stiffness, comp.pitch_stiffness) if stiffness is None else stiffness
     h = exact_height(spec, float(roll), float(pitch), float(rest.phase), comp.compliance_z)
-    return (comp.force * h * METRES[spec.units]
-            + 0.5 * kr * math.radians(roll - rest.held_roll) ** 2
-            + 0.5 * kp * math.radians(pitch - rest.held_pitch) ** 2)
+    return (
+        comp.force * h * METRES[spec.units]
+        + 0.5 * kr * math.radians(roll - rest.held_roll) ** 2
+        + 0.5 * kp * math.radians(pitch - rest.held_pitch) ** 2
+    )
 
 
-PERTURBATIONS = [(d * math.cos(math.radians(a)), d * math.sin(math.radians(a)))
-                 for d in (0.05, 0.2) for a in range(0, 360, 45)]
+PERTURBATIONS = [
+    (d * math.cos(math.radians(a)), d * math.sin(math.radians(a)))
+    for d in (0.05, 0.2)
+    for a in range(0, 360, 45)
+]
 
 
 def perturbation_drops(spec, comp, rest, stiffness=None):
     """U(perturbed) - U(rest) (J) over the tilts of :data:`PERTURBATIONS`, exact bodies."""
     s = rest.state
     u0 = exact_potential(spec, comp, rest, s.roll, s.pitch, stiffness)
-    return {d: exact_potential(spec, comp, rest, s.roll + d[0], s.pitch + d[1], stiffness) - u0
-            for d in PERTURBATIONS}
+    return {
+        d: exact_potential(spec, comp, rest, s.roll + d[0], s.pitch + d[1], stiffness) - u0
+        for d in PERTURBATIONS
+    }
 
 
 def u_tolerance(spec, comp):
@@ -362,16 +410,21 @@ PERTURBED_Q20 = [(4, 0, 185), (1, 0.5, 10), (0, 0, 90), (3, 3, 70), (-3, 2, 300)
 PERTURBED_M6 = [(-2, 3, 110), (-4, -2, 290)]
 
 
-@pytest.mark.parametrize("which, cfg", [("q20", c) for c in PERTURBED_Q20]
-                         + [("m6", c) for c in PERTURBED_M6])
-def test_exact_perturbation_never_lowers_the_potential(which, cfg, q20_rests, m6_rests,
-                                                       quarter_20, m6):
+@pytest.mark.parametrize(
+    "which, cfg", [("q20", c) for c in PERTURBED_Q20] + [("m6", c) for c in PERTURBED_M6]
+)
+def test_exact_perturbation_never_lowers_the_potential(
+    which, cfg, q20_rests, m6_rests, quarter_20, m6
+):
     """The rest state is a local minimum of U on the EXACT bodies: at tilts 0.05 and 0.2
     degrees away (rolls, pitches and diagonals), each re-lowered to first touch by the exact
     reference, U does not fall by more than F x 5e-6 in; and the reported height of the
     compliance centre is the exact one at the rest tilt within 5e-6 in."""
-    spec, comp, rest = ((quarter_20, DEFAULT, q20_rests[cfg]) if which == "q20"
-                        else (m6, M6_COMPLIANCE, m6_rests[cfg]))
+    spec, comp, rest = (
+        (quarter_20, DEFAULT, q20_rests[cfg])
+        if which == "q20"
+        else (m6, M6_COMPLIANCE, m6_rests[cfg])
+    )
     s = rest.state
     assert s.classification != "in-phase"  # (KKT tests judge the class)
     h = exact_height(spec, s.roll, s.pitch, rest.phase, comp.compliance_z)
@@ -404,10 +457,16 @@ def test_stable_states_hold_without_the_compliance(stable_states, quarter_20):
         drops = perturbation_drops(quarter_20, comp, rest, stiffness=(0.0, 0.0))
         worst = min(drops, key=drops.get)
         assert drops[worst] >= -comp.force / DEFAULT.force * tol, (
-            rest.held_roll, rest.held_pitch, rest.phase, worst, drops[worst])
+            rest.held_roll,
+            rest.held_pitch,
+            rest.phase,
+            worst,
+            drops[worst],
+        )
 
 
 # -- classes from the forces ------------------------------------------------------------------
+
 
 def held_by_contacts(spec, comp, state, margin):
     """Whether non-negative contact forces alone balance (F, 0, 0) and every target pushed
@@ -483,10 +542,13 @@ def test_quasi_stable_states_need_the_compliance(q20_rests, quarter_20, cfg):
     before = exact_height(spec, s.roll, s.pitch, rest.phase, 0.0)
     after = exact_height(spec, s.roll + tilt[0], s.pitch + tilt[1], rest.phase, 0.0)
     assert comp.force * (after - before) * METRES[spec.units] < -u_tolerance(spec, comp), (
-        before, after)
+        before,
+        after,
+    )
 
 
 # -- closed forms -----------------------------------------------------------------------------
+
 
 def window_shift(spec, phase):
     """s = lead * phase / 360 wrapped into [-lead/2, lead/2)."""
@@ -531,7 +593,9 @@ def test_upright_stiff_bolt_rests_flat_outside_the_window(upright_rests, quarter
     or quasi-stable, not unstable, and its contact forces balance the load."""
     rest = upright_rests[phase]
     assert rest.state.classification in ("stable", "quasi-stable"), (
-        rest.state.classification, rest.balance)
+        rest.state.classification,
+        rest.balance,
+    )
     check_kkt(quarter_20, STIFF, rest)
 
 
@@ -548,8 +612,9 @@ def test_search_snaps_at_the_window_edge_by_the_axial_clearance(sharp_quarter_20
     height_error = (bolt.max_deviation + nut.max_deviation) / (math.sqrt(3) / 2)
     phase_error = 360.0 * height_error / spec.lead
     start = 340.0
-    run = search(Mechanics(spec, STIFF), 0, 0, start, turns=15 / 360, step=2.0,
-                 phase_tolerance=0.01)
+    run = search(
+        Mechanics(spec, STIFF), 0, 0, start, turns=15 / 360, step=2.0, phase_tolerance=0.01
+    )
     assert run.snap is not None
     assert run.snap.phase == pytest.approx(edge, abs=0.01 + phase_error)
     assert run.snap_turn == pytest.approx(edge - start, abs=0.01 + phase_error)
@@ -589,6 +654,7 @@ def test_infinitely_stiff_compliance_keeps_the_held_tilt(quarter_20, cfg):
 
 # -- energy bookkeeping -------------------------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def mech_frictionless(quarter_20):
     return Mechanics(quarter_20, FRICTIONLESS)
@@ -600,14 +666,18 @@ def axial_torque(spec, state):
     a = np.array(state.rotation)[:, 2] * spec.handedness
     centre = np.array(state.centre)
     m = METRES[spec.units]
-    return -sum(c.force * float(a @ np.cross((np.array(c.point) - centre) * m, c.normal))
-                for c in state.touching)
+    return -sum(
+        c.force * float(a @ np.cross((np.array(c.point) - centre) * m, c.normal))
+        for c in state.touching
+    )
 
 
-@pytest.mark.parametrize("cfg, events", [((2, -3, 40), False), ((0, 4, 250), False),
-                                         ((3, 3, 70), True)])
-def test_frictionless_work_equals_the_change_of_potential(mech_frictionless, quarter_20,
-                                                          cfg, events):
+@pytest.mark.parametrize(
+    "cfg, events", [((2, -3, 40), False), ((0, 4, 250), False), ((3, 3, 70), True)]
+)
+def test_frictionless_work_equals_the_change_of_potential(
+    mech_frictionless, quarter_20, cfg, events
+):
     """Without friction and away from jumps the driver's work is the change of U (the
     envelope theorem: dU*/dphase = -sum lambda_i a.(r_i x n_i), the driver's torque): over a
     10-degree turn work_potential = U(last) - U(first) within 2 %, work_friction = 0; the
@@ -625,8 +695,9 @@ def test_frictionless_work_equals_the_change_of_potential(mech_frictionless, qua
     assert run.work_potential == pytest.approx(du, rel=0.02, abs=f * 1e-6 * 0.0254 * 1e3)
     for s in run.states:
         assert s.friction_torque == 0.0
-        assert s.driver_torque == pytest.approx(axial_torque(quarter_20, s),
-                                                abs=1e-6 * f * radius_m(quarter_20))
+        assert s.driver_torque == pytest.approx(
+            axial_torque(quarter_20, s), abs=1e-6 * f * radius_m(quarter_20)
+        )
     # The trapezoidal integral of the recomputed torques agrees too.
     phases = np.radians([s.phase for s in run.states])
     torques = np.array([axial_torque(quarter_20, s) for s in run.states])

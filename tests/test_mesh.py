@@ -57,9 +57,15 @@ def sharp_m6(m6: ThreadSpec) -> ThreadSpec:
 @pytest.fixture(scope="module")
 def pairs(quarter_20, sharp_quarter_20, m6, sharp_m6):
     """Meshes at the default chord (built once; the cache serves later calls)."""
-    return {name: (spec, *thread_meshes(spec)) for name, spec in (
-        ("1/4-20", quarter_20), ("1/4-20 sharp", sharp_quarter_20),
-        ("M6x1", m6), ("M6x1 sharp", sharp_m6))}
+    return {
+        name: (spec, *thread_meshes(spec))
+        for name, spec in (
+            ("1/4-20", quarter_20),
+            ("1/4-20 sharp", sharp_quarter_20),
+            ("M6x1", m6),
+            ("M6x1 sharp", sharp_m6),
+        )
+    }
 
 
 # -- an independent exact profile ----------------------------------------------------------
@@ -88,10 +94,13 @@ def _exact_profile(spec: ThreadSpec, body: str):
     def radius(u):
         u = np.abs(np.asarray(u, dtype=float))
         flank = c - SQ3 * u
-        hi = rc_hi + np.sqrt(np.clip(rho_hi ** 2 - (u - uc_hi) ** 2, 0, None))
-        lo = rc_lo - np.sqrt(np.clip(rho_lo ** 2 - (u - uc_lo) ** 2, 0, None))
-        return np.select([u <= uc_hi, u <= ut_hi, u <= ut_lo, u <= uc_lo],
-                         [np.full_like(u, r_hi), hi, flank, lo], np.full_like(u, r_lo))
+        hi = rc_hi + np.sqrt(np.clip(rho_hi**2 - (u - uc_hi) ** 2, 0, None))
+        lo = rc_lo - np.sqrt(np.clip(rho_lo**2 - (u - uc_lo) ** 2, 0, None))
+        return np.select(
+            [u <= uc_hi, u <= ut_hi, u <= ut_lo, u <= uc_lo],
+            [np.full_like(u, r_hi), hi, flank, lo],
+            np.full_like(u, r_lo),
+        )
 
     return radius, (uc_hi, ut_hi, ut_lo, uc_lo)
 
@@ -103,11 +112,16 @@ def _exact_volume(spec: ThreadSpec, body: str) -> float:
     radius, corners = _exact_profile(spec, body)
     half = spec.pitch / 2
     pts = sorted({c for c in corners if 0 < c < half})
-    mean_r2 = 2 * integrate.quad(lambda u: radius(u) ** 2, 0, half, points=pts,
-                                 epsabs=1e-16, epsrel=1e-13, limit=200)[0] / spec.pitch
+    mean_r2 = (
+        2
+        * integrate.quad(
+            lambda u: radius(u) ** 2, 0, half, points=pts, epsabs=1e-16, epsrel=1e-13, limit=200
+        )[0]
+        / spec.pitch
+    )
     if body == "bolt":
         return math.pi * spec.bolt.length * mean_r2
-    return math.pi * spec.nut.height * (spec.nut.outer_radius ** 2 - mean_r2)
+    return math.pi * spec.nut.height * (spec.nut.outer_radius**2 - mean_r2)
 
 
 class _AxialDistance:
@@ -118,8 +132,16 @@ class _AxialDistance:
         radius, _ = _exact_profile(spec, body)
         p = spec.pitch
         t = np.linspace(-1.5 * p, 1.5 * p, 300_001)
-        t = np.union1d(t, np.concatenate([s * np.asarray(_exact_profile(spec, body)[1]) + k * p
-                                          for s in (-1, 1) for k in (-1, 0, 1)]))
+        t = np.union1d(
+            t,
+            np.concatenate(
+                [
+                    s * np.asarray(_exact_profile(spec, body)[1]) + k * p
+                    for s in (-1, 1)
+                    for k in (-1, 0, 1)
+                ]
+            ),
+        )
         self.p = p
         self.pts = np.column_stack([t, radius(t - p * np.round(t / p))])
         self.tree = cKDTree(self.pts)
@@ -167,8 +189,17 @@ def _independent_deviation(spec: ThreadSpec, tb: TessellatedBody) -> tuple[float
             d = np.minimum(d, np.abs(r - outer))
         return d
 
-    weights = np.array([[1 / 3, 1 / 3, 1 / 3], [0.5, 0.5, 0.0], [0.0, 0.5, 0.5],
-                        [0.5, 0.0, 0.5], [0.6, 0.2, 0.2], [0.2, 0.6, 0.2], [0.2, 0.2, 0.6]])
+    weights = np.array(
+        [
+            [1 / 3, 1 / 3, 1 / 3],
+            [0.5, 0.5, 0.0],
+            [0.0, 0.5, 0.5],
+            [0.5, 0.0, 0.5],
+            [0.6, 0.2, 0.2],
+            [0.2, 0.6, 0.2],
+            [0.2, 0.2, 0.6],
+        ]
+    )
     inner = np.einsum("wk,nkd->wnd", weights, v[f]).reshape(-1, 3)
     return float(deviation(v).max()), float(deviation(inner).max())
 
@@ -192,10 +223,8 @@ def test_meshes_are_closed_outward_and_in_frame(pairs, name):
     assert r.max() == pytest.approx(spec.nut.outer_radius, rel=1e-12)
     assert r.min() >= spec.nut.minor / 2 - 1e-15
     # The tip face (base) and nut top (surface) are flat faces at z = 0, facing out.
-    n_b = bolt.mesh.face_normals[np.all(bolt.mesh.vertices[bolt.mesh.faces][:, :, 2] == 0,
-                                        axis=1)]
-    n_n = nut.mesh.face_normals[np.all(nut.mesh.vertices[nut.mesh.faces][:, :, 2] == 0,
-                                       axis=1)]
+    n_b = bolt.mesh.face_normals[np.all(bolt.mesh.vertices[bolt.mesh.faces][:, :, 2] == 0, axis=1)]
+    n_n = nut.mesh.face_normals[np.all(nut.mesh.vertices[nut.mesh.faces][:, :, 2] == 0, axis=1)]
     assert len(n_b) and np.allclose(n_b, [0, 0, -1])
     assert len(n_n) and np.allclose(n_n, [0, 0, 1])
 
@@ -291,8 +320,7 @@ def _meridian_angles(tb: TessellatedBody) -> np.ndarray:
     a, b = v[e[:, 0]], v[e[:, 1]]
     ta, tb_ = np.arctan2(a[:, 1], a[:, 0]), np.arctan2(b[:, 1], b[:, 0])
     ra, rb = np.hypot(a[:, 0], a[:, 1]), np.hypot(b[:, 0], b[:, 1])
-    meridional = (np.abs(np.sin(ta - tb_)) < 1e-12) & (ra > 0) & (rb > 0) \
-        & (a[:, 2] != b[:, 2])
+    meridional = (np.abs(np.sin(ta - tb_)) < 1e-12) & (ra > 0) & (rb > 0) & (a[:, 2] != b[:, 2])
     return np.unique(np.round(ta[meridional], 12))
 
 
@@ -318,8 +346,7 @@ def _brute_force_pairs(A: np.ndarray, B: np.ndarray, eps: float) -> set[tuple[in
     cand = []
     for start in range(0, len(A), 512):
         sl = slice(start, start + 512)
-        ok = np.all((a_lo[sl, None, :] <= b_hi[None]) & (b_lo[None] <= a_hi[sl, None, :]),
-                    axis=2)
+        ok = np.all((a_lo[sl, None, :] <= b_hi[None]) & (b_lo[None] <= a_hi[sl, None, :]), axis=2)
         i, j = np.nonzero(ok)
         cand.append(np.column_stack([i + start, j]))
     ij = np.concatenate(cand)
@@ -383,8 +410,12 @@ POSES = [  # (roll, pitch, phase, h): bolt partly into the nut, out of phase
 def coarse_fcl(quarter_20):
     chord = 1e-4  # the anti-degeneracy measures are the same at every chord
     bolt, nut = bolt_mesh(quarter_20, chord), nut_mesh(quarter_20, chord)
-    return bolt.mesh, nut.mesh, fcl.CollisionObject(_bvh(bolt.mesh)), \
-        fcl.CollisionObject(_bvh(nut.mesh))
+    return (
+        bolt.mesh,
+        nut.mesh,
+        fcl.CollisionObject(_bvh(bolt.mesh)),
+        fcl.CollisionObject(_bvh(nut.mesh)),
+    )
 
 
 @pytest.mark.parametrize("pose", POSES)

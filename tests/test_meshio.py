@@ -44,7 +44,7 @@ def test_stl_layout_parsed_with_struct(meshes, bolt_stl):
     assert struct.unpack("<I", data[80:84])[0] == n
     tri = np.asarray(mesh.vertices)[mesh.faces]
     for k in (0, 1, n // 3, n // 2, n - 1):
-        rec = struct.unpack("<12fH", data[84 + 50 * k: 84 + 50 * (k + 1)])
+        rec = struct.unpack("<12fH", data[84 + 50 * k : 84 + 50 * (k + 1)])
         normal = np.array(rec[0:3])
         verts = np.array(rec[3:12]).reshape(3, 3)
         assert rec[12] == 0  # attribute, unused
@@ -64,8 +64,9 @@ def test_round_trip_keeps_the_solid(meshes, bolt_stl, quarter_20):
     assert back.is_watertight and back.is_winding_consistent
     assert back.volume == pytest.approx(tb.mesh.volume, rel=1e-6)
     f32 = np.asarray(tb.mesh.vertices, dtype=np.float32).astype(float)[tb.mesh.faces]
-    assert np.array_equal(np.sort(back.triangles.reshape(-1, 9), axis=0),
-                          np.sort(f32.reshape(-1, 9), axis=0))
+    assert np.array_equal(
+        np.sort(back.triangles.reshape(-1, 9), axis=0), np.sort(f32.reshape(-1, 9), axis=0)
+    )
     # float32 moves vertices by ~1e-8 in: still within the chord of the exact surface.
     assert mesh_deviation(back, tb.body) <= CHORD + 1e-7
 
@@ -238,8 +239,9 @@ def test_units_in_the_header_are_read_back_and_used(meshes, quarter_20, tmp_path
 
     mm = meshes[0].mesh.copy()
     mm.apply_scale(25.4)
-    mm_spec = ThreadSpec.from_dict({**quarter_20.to_dict(), "units": "mm"}
-                                   | _scaled(quarter_20, 25.4))
+    mm_spec = ThreadSpec.from_dict(
+        {**quarter_20.to_dict(), "units": "mm"} | _scaled(quarter_20, 25.4)
+    )
     path = write_stl(mm, tmp_path / "bolt_mm.stl", stl_header("bolt", mm_spec))
     assert stl_units(path) == "mm"
     # No units given: the header's mm are scaled into the inch spec, not refused.
@@ -253,5 +255,7 @@ def test_units_in_the_header_are_read_back_and_used(meshes, quarter_20, tmp_path
 
 def _scaled(spec, k):
     d = spec.to_dict()
-    return {"pitch": d["pitch"] * k,
-            **{b: {key: v * k for key, v in d[b].items()} for b in ("bolt", "nut")}}
+    return {
+        "pitch": d["pitch"] * k,
+        **{b: {key: v * k for key, v in d[b].items()} for b in ("bolt", "nut")},
+    }

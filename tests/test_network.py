@@ -115,8 +115,7 @@ def test_nodes_and_passive_edges_are_the_rows(case):
     assert graph.graph["units"] == "in" and graph.graph["weight_formula"] == WEIGHT_FORMULA
     assert sorted(graph.nodes) == sorted(rows["state_id"])
     linked = rows[rows["next_id"] != ""]
-    assert sorted(graph.edges) == sorted(zip(linked["state_id"], linked["next_id"],
-                                             strict=True))
+    assert sorted(graph.edges) == sorted(zip(linked["state_id"], linked["next_id"], strict=True))
     for _, row in rows.iterrows():
         d = graph.nodes[row["state_id"]]
         for key in ("held_roll", "held_pitch", "phase", "classification", "role"):
@@ -149,22 +148,35 @@ def test_one_state_is_one_node(real_lib, real_rows, real_graph):
     for _, group in rest.groupby(["held_roll", "held_pitch", "phase"]):
         states = list(group.itertuples())
         for i, a in enumerate(states):
-            for b in states[i + 1:]:
-                carry_a = sorted(r for r, f in zip(a.contact_regions, a.contact_forces,
-                                                   strict=True) if f > 1e-4 * force)
-                carry_b = sorted(r for r, f in zip(b.contact_regions, b.contact_forces,
-                                                   strict=True) if f > 1e-4 * force)
+            for b in states[i + 1 :]:
+                carry_a = sorted(
+                    r
+                    for r, f in zip(a.contact_regions, a.contact_forces, strict=True)
+                    if f > 1e-4 * force
+                )
+                carry_b = sorted(
+                    r
+                    for r, f in zip(b.contact_regions, b.contact_forces, strict=True)
+                    if f > 1e-4 * force
+                )
                 axis_a = np.reshape(a.rotation, (3, 3))[:, 2]
                 axis_b = np.reshape(b.rotation, (3, 3))[:, 2]
                 angle = math.degrees(math.acos(min(1.0, float(axis_a @ axis_b))))
-                gap = math.dist((a.centre_x, a.centre_y, a.centre_z),
-                                (b.centre_x, b.centre_y, b.centre_z))
-                assert not (a.classification == b.classification and carry_a == carry_b
-                            and gap <= 0.05 / 1000 and angle <= 0.05), (a.state_id,
-                                                                          b.state_id)
-    turning_in = [n for n in real_graph if sum(
-        1 for _, _, d in real_graph.in_edges(n, data=True) if d["kind"] != "settling") > 0
-        and real_graph.nodes[n]["role"] == "start"]
+                gap = math.dist(
+                    (a.centre_x, a.centre_y, a.centre_z), (b.centre_x, b.centre_y, b.centre_z)
+                )
+                assert not (
+                    a.classification == b.classification
+                    and carry_a == carry_b
+                    and gap <= 0.05 / 1000
+                    and angle <= 0.05
+                ), (a.state_id, b.state_id)
+    turning_in = [
+        n
+        for n in real_graph
+        if sum(1 for _, _, d in real_graph.in_edges(n, data=True) if d["kind"] != "settling") > 0
+        and real_graph.nodes[n]["role"] == "start"
+    ]
     assert turning_in  # a start's search continues into another start's rest state
 
 
@@ -174,10 +186,12 @@ def test_synthetic_weights_by_hand(synth_graph):
     e = synth_graph.edges["r+0_p-1_ph090.000_s3", "r+0_p-1_ph180.000_s5"]
     assert (e["kind"], e["work_friction"], e["work_potential"]) == ("turning", 0.5, -0.8)
     assert e["weight"] == 0.0
-    assert synth_graph.edges["r+0_p-1_ph000.000_s1", "r+0_p-1_ph090.000_s3"]["weight"] \
-        == pytest.approx(1.0)
-    kinds = {d["kind"]: d["weight"] for _, _, d in synth_graph.edges(data=True)
-             if d["kind"] != "turning"}
+    assert synth_graph.edges["r+0_p-1_ph000.000_s1", "r+0_p-1_ph090.000_s3"][
+        "weight"
+    ] == pytest.approx(1.0)
+    kinds = {
+        d["kind"]: d["weight"] for _, _, d in synth_graph.edges(data=True) if d["kind"] != "turning"
+    }
     assert kinds == {"settling": 0.0, "snap": 0.0, "jump": 0.0}
 
 
@@ -234,8 +248,7 @@ def test_synthetic_paths_by_hand(synth_graph):
     with pytest.raises(NoPathError, match="failed.*no contact"):
         least_resistance_path(synth_graph, 1, -1, 180)
     jumpy = least_resistance_path(synth_graph, 1, 0, 0)
-    assert jumpy.kinds == ["turning", "jump", "turning", "turning", "turning", "turning",
-                           "snap"]
+    assert jumpy.kinds == ["turning", "jump", "turning", "turning", "turning", "turning", "snap"]
     assert jumpy.passes_unstable is True
 
 
@@ -246,17 +259,30 @@ def test_start_outcomes_equal_a_walk_over_the_rows(case):
     walked = walk_starts(rows)
     assert sorted(out.index) == sorted(walked.index)
     out = out.loc[walked.index]
-    for col in ("held_roll", "held_pitch", "phase", "classification", "failed", "reaches",
-                "snapped", "passes_unstable"):
+    for col in (
+        "held_roll",
+        "held_pitch",
+        "phase",
+        "classification",
+        "failed",
+        "reaches",
+        "snapped",
+        "passes_unstable",
+    ):
         assert list(out[col]) == list(walked[col]), col
     for col in ("turn", "work", "click", "snap_phase", "torque_peak"):
-        np.testing.assert_allclose(out[col].to_numpy(float), walked[col].to_numpy(float),
-                                   rtol=1e-9, atol=1e-12, err_msg=col)
+        np.testing.assert_allclose(
+            out[col].to_numpy(float),
+            walked[col].to_numpy(float),
+            rtol=1e-9,
+            atol=1e-12,
+            err_msg=col,
+        )
 
 
 def test_synthetic_outcomes_by_hand(synth_graph):
     out = start_outcomes(synth_graph).set_index(["held_roll", "held_pitch", "phase"])
-    assert list(out.loc[(0.0, 1.0), "reaches"]) == [False] * 4           # the cycle
+    assert list(out.loc[(0.0, 1.0), "reaches"]) == [False] * 4  # the cycle
     assert out.loc[(1.0, 1.0, 90.0), ["reaches", "snapped"]].tolist() == [True, False]
     assert out.loc[(1.0, -1.0, 180.0), "failed"]
     assert out.loc[(0.0, 0.0, 0.0), ["snapped", "turn", "work"]].tolist() == [True, 0.0, 0.0]
@@ -274,10 +300,14 @@ def test_passive_path_agrees_with_search(real_lib, real_graph, start):
     step = float(meta["continuation"]["step"])
     phases = meta["grid"]["phase"]
     phase_step = max(b - a for a, b in zip(phases, phases[1:], strict=False))
-    run = search(spec_from_designation(DESIGNATION), *start,
-                 compliance=compliance_of(real_lib), step=step,
-                 phase_tolerance=float(meta["continuation"]["phase_tolerance"]),
-                 chord=float(meta["mesh"]["chord"]))
+    run = search(
+        spec_from_designation(DESIGNATION),
+        *start,
+        compliance=compliance_of(real_lib),
+        step=step,
+        phase_tolerance=float(meta["continuation"]["phase_tolerance"]),
+        chord=float(meta["mesh"]["chord"]),
+    )
     try:
         path = least_resistance_path(real_graph, *start)
     except NoPathError:
@@ -307,12 +337,16 @@ def _check_recommendation(rec, rows, spread=math.inf):
                 assert s[key] is None, (s["held_pitch"], key)
             else:
                 assert s[key] == pytest.approx(want[key], rel=1e-9, abs=1e-12), key
-    keys = [(-s["share_snap"], s["turn_mean"] if s["turn_mean"] is not None else math.inf,
-             s["work_mean"] if s["work_mean"] is not None else math.inf)
-            for s in rec.settings]
+    keys = [
+        (
+            -s["share_snap"],
+            s["turn_mean"] if s["turn_mean"] is not None else math.inf,
+            s["work_mean"] if s["work_mean"] is not None else math.inf,
+        )
+        for s in rec.settings
+    ]
     assert keys == sorted(keys)
-    assert rec.at_edge == (len(pitches) > 1 and rec.best["held_pitch"] in (pitches[0],
-                                                                            pitches[-1]))
+    assert rec.at_edge == (len(pitches) > 1 and rec.best["held_pitch"] in (pitches[0], pitches[-1]))
     assert rec.pitch_range == (pitches[0], pitches[-1])
     if len(rec.settings) > 1:
         a, b = rec.settings[:2]
@@ -337,8 +371,7 @@ def test_recommend_figures_recomputed_from_the_rows(case):
         assert {k: upright[0][k] for k in METRICS} == {k: zero[k] for k in METRICS}
 
 
-def test_recommend_synthetic_by_hand(synth_graph, synth_lib, synth_rows, tmp_path,
-                                     quarter_20):
+def test_recommend_synthetic_by_hand(synth_graph, synth_lib, synth_rows, tmp_path, quarter_20):
     rec = recommend(synth_graph)
     assert [s["held_pitch"] for s in rec.settings] == [0.0, -1.0, 1.0]
     by_pitch = {s["held_pitch"]: s for s in rec.settings}
@@ -365,12 +398,19 @@ def test_recommend_synthetic_by_hand(synth_graph, synth_lib, synth_rows, tmp_pat
 
 
 def test_recommend_compares_compliances(synth_lib, synth_rows, tmp_path, quarter_20):
-    stiff = write_library(synth_rows, tmp_path / "stiff", quarter_20, SYNTH_GRID["roll"],
-                          SYNTH_GRID["pitch"], SYNTH_GRID["phase"],
-                          compliance=type(SYNTH_COMPLIANCE)(force=10.0, stiffness=2.0))
+    stiff = write_library(
+        synth_rows,
+        tmp_path / "stiff",
+        quarter_20,
+        SYNTH_GRID["roll"],
+        SYNTH_GRID["pitch"],
+        SYNTH_GRID["phase"],
+        compliance=type(SYNTH_COMPLIANCE)(force=10.0, stiffness=2.0),
+    )
     rec = recommend([from_library(synth_lib), from_library(stiff)])
     assert sorted((s["stiffness"][0], s["held_pitch"]) for s in rec.settings) == [
-        (k, p) for k in (1.0, 2.0) for p in (-1.0, 0.0, 1.0)]
+        (k, p) for k in (1.0, 2.0) for p in (-1.0, 0.0, 1.0)
+    ]
     for s in rec.settings:
         assert s["force"] == 10.0
         want = setting_figures(walk_starts(synth_rows), s["held_pitch"])
@@ -379,24 +419,36 @@ def test_recommend_compares_compliances(synth_lib, synth_rows, tmp_path, quarter
 
 def test_a_thesis_library_is_refused(tmp_path, quarter_20):
     names = thesis_schema().names
-    lib = write_library(pd.DataFrame(columns=names), tmp_path / "thesis", quarter_20, 0, 0,
-                        "0:180:180", model="thesis")
+    lib = write_library(
+        pd.DataFrame(columns=names),
+        tmp_path / "thesis",
+        quarter_20,
+        0,
+        0,
+        "0:180:180",
+        model="thesis",
+    )
     with pytest.raises(LibraryError, match="mechanics"):
         from_library(lib)
 
 
 # -- active moves -------------------------------------------------------------------------
-def _expected_tilt_steps(rows: pd.DataFrame, move_penalty: float, force: float,
-                         units: str) -> dict[tuple[str, str], float]:
+def _expected_tilt_steps(
+    rows: pd.DataFrame, move_penalty: float, force: float, units: str
+) -> dict[tuple[str, str], float]:
     """Every rest state at a grid phase (not in phase, not failed) to the first contact
     of each neighbouring held tilt (one grid step in roll or in pitch) at that phase."""
     rolls = sorted(set(rows["held_roll"]))
     pitches = sorted(set(rows["held_pitch"]))
-    first = {(r["held_roll"], r["held_pitch"], round(r["phase"], 6)): r
-             for _, r in rows[rows["role"] == "first-contact"].iterrows()}
+    first = {
+        (r["held_roll"], r["held_pitch"], round(r["phase"], 6)): r
+        for _, r in rows[rows["role"] == "first-contact"].iterrows()
+    }
     out = {}
-    rest = rows[rows["role"].isin(["start", "continued"])
-                & ~rows["classification"].isin(["in-phase", "error"])]
+    rest = rows[
+        rows["role"].isin(["start", "continued"])
+        & ~rows["classification"].isin(["in-phase", "error"])
+    ]
     for _, r in rest.iterrows():
         i, j = rolls.index(r["held_roll"]), pitches.index(r["held_pitch"])
         for ii, jj in ((i - 1, j), (i + 1, j), (i, j - 1), (i, j + 1)):
@@ -435,10 +487,9 @@ def test_active_moves(synth_lib, synth_rows, move_penalty):
     assert set(got) == set(want) and len(want) > 0
     for key, d in got.items():
         assert d["kind"] == "tilt-step" and d["weight"] == pytest.approx(want[key], abs=1e-12)
-    assert any(w > penalty + 1e-9 for w in want.values())         # some lift
+    assert any(w > penalty + 1e-9 for w in want.values())  # some lift
     assert any(w == pytest.approx(penalty) for w in want.values())  # some drop: no lift
-    assert all(d["kind"] != "tilt-step" for _, _, d in graph.edges(data=True)
-               if not d["active"])
+    assert all(d["kind"] != "tilt-step" for _, _, d in graph.edges(data=True) if not d["active"])
 
     # Passively nothing changes: the same outcomes, the same paths, no active edge used.
     passive = from_library(synth_lib)
@@ -446,14 +497,16 @@ def test_active_moves(synth_lib, synth_rows, move_penalty):
     res = least_resistance_path(graph, 1, 0, 0)
     assert res.path == least_resistance_path(passive, 1, 0, 0).path and res.moves == 0
     with pytest.raises(NoPathError):
-        least_resistance_path(graph, 0, 1, 0)            # the cycle, passively
+        least_resistance_path(graph, 0, 1, 0)  # the cycle, passively
     with pytest.raises(InputError, match="active"):
         least_resistance_path(passive, 0, 1, 0, active=True)
 
     # With them, the least-resistance cost to the snap from every start is a Bellman-Ford
     # over an edge list built here.
-    edges = {(r["state_id"], r["next_id"]): expected_weight(r)
-             for _, r in synth_rows[synth_rows["next_id"] != ""].iterrows()}
+    edges = {
+        (r["state_id"], r["next_id"]): expected_weight(r)
+        for _, r in synth_rows[synth_rows["next_id"] != ""].iterrows()
+    }
     edges.update(want)
     targets = set(synth_rows.loc[synth_rows["classification"] == "in-phase", "state_id"])
     dist = _bellman_ford(edges, synth_rows["state_id"], targets)
@@ -465,8 +518,9 @@ def test_active_moves(synth_lib, synth_rows, move_penalty):
             continue
         best = least_resistance_path(graph, *args, active=True)
         assert best.cost == pytest.approx(dist[s["state_id"]], abs=1e-9)
-        assert best.cost == pytest.approx(sum(edges[e] for e in zip(best.path, best.path[1:],
-                                                                     strict=False)))
+        assert best.cost == pytest.approx(
+            sum(edges[e] for e in zip(best.path, best.path[1:], strict=False))
+        )
         assert graph.nodes[best.path[-1]]["classification"] == "in-phase"
     plan = least_resistance_path(graph, 0, 1, 0, active=True)
     assert plan.moves >= 1 and "tilt-step" in plan.kinds
@@ -476,15 +530,13 @@ def test_active_moves(synth_lib, synth_rows, move_penalty):
     assert len({tuple(a.path) for a in [alt, *alt.alternatives]}) == 4
 
 
-def test_active_moves_from_a_state_a_hair_below_360(synth_lib, synth_rows, tmp_path,
-                                                    quarter_20):
+def test_active_moves_from_a_state_a_hair_below_360(synth_lib, synth_rows, tmp_path, quarter_20):
     """A continuation that summed its turns to 359.99999999999994 is at grid phase 0."""
     rows = synth_rows.copy()
     sheet0 = "r+1_p+1_ph000.000_s10"
     assert rows.loc[rows["state_id"] == sheet0, "role"].item() == "continued"
     rows.loc[rows["state_id"] == sheet0, "phase"] = 359.99999999999994
-    graph = from_library(synthetic_library(tmp_path / "lib", quarter_20, rows=rows),
-                         active=True)
+    graph = from_library(synthetic_library(tmp_path / "lib", quarter_20, rows=rows), active=True)
     steps = {v for _, v, d in graph.out_edges(sheet0, data=True) if d["active"]}
     assert steps == {"r+0_p+1_ph000.000_s0", "r+1_p+0_ph000.000_s0"}
 
@@ -502,7 +554,7 @@ def test_active_moves_on_the_real_library(real_lib, real_rows):
 
 def test_k_best_paths(synth_graph):
     one = k_best_paths(synth_graph, 3, 0, -1, 90)
-    assert one.alternatives == []           # passively the dynamics are deterministic
+    assert one.alternatives == []  # passively the dynamics are deterministic
     for bad in (0, MAX_K + 1, True, 2.0):
         with pytest.raises(InputError, match="--k"):
             k_best_paths(synth_graph, bad, 0, -1, 90)
@@ -514,8 +566,7 @@ def test_start_node_on_and_off_the_grid(synth_graph):
     assert start_node(synth_graph, 0, -1, 450) == ("r+0_p-1_ph090.000_s3", False)
     with pytest.raises(InputError, match=r"nearest.* roll 0, pitch -1, phase 90\b"):
         start_node(synth_graph, 0.2, -1, 80)
-    assert start_node(synth_graph, 0.2, -1, 80, nearest=True) == ("r+0_p-1_ph090.000_s3",
-                                                                   True)
+    assert start_node(synth_graph, 0.2, -1, 80, nearest=True) == ("r+0_p-1_ph090.000_s3", True)
     res = least_resistance_path(synth_graph, 0.2, -1, 80, nearest=True)
     assert res.moved and res.requested == {"roll": 0.2, "pitch": -1.0, "phase": 80.0}
     for bad in (math.nan, math.inf, True):
@@ -529,16 +580,20 @@ def test_graphml_booleans_and_lists_round_trip(real_lib, real_rows, tmp_path):
     start_outcomes(graph)  # the caches it keeps on the graph are not written
     path = write_graphml(graph, tmp_path / "net.graphml")
     root = ET.parse(path).getroot()
-    booleans = {k.get("id") for k in root.iter(f"{GRAPHML_NS}key")
-                if k.get("attr.type") == "boolean"}
+    booleans = {
+        k.get("id") for k in root.iter(f"{GRAPHML_NS}key") if k.get("attr.type") == "boolean"
+    }
     assert booleans  # "active" on edges and graph
     values = [d.text for d in root.iter(f"{GRAPHML_NS}data") if d.get("key") in booleans]
     assert values and set(values) <= {"true", "false"} and set(values) >= {"true", "false"}
-    assert not [d.text for d in root.iter(f"{GRAPHML_NS}data")
-                if (d.text or "").strip().lower() in ("nan", "inf", "-inf")]
+    assert not [
+        d.text
+        for d in root.iter(f"{GRAPHML_NS}data")
+        if (d.text or "").strip().lower() in ("nan", "inf", "-inf")
+    ]
 
     back = read_graphml(path)
-    plain = nx.read_graphml(path)            # any GraphML reader gets booleans
+    plain = nx.read_graphml(path)  # any GraphML reader gets booleans
     assert sorted(back.nodes) == sorted(real_rows["state_id"])
     assert {d["active"] for _, _, d in plain.edges(data=True)} == {True, False}
     assert back.number_of_edges() == graph.number_of_edges()
@@ -588,7 +643,11 @@ def test_build_network_needs_library_rows(synth_rows):
     broken.loc[0, "next_id"] = "r+9_p+9_ph000.000_s0"
     with pytest.raises(LibraryError, match="does\\s+not hold|incomplete"):
         frame = broken.copy()
-        frame.attrs["threadmate"] = {"model": "mechanics", "units": "in",
-                                     "compliance": {"force": 10.0}, "spec": {"pitch": 0.05},
-                                     "grid": {}}
+        frame.attrs["threadmate"] = {
+            "model": "mechanics",
+            "units": "in",
+            "compliance": {"force": 10.0},
+            "spec": {"pitch": 0.05},
+            "grid": {},
+        }
         build_network(frame)

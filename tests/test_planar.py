@@ -33,6 +33,7 @@ TWO_PI = 2.0 * math.pi
 
 # -- independent geometry ----------------------------------------------------------------
 
+
 @dataclasses.dataclass(frozen=True)
 class Body:
     """One body's profile written out from conventions.md (no threadmate code)."""
@@ -77,8 +78,11 @@ class Body:
         t = (t + self.p / 2) % self.p - self.p / 2
         u = abs(t)
         *_, (b1, b2, b3, b4) = self.corners
-        names = (("crest", "CF", "F", "RF", "root") if self.kind == "bolt"
-                 else ("root", "RF", "F", "CF", "crest"))
+        names = (
+            ("crest", "CF", "F", "RF", "root")
+            if self.kind == "bolt"
+            else ("root", "RF", "F", "CF", "crest")
+        )
         kind = names[int(np.searchsorted([b1, b2, b3, b4], u, side="left"))]
         return kind if kind in ("crest", "root") else ("+" if t < 0 else "-") + kind
 
@@ -88,10 +92,12 @@ class Pair:
 
     def __init__(self, spec: ThreadSpec):
         b, n = spec.bolt, spec.nut
-        self.bolt = Body("bolt", spec.pitch, b.pitch_diameter, b.major, b.minor,
-                         b.crest_fillet, b.root_fillet)
-        self.nut = Body("nut", spec.pitch, n.pitch_diameter, n.major, n.minor,
-                        n.root_fillet, n.crest_fillet)
+        self.bolt = Body(
+            "bolt", spec.pitch, b.pitch_diameter, b.major, b.minor, b.crest_fillet, b.root_fillet
+        )
+        self.nut = Body(
+            "nut", spec.pitch, n.pitch_diameter, n.major, n.minor, n.root_fillet, n.crest_fillet
+        )
         self.k = (1 if spec.hand == "right" else -1) * spec.pitch * spec.starts
 
     def t_bolt(self, theta, phase):
@@ -145,8 +151,10 @@ def brute_labels(spec, phase):
         return (None, None)
     pair = Pair(spec)
     s, e = min(arcs)
-    return tuple((pair.bolt.region(float(pair.t_bolt(t, phase))),
-                  pair.nut.region(float(pair.t_nut(t)))) for t in (s, e))
+    return tuple(
+        (pair.bolt.region(float(pair.t_bolt(t, phase))), pair.nut.region(float(pair.t_nut(t))))
+        for t in (s, e)
+    )
 
 
 def ang_diff(a_deg, b_deg):
@@ -155,13 +163,17 @@ def ang_diff(a_deg, b_deg):
 
 # -- specs -------------------------------------------------------------------------------
 
+
 def _fillet_mm(**kw) -> ThreadSpec:
     return ThreadSpec(
-        units="mm", pitch=1.0,
-        bolt=BoltSpec(major=5.884, pitch_diameter=5.268, minor=4.77, crest_fillet=0.06,
-                      root_fillet=0.144),
-        nut=NutSpec(major=6.1, pitch_diameter=5.425, minor=5.035, crest_fillet=0.07,
-                    root_fillet=0.05),
+        units="mm",
+        pitch=1.0,
+        bolt=BoltSpec(
+            major=5.884, pitch_diameter=5.268, minor=4.77, crest_fillet=0.06, root_fillet=0.144
+        ),
+        nut=NutSpec(
+            major=6.1, pitch_diameter=5.425, minor=5.035, crest_fillet=0.07, root_fillet=0.05
+        ),
         **kw,
     )
 
@@ -170,44 +182,70 @@ FILLETED = _fillet_mm()
 FILLETED_LEFT = _fillet_mm(hand="left")
 FILLETED_TWO_START = _fillet_mm(starts=2)
 SHARP_THREE_START_LEFT = ThreadSpec(
-    units="mm", pitch=1.5,
+    units="mm",
+    pitch=1.5,
     bolt=BoltSpec(major=9.85, pitch_diameter=8.95, minor=8.2),
     nut=NutSpec(major=10.1, pitch_diameter=9.1, minor=8.5),
-    hand="left", starts=3,
+    hand="left",
+    starts=3,
 )
 # Big fillets on all four corners: fillet arcs meet fillet arcs.
 ROUND = ThreadSpec(
-    units="in", pitch=0.05,
-    bolt=BoltSpec(major=0.2440, pitch_diameter=0.2140, minor=0.1880, crest_fillet=0.006,
-                  root_fillet=0.0075),
-    nut=NutSpec(major=0.2520, pitch_diameter=0.2200, minor=0.2000, crest_fillet=0.006,
-                root_fillet=0.004),
+    units="in",
+    pitch=0.05,
+    bolt=BoltSpec(
+        major=0.2440, pitch_diameter=0.2140, minor=0.1880, crest_fillet=0.006, root_fillet=0.0075
+    ),
+    nut=NutSpec(
+        major=0.2520, pitch_diameter=0.2200, minor=0.2000, crest_fillet=0.006, root_fillet=0.004
+    ),
 )
 
 # Shallow engagement with big crest fillets: the bolt's crest fillet meets the nut's crest
 # fillet (arc against arc), and the window's edge is a tangency of two arcs, not a line.
 SHALLOW = ThreadSpec(
-    units="in", pitch=0.05,
-    bolt=BoltSpec(major=0.236, pitch_diameter=0.214, minor=0.188, crest_fillet=0.01,
-                  root_fillet=0.004),
-    nut=NutSpec(major=0.252, pitch_diameter=0.220, minor=0.214, crest_fillet=0.014,
-                root_fillet=0.004),
+    units="in",
+    pitch=0.05,
+    bolt=BoltSpec(
+        major=0.236, pitch_diameter=0.214, minor=0.188, crest_fillet=0.01, root_fillet=0.004
+    ),
+    nut=NutSpec(
+        major=0.252, pitch_diameter=0.220, minor=0.214, crest_fillet=0.014, root_fillet=0.004
+    ),
 )
 
 
-@pytest.fixture(scope="module", params=["sharp", "quarter", "filleted", "left", "two-start",
-                                        "three-start-left", "round", "shallow"])
+@pytest.fixture(
+    scope="module",
+    params=[
+        "sharp",
+        "quarter",
+        "filleted",
+        "left",
+        "two-start",
+        "three-start-left",
+        "round",
+        "shallow",
+    ],
+)
 def spec(request, sharp_quarter_20, quarter_20):
-    return {"sharp": sharp_quarter_20, "quarter": quarter_20, "filleted": FILLETED,
-            "left": FILLETED_LEFT, "two-start": FILLETED_TWO_START,
-            "three-start-left": SHARP_THREE_START_LEFT, "round": ROUND,
-            "shallow": SHALLOW}[request.param]
+    return {
+        "sharp": sharp_quarter_20,
+        "quarter": quarter_20,
+        "filleted": FILLETED,
+        "left": FILLETED_LEFT,
+        "two-start": FILLETED_TWO_START,
+        "three-start-left": SHARP_THREE_START_LEFT,
+        "round": ROUND,
+        "shallow": SHALLOW,
+    }[request.param]
 
 
 PHASES = [float(p) for p in np.arange(3.7, 360.0, 11.3)]
 
 
 # -- contact points ------------------------------------------------------------------------
+
 
 def test_contacts_match_brute_force_crossings(spec):
     pair = Pair(spec)
@@ -217,8 +255,9 @@ def test_contacts_match_brute_force_crossings(spec):
         assert state.in_phase == (not arcs), phase
         assert len(state.contacts) == 2 * len(arcs), phase
         got = sorted((c.theta, i % 2) for i, c in enumerate(state.contacts))
-        want = sorted([(math.degrees(s), 0) for s, _ in arcs]
-                      + [(math.degrees(e), 1) for _, e in arcs])
+        want = sorted(
+            [(math.degrees(s), 0) for s, _ in arcs] + [(math.degrees(e), 1) for _, e in arcs]
+        )
         for (g, gk), (w, wk) in zip(got, want, strict=True):
             assert ang_diff(g, w) < 1e-8 and gk == wk, (phase, got, want)
         for c in state.contacts:
@@ -248,10 +287,11 @@ def test_contact_angle_and_pivot_axis_match_brute_force(spec):
             continue
         s, e = min(arcs)
         pair = Pair(spec)
-        pts = [float(pair.nut.radius(pair.t_nut(t))) * np.array([math.cos(t), math.sin(t)])
-               for t in (s, e)]
-        assert state.pivot_axis_length == pytest.approx(np.linalg.norm(pts[1] - pts[0]),
-                                                        abs=1e-9)
+        pts = [
+            float(pair.nut.radius(pair.t_nut(t))) * np.array([math.cos(t), math.sin(t)])
+            for t in (s, e)
+        ]
+        assert state.pivot_axis_length == pytest.approx(np.linalg.norm(pts[1] - pts[0]), abs=1e-9)
         np.testing.assert_allclose(state.pivot_axis, pts, atol=1e-9)
 
 
@@ -262,9 +302,10 @@ def test_normals(quarter_20):
             assert c.normal == (0.0, 0.0, 1.0)
             th = math.radians(c.theta)
             h = 1e-7
-            for n, f in ((c.bolt_outline_normal,
-                          lambda t, ph=phase: pair.bolt.radius(pair.t_bolt(t, ph))),
-                         (c.nut_outline_normal, lambda t: pair.nut.radius(pair.t_nut(t)))):
+            for n, f in (
+                (c.bolt_outline_normal, lambda t, ph=phase: pair.bolt.radius(pair.t_bolt(t, ph))),
+                (c.nut_outline_normal, lambda t: pair.nut.radius(pair.t_nut(t))),
+            ):
                 # The outline's tangent, by central differences of the polar curve.
                 side = 1.0 if i % 2 == 0 else -1.0
                 t0, t1 = th + side * h, th + side * 2 * h
@@ -312,6 +353,7 @@ def test_phase_sweep_is_planar_state_at_each_phase():
 
 # -- in-phase window -----------------------------------------------------------------------
 
+
 def _closed_form_half_width(spec):
     clearance = (spec.nut.pitch_diameter - spec.bolt.pitch_diameter) / SQ3
     return 360.0 * clearance / (2.0 * spec.pitch * spec.starts)
@@ -333,8 +375,7 @@ def test_window_closed_form_for_sharp_flanks(which, sharp_quarter_20):
         assert a < b and -180.0 <= a < 180.0
         assert (b - a) / 2 == pytest.approx(half, abs=1e-9)
         # Centred on 0 and repeated every 360 / starts degrees.
-        k = [k for k in range(spec.starts)
-             if ang_diff((a + b) / 2, k * 360.0 / spec.starts) < 1e-9]
+        k = [k for k in range(spec.starts) if ang_diff((a + b) / 2, k * 360.0 / spec.starts) < 1e-9]
         assert len(k) == 1
         hit.add(k[0])
     assert hit == set(range(spec.starts))
@@ -342,7 +383,7 @@ def test_window_closed_form_for_sharp_flanks(which, sharp_quarter_20):
 
 def test_window_half_width_of_quarter_20(sharp_quarter_20):
     # 1/4-20 UNC-2A/2B mean PDs: 360 x (0.21995 - 0.21455)/sqrt3 / (2 x 0.05) = 11.2237 deg
-    (a, b), = in_phase_window(sharp_quarter_20)
+    ((a, b),) = in_phase_window(sharp_quarter_20)
     assert b == pytest.approx(360 * (0.21995 - 0.21455) / SQ3 / 0.1, abs=1e-9)
     assert a == pytest.approx(-b, abs=1e-9)
 
@@ -363,8 +404,12 @@ def _brute_window_edge(spec):
 
 @pytest.mark.parametrize("which", ["filleted", "round", "two-start", "shallow"])
 def test_window_with_fillets_matches_brute_force(which):
-    spec = {"filleted": FILLETED, "round": ROUND, "two-start": FILLETED_TWO_START,
-            "shallow": SHALLOW}[which]
+    spec = {
+        "filleted": FILLETED,
+        "round": ROUND,
+        "two-start": FILLETED_TWO_START,
+        "shallow": SHALLOW,
+    }[which]
     edge = _brute_window_edge(spec)
     window = in_phase_window(spec)
     a, b = window[0]
@@ -389,10 +434,8 @@ def test_line_contact_at_the_window_edge(sharp_quarter_20):
         return p / 4 + (pd / 2 - r) / SQ3
 
     b, n = spec.bolt, spec.nut
-    u_hi_b, u_lo_b = flank_u(b.pitch_diameter, b.major / 2), flank_u(b.pitch_diameter,
-                                                                     b.minor / 2)
-    u_hi_n, u_lo_n = flank_u(n.pitch_diameter, n.major / 2), flank_u(n.pitch_diameter,
-                                                                     n.minor / 2)
+    u_hi_b, u_lo_b = flank_u(b.pitch_diameter, b.major / 2), flank_u(b.pitch_diameter, b.minor / 2)
+    u_hi_n, u_lo_n = flank_u(n.pitch_diameter, n.major / 2), flank_u(n.pitch_diameter, n.minor / 2)
     tau_lo = max(-u_lo_n, -u_lo_b - sigma)
     tau_hi = min(-u_hi_n, -u_hi_b - sigma)
     # theta = -tau 360 / p: contact 1 (counter-clockwise start) is the larger tau.
@@ -410,6 +453,7 @@ def test_line_contact_at_the_window_edge(sharp_quarter_20):
 
 
 # -- critical phases -----------------------------------------------------------------------
+
 
 def _brute_critical(spec, step=0.5):
     """Scan one turn for changes of each contact's regions, then split every step whose
@@ -439,8 +483,9 @@ def _brute_critical(spec, step=0.5):
 
 @pytest.mark.parametrize("which", ["sharp", "filleted", "round", "shallow"])
 def test_critical_phases_match_brute_force(which, sharp_quarter_20):
-    spec = {"sharp": sharp_quarter_20, "filleted": FILLETED, "round": ROUND,
-            "shallow": SHALLOW}[which]
+    spec = {"sharp": sharp_quarter_20, "filleted": FILLETED, "round": ROUND, "shallow": SHALLOW}[
+        which
+    ]
     want = _brute_critical(spec)
     got = critical_phases(spec)
     assert len(got) == len(want), (got, want)
@@ -452,7 +497,7 @@ def test_critical_phases_match_brute_force(which, sharp_quarter_20):
 
 
 def test_critical_phases_include_window_edges(sharp_quarter_20):
-    (a, b), = in_phase_window(sharp_quarter_20)
+    ((a, b),) = in_phase_window(sharp_quarter_20)
     crit = critical_phases(sharp_quarter_20)
     opening = [c for c in crit if c.before is None]
     closing = [c for c in crit if c.after is None]
@@ -462,6 +507,7 @@ def test_critical_phases_include_window_edges(sharp_quarter_20):
 
 
 # -- figures -------------------------------------------------------------------------------
+
 
 def test_figures_are_written(tmp_path, quarter_20):
     png = plot_region_disk(quarter_20, tmp_path / "disk.png", step=5.0)
@@ -475,7 +521,8 @@ def test_figures_are_written(tmp_path, quarter_20):
     assert png2.read_bytes()[:4] == b"\x89PNG"
     # Only the figures: no temporary files left beside them.
     assert sorted(f.name for f in tmp_path.iterdir()) == sorted(
-        ["disk.png", "pivot.svg", "disk2.svg", "pivot2.png"])
+        ["disk.png", "pivot.svg", "disk2.svg", "pivot2.png"]
+    )
 
 
 def test_figure_suffix_is_checked_before_work(tmp_path, quarter_20):
@@ -492,7 +539,7 @@ def test_figure_suffix_is_checked_before_work(tmp_path, quarter_20):
 def test_tangent_arcs_at_the_window_edge():
     # SHALLOW's window ends where two crest fillets touch at one point: both contacts
     # sit at that point, where the sampled excess of the bolt's radius peaks.
-    (a, b), = in_phase_window(SHALLOW)
+    ((a, b),) = in_phase_window(SHALLOW)
     state = planar_state(SHALLOW, b)
     assert state.in_phase and not state.line_contact and len(state.contacts) == 2
     c1, c2 = state.contacts

@@ -99,7 +99,8 @@ def test_section_radius_is_the_helix(quarter_20):
         b.section_radius(theta, 0.0), b.section_radius(theta + 2 * np.pi, 0.0), atol=1e-15
     )
     np.testing.assert_allclose(
-        b.section_radius(theta, 0.0), b.section_radius(theta + 0.3, 0.05 * 0.3 / (2 * np.pi)),
+        b.section_radius(theta, 0.0),
+        b.section_radius(theta + 0.3, 0.05 * 0.3 / (2 * np.pi)),
         atol=1e-12,
     )
     # At theta = 0, z = 0 the bolt's crest centre meets the nut's groove centre (in phase).

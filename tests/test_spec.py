@@ -90,8 +90,11 @@ def test_load_refuses_missing_and_malformed(tmp_path):
     [
         (lambda d: d.update(pitch=1e308), "pitch", "from 0.0001 to 1000 in"),
         (lambda d: d.update(pitch=1e-9), "pitch", "from 0.0001 to 1000 in"),
-        (lambda d: d["nut"].update(outer_radius=1e300), "nut.outer_radius",
-         "from 0.0001 to 1000 in"),
+        (
+            lambda d: d["nut"].update(outer_radius=1e300),
+            "nut.outer_radius",
+            "from 0.0001 to 1000 in",
+        ),
         (lambda d: d["bolt"].update(major=1e300), "bolt.major", "from 0.0001 to 1000 in"),
         (lambda d: d["nut"].update(root_fillet=1e300), "nut.root_fillet", "to 1000 in"),
         (lambda d: d["bolt"].update(length=1e300), "bolt.length", "from 0.0001 to 1000 in"),
@@ -114,20 +117,31 @@ def test_absurd_magnitudes_refused_with_range(edit, key, text):
 
 def test_absurd_magnitude_refused_by_the_constructor_too():
     with pytest.raises(SpecError, match="'pitch' is out of range.*0.0001 to 1000 mm"):
-        ThreadSpec(units="mm", pitch=1e308, bolt=BoltSpec(5.884, 5.268, 4.77),
-                   nut=NutSpec(6.0, 5.425, 5.035))
+        ThreadSpec(
+            units="mm",
+            pitch=1e308,
+            bolt=BoltSpec(5.884, 5.268, 4.77),
+            nut=NutSpec(6.0, 5.425, 5.035),
+        )
 
 
 def test_real_threads_at_the_edges_are_accepted():
     # A watch screw, M0.3 x 0.08 (mm) and in inches, and a big M300 x 6 all pass.
     for units, scale in (("mm", 1.0), ("in", 1 / 25.4)):
         p = 0.08 * scale
-        ThreadSpec(units=units, pitch=p,
-                   bolt=BoltSpec(0.3 * scale, 0.3 * scale - 0.65 * p, 0.3 * scale - 1.2 * p),
-                   nut=NutSpec(0.3 * scale + 0.01 * p, 0.3 * scale - 0.6 * p,
-                               0.3 * scale - 1.08 * p))
-    ThreadSpec(units="mm", pitch=6.0, bolt=BoltSpec(300.0, 296.1, 292.6),
-               nut=NutSpec(300.1, 296.2, 293.6), starts=4)
+        ThreadSpec(
+            units=units,
+            pitch=p,
+            bolt=BoltSpec(0.3 * scale, 0.3 * scale - 0.65 * p, 0.3 * scale - 1.2 * p),
+            nut=NutSpec(0.3 * scale + 0.01 * p, 0.3 * scale - 0.6 * p, 0.3 * scale - 1.08 * p),
+        )
+    ThreadSpec(
+        units="mm",
+        pitch=6.0,
+        bolt=BoltSpec(300.0, 296.1, 292.6),
+        nut=NutSpec(300.1, 296.2, 293.6),
+        starts=4,
+    )
 
 
 def test_load_refuses_a_directory_and_says_so(tmp_path):

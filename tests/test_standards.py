@@ -34,6 +34,7 @@ def _close(got, want):
 
 # -- the figures the issue requires -------------------------------------------------------
 
+
 def test_required_quarter_20():
     lim = thread_limits("1/4-20 UNC-2A/2B")
     _close(lim.bolt.major, (0.2408, 0.2489))
@@ -165,11 +166,20 @@ def test_unified_pairs(designation):
 @pytest.mark.parametrize(
     ("designation", "unr_minor_max"),
     [
-        ("#0-80 UNF-2A", 0.0446), ("#0-80 UNF-3A", 0.0451), ("#1-64 UNC-2A", 0.0538),
-        ("#1-64 UNC-3A", 0.0544), ("#1-72 UNF-2A", 0.0559), ("#1-72 UNF-3A", 0.0565),
-        ("#2-56 UNC-2A", 0.0642), ("#2-56 UNC-3A", 0.0648), ("#2-64 UNF-2A", 0.0668),
-        ("#2-64 UNF-3A", 0.0674), ("#3-48 UNC-2A", 0.0734),
-        ("5/8-11 UNC-2A", 0.5152), ("5/8-11 UNC-3A", 0.5168), ("1/2-28 UNEF-2A", 0.4564),
+        ("#0-80 UNF-2A", 0.0446),
+        ("#0-80 UNF-3A", 0.0451),
+        ("#1-64 UNC-2A", 0.0538),
+        ("#1-64 UNC-3A", 0.0544),
+        ("#1-72 UNF-2A", 0.0559),
+        ("#1-72 UNF-3A", 0.0565),
+        ("#2-56 UNC-2A", 0.0642),
+        ("#2-56 UNC-3A", 0.0648),
+        ("#2-64 UNF-2A", 0.0668),
+        ("#2-64 UNF-3A", 0.0674),
+        ("#3-48 UNC-2A", 0.0734),
+        ("5/8-11 UNC-2A", 0.5152),
+        ("5/8-11 UNC-3A", 0.5168),
+        ("1/2-28 UNEF-2A", 0.4564),
     ],
 )
 def test_unr_reference_minor(designation, unr_minor_max):
@@ -212,9 +222,21 @@ def test_unified_5_8_family():
 
 @pytest.mark.parametrize(
     ("size", "dmax"),
-    [("5/16", 0.3113), ("3/8", 0.3737), ("7/16", 0.4361), ("9/16", 0.5609), ("3/4", 0.7482),
-     ("7/8", 0.8731), ("1", 0.9980), ("1 1/8", 1.1228), ("1 1/4", 1.2478), ("1 3/8", 1.3726),
-     ("1 1/2", 1.4976), ("1 3/4", 1.7473), ("2", 1.9971)],
+    [
+        ("5/16", 0.3113),
+        ("3/8", 0.3737),
+        ("7/16", 0.4361),
+        ("9/16", 0.5609),
+        ("3/4", 0.7482),
+        ("7/8", 0.8731),
+        ("1", 0.9980),
+        ("1 1/8", 1.1228),
+        ("1 1/4", 1.2478),
+        ("1 3/8", 1.3726),
+        ("1 1/2", 1.4976),
+        ("1 3/4", 1.7473),
+        ("2", 1.9971),
+    ],
 )
 def test_unc_2a_major_max(size, dmax):
     # Class 2A maximum major diameter (basic minus allowance) of the coarse series.
@@ -296,9 +318,15 @@ def test_iso_other_classes():
 # Tap makers' tables of ISO 965-1 internal pitch-diameter tolerances TD2 (um) and the
 # G deviation: size: (4H, 5H, 6H, EI of G).
 TD2_TABLE = {
-    "M1.6": (53, 67, 85, 19), "M2": (56, 71, 90, 19), "M2.5": (60, 75, 95, 20),
-    "M3": (63, 80, 100, 20), "M3.5": (71, 90, 112, 21), "M4": (75, 95, 118, 22),
-    "M5": (80, 100, 125, 24), "M6": (95, 118, 150, 26), "M8": (100, 125, 160, 28),
+    "M1.6": (53, 67, 85, 19),
+    "M2": (56, 71, 90, 19),
+    "M2.5": (60, 75, 95, 20),
+    "M3": (63, 80, 100, 20),
+    "M3.5": (71, 90, 112, 21),
+    "M4": (75, 95, 118, 22),
+    "M5": (80, 100, 125, 24),
+    "M6": (95, 118, 150, 26),
+    "M8": (100, 125, 160, 28),
 }
 
 
@@ -343,6 +371,7 @@ def test_iso_minor_tolerance_td1():
 
 
 # -- every tabulated size expands into a valid spec at every condition --------------------
+
 
 def _all_designations():
     for series, table in (("UNC", UNC), ("UNF", UNF), ("UNEF", UNEF)):
@@ -391,7 +420,8 @@ def test_spec_at_conditions_quarter_20():
     spec = spec_from_designation("1/4-20 UNC-2A/2B", "max")
     assert (spec.bolt.major, spec.bolt.pitch_diameter) == pytest.approx((0.2489, 0.2164))
     assert (spec.nut.pitch_diameter, spec.nut.minor, spec.nut.major) == pytest.approx(
-        (0.2175, 0.196, 0.25))
+        (0.2175, 0.196, 0.25)
+    )
     spec = spec_from_designation("1/4-20 UNC-2A/2B", "minimum")
     assert (spec.bolt.major, spec.bolt.pitch_diameter) == pytest.approx((0.2408, 0.2127))
     assert (spec.nut.pitch_diameter, spec.nut.minor) == pytest.approx((0.2224, 0.207))
@@ -406,7 +436,8 @@ def test_spec_at_conditions_quarter_20():
     assert spec.designation == "1/4-20 UNC-2A/2B"
     # Axial clearance at mean: (nut PD - bolt PD) / sqrt(3).
     assert spec.axial_clearance == pytest.approx(
-        ((0.2175 + 0.2224) / 2 - (0.2127 + 0.2164) / 2) / math.sqrt(3))
+        ((0.2175 + 0.2224) / 2 - (0.2127 + 0.2164) / 2) / math.sqrt(3)
+    )
 
 
 def test_spec_m6_root_radius_and_hand():
@@ -419,7 +450,11 @@ def test_spec_m6_root_radius_and_hand():
 
 def test_spec_is_a_plain_thread_spec():
     spec = spec_from_designation("#10-24 UNC")
-    rebuilt = ThreadSpec(units=spec.units, pitch=spec.pitch,
-                         bolt=BoltSpec(**vars(spec.bolt)), nut=NutSpec(**vars(spec.nut)))
+    rebuilt = ThreadSpec(
+        units=spec.units,
+        pitch=spec.pitch,
+        bolt=BoltSpec(**vars(spec.bolt)),
+        nut=NutSpec(**vars(spec.nut)),
+    )
     assert rebuilt == spec
     assert ThreadSpec.from_dict(spec.to_dict()) == spec

@@ -40,8 +40,11 @@ def test_check_number_accepts_numpy_scalars():
 
 def test_check_range_names_the_range_and_the_error_class():
     assert check_range("--k", 5, 1, 10) == 5.0
-    with pytest.raises(SpecError, match=r"spec key 'starts' is out of range: 17; give a "
-                                        r"value from 1 to 16"):
+    with pytest.raises(
+        SpecError,
+        match=r"spec key 'starts' is out of range: 17; give a "
+        r"value from 1 to 16",
+    ):
         check_range("spec key 'starts'", 17, 1, 16, error=SpecError)
 
 
@@ -51,8 +54,10 @@ def test_check_length_for_compliance_z():
     assert check_length("--compliance-z", 0, "in", signed=True) == 0.0
     with pytest.raises(InputError) as exc:
         check_length("--compliance-z", 1e308, "mm", signed=True)
-    assert str(exc.value) == ("--compliance-z is out of range: 1e+308 mm; give a value from "
-                              f"{-MAX_LENGTH:g} to {MAX_LENGTH:g} mm")
+    assert str(exc.value) == (
+        "--compliance-z is out of range: 1e+308 mm; give a value from "
+        f"{-MAX_LENGTH:g} to {MAX_LENGTH:g} mm"
+    )
 
 
 def test_check_length_sizes():
@@ -67,11 +72,23 @@ def test_check_length_sizes():
 
 
 def test_to_jsonable_converts_numpy_and_friends():
-    doc = {1: np.float64(0.5), "a": np.array([[1, 2]]), "b": (np.bool_(True), np.int32(3)),
-           "c": [np.float32(np.inf), math.nan], "d": Path("x/y"), "e": {"z", "a"}}
+    doc = {
+        1: np.float64(0.5),
+        "a": np.array([[1, 2]]),
+        "b": (np.bool_(True), np.int32(3)),
+        "c": [np.float32(np.inf), math.nan],
+        "d": Path("x/y"),
+        "e": {"z", "a"},
+    }
     plain = to_jsonable(doc)
-    assert plain == {"1": 0.5, "a": [[1, 2]], "b": [True, 3], "c": [None, None],
-                     "d": "x/y", "e": ["a", "z"]}
+    assert plain == {
+        "1": 0.5,
+        "a": [[1, 2]],
+        "b": [True, 3],
+        "c": [None, None],
+        "d": "x/y",
+        "e": ["a", "z"],
+    }
     assert type(plain["b"][0]) is bool and type(plain["b"][1]) is int
     assert json.loads(json_text(doc)) == plain
     assert json_text({"x": 1}, indent=None) == '{"x": 1}\n'

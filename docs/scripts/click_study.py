@@ -43,17 +43,27 @@ def main() -> None:
             roll = size * math.cos(math.radians(direction))
             pitch = size * math.sin(math.radians(direction))
             run = search(mech, roll, pitch, args.start, turns=1.0, step=5.0)
-            rows.append({"size": size, "direction": name if size else "-", "roll": roll,
-                         "pitch": pitch, "snap_turn": run.snap_turn,
-                         "click": None if run.snap is None else run.snap.drop,
-                         "tilt_change": None if run.snap is None else run.snap.tilt_change,
-                         "work": run.work, "events": len(run.events),
-                         "jumps": sum(e.kind == "jump" for e in run.events)})
+            rows.append(
+                {
+                    "size": size,
+                    "direction": name if size else "-",
+                    "roll": roll,
+                    "pitch": pitch,
+                    "snap_turn": run.snap_turn,
+                    "click": None if run.snap is None else run.snap.drop,
+                    "tilt_change": None if run.snap is None else run.snap.tilt_change,
+                    "work": run.work,
+                    "events": len(run.events),
+                    "jumps": sum(e.kind == "jump" for e in run.events),
+                }
+            )
             print(json.dumps(rows[-1]), flush=True)
     clearance = spec.axial_clearance
     print(f"\naxial clearance (pitch-diameter difference / sqrt 3): {clearance:.5f} in\n")
-    print("| tilt (deg) | toward | turn to snap (deg) | click (in) | click / clearance | "
-          "axis jump at snap (deg) | other jumps | driver's work (mJ) |")
+    print(
+        "| tilt (deg) | toward | turn to snap (deg) | click (in) | click / clearance | "
+        "axis jump at snap (deg) | other jumps | driver's work (mJ) |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for r in rows:
         snap = "no snap in 1 turn" if r["snap_turn"] is None else f"{r['snap_turn']:.2f}"
@@ -61,16 +71,26 @@ def main() -> None:
         ratio = "-" if r["click"] is None else f"{r['click'] / clearance:.2f}"
         jump = "-" if r["tilt_change"] is None else f"{r['tilt_change']:.2f}"
         others = r["jumps"]
-        print(f"| {r['size']:g} | {r['direction']} | {snap} | {click} | {ratio} | {jump} | "
-              f"{others} | {r['work']:.2f} |")
+        print(
+            f"| {r['size']:g} | {r['direction']} | {snap} | {click} | {ratio} | {jump} | "
+            f"{others} | {r['work']:.2f} |"
+        )
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True)
     for name in DIRECTIONS:
         pts = [r for r in rows if r["direction"] in (name, "-")]
         xs = [r["size"] for r in pts if r["click"] is not None]
-        ax1.plot(xs, [r["click"] / clearance for r in pts if r["click"] is not None], "o-",
-                 label=f"toward {name}")
-        ax2.plot(xs, [r["snap_turn"] for r in pts if r["click"] is not None], "o-",
-                 label=f"toward {name}")
+        ax1.plot(
+            xs,
+            [r["click"] / clearance for r in pts if r["click"] is not None],
+            "o-",
+            label=f"toward {name}",
+        )
+        ax2.plot(
+            xs,
+            [r["snap_turn"] for r in pts if r["click"] is not None],
+            "o-",
+            label=f"toward {name}",
+        )
     ax1.axhline(1.0, color="0.6", lw=0.8, ls="--")
     ax1.set_ylabel("click / axial clearance")
     ax1.set_title("1/4-20 UNC-2A/2B, 10 N, 1 N m/rad: the snap against the tilt")

@@ -34,28 +34,36 @@ def main() -> None:
     analyzer = ContactAnalyzer(spec)
     mech = Mechanics(spec, Compliance(), analyzer=analyzer)
     soft = Mechanics(spec, Compliance(stiffness=0.01), analyzer=analyzer)
-    print("| thesis (a, b, phi) | ours (roll, pitch, phase) | thesis's verdict | "
-          "fixed-pivot model here | mechanics, default compliance (10 N, 1 N m/rad) | "
-          "mechanics, soft compliance (0.01 N m/rad) |")
+    print(
+        "| thesis (a, b, phi) | ours (roll, pitch, phase) | thesis's verdict | "
+        "fixed-pivot model here | mechanics, default compliance (10 N, 1 N m/rad) | "
+        "mechanics, soft compliance (0.01 N m/rad) |"
+    )
     print("|---|---|---|---|---|---|")
     for (a, b, phi), verdict in EXAMPLES:
         roll, pitch, phase = ours(a, b, phi)
         fixed = analyzer.analyze(roll, pitch, phase)
-        fixed_text = (f"{fixed.classification}{' (rolling)' if fixed.rolling else ''}; "
-                      f"embedding {fixed.interference:.1e} in vs drop "
-                      f"{fixed.origin_drop:.1e} in; {fixed.n_contacts} contacts "
-                      f"{fixed.region_combination}")
+        fixed_text = (
+            f"{fixed.classification}{' (rolling)' if fixed.rolling else ''}; "
+            f"embedding {fixed.interference:.1e} in vs drop "
+            f"{fixed.origin_drop:.1e} in; {fixed.n_contacts} contacts "
+            f"{fixed.region_combination}"
+        )
         texts = []
         for model in (mech, soft):
             rest = model.settle(roll, pitch, phase)
             s = rest.state
             forces = ", ".join(f"{c.force:.2f}" for c in s.touching)
-            texts.append(f"{s.classification}; tilt ({s.roll:.2f}, {s.pitch:.2f}) deg, "
-                         f"z_C {s.centre[2]:.5f} in; {len(s.touching)} contact(s) "
-                         f"{s.region_combination}, forces {forces} N; "
-                         f"{len(rest.path)} unstable state(s) on the way")
-        print(f"| ({a:g}, {b:g}, {phi:g}) | ({roll:.2f}, {pitch:.2f}, {phase:.2f}) | "
-              f"{verdict} | {fixed_text} | {texts[0]} | {texts[1]} |")
+            texts.append(
+                f"{s.classification}; tilt ({s.roll:.2f}, {s.pitch:.2f}) deg, "
+                f"z_C {s.centre[2]:.5f} in; {len(s.touching)} contact(s) "
+                f"{s.region_combination}, forces {forces} N; "
+                f"{len(rest.path)} unstable state(s) on the way"
+            )
+        print(
+            f"| ({a:g}, {b:g}, {phi:g}) | ({roll:.2f}, {pitch:.2f}, {phase:.2f}) | "
+            f"{verdict} | {fixed_text} | {texts[0]} | {texts[1]} |"
+        )
 
 
 if __name__ == "__main__":

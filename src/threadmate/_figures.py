@@ -31,6 +31,7 @@ def save_figure(fig: Figure, path: str | os.PathLike[str], fmt: str) -> Path:
         with atomic_path(path) as tmp:
             fig.savefig(tmp, format=fmt, dpi=DPI)
     except OSError as exc:
-        raise InputError(f"cannot write figure {os.fspath(path)!r}: "
-                         f"{exc.strerror or exc}") from None
+        raise InputError(
+            f"cannot write figure {os.fspath(path)!r}: {exc.strerror or exc}"
+        ) from None
     return Path(path)

@@ -41,19 +41,34 @@ def check_number(name: str, value: Any, *, error: type[InputError] = InputError)
     return value
 
 
-def check_range(name: str, value: Any, lo: float, hi: float, *, units: str = "",
-                error: type[InputError] = InputError) -> float:
+def check_range(
+    name: str,
+    value: Any,
+    lo: float,
+    hi: float,
+    *,
+    units: str = "",
+    error: type[InputError] = InputError,
+) -> float:
     """``value`` as a float if it is a finite number within ``[lo, hi]``, else ``error``."""
     value = check_number(name, value, error=error)
     if not lo <= value <= hi:
         unit = f" {units}" if units else ""
-        raise error(f"{name} is out of range: {value:g}{unit}; give a value from {lo:g} to "
-                    f"{hi:g}{unit}")
+        raise error(
+            f"{name} is out of range: {value:g}{unit}; give a value from {lo:g} to {hi:g}{unit}"
+        )
     return value
 
 
-def check_length(name: str, value: Any, units: str, *, signed: bool = False,
-                 zero_ok: bool = False, error: type[InputError] = InputError) -> float:
+def check_length(
+    name: str,
+    value: Any,
+    units: str,
+    *,
+    signed: bool = False,
+    zero_ok: bool = False,
+    error: type[InputError] = InputError,
+) -> float:
     """A finite length in ``units`` within the range every real thread fits.
 
     Parameters

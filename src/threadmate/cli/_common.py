@@ -18,9 +18,18 @@ from .._errors import InputError
 from .._json import json_text, to_jsonable
 from ..geometry import ThreadSpec, load_spec
 
-__all__ = ["resolve_spec", "is_spec_path", "emit_json", "to_jsonable", "SPEC_HELP",
-           "check_angle", "check_configuration_options", "writable_output",
-           "writable_directory", "write_failed"]
+__all__ = [
+    "resolve_spec",
+    "is_spec_path",
+    "emit_json",
+    "to_jsonable",
+    "SPEC_HELP",
+    "check_angle",
+    "check_configuration_options",
+    "writable_output",
+    "writable_directory",
+    "write_failed",
+]
 
 SPEC_HELP = (
     "DESIGNATION|SPEC is a thread designation such as '1/4-20 UNC-2A/2B', '#10-24 UNC', "
@@ -65,16 +74,18 @@ def echo_err(message: str) -> None:
     click.echo(message, err=True)
 
 
-def check_configuration_options(roll: float, pitch: float, phase: float,
-                                chord: float | None) -> None:
+def check_configuration_options(
+    roll: float, pitch: float, phase: float, chord: float | None
+) -> None:
     """Refuse a tilt beyond the contact stages' range, a non-finite phase or a chord that
     is not a positive length (before anything is built)."""
     from ..contact import MAX_TILT
 
     for name, value in (("roll", roll), ("pitch", pitch)):
         if not math.isfinite(value) or abs(value) > MAX_TILT:
-            raise InputError(f"--{name} {value:g} is out of range: give degrees within "
-                             f"+/-{MAX_TILT:g}")
+            raise InputError(
+                f"--{name} {value:g} is out of range: give degrees within +/-{MAX_TILT:g}"
+            )
     if not math.isfinite(phase):
         raise InputError(f"--phase {phase:g} is not a finite angle")
     if chord is not None and not (math.isfinite(chord) and chord > 0):

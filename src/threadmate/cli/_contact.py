@@ -44,27 +44,37 @@ def _text(result: ContactResult) -> str:
         ox, oy, oz = stage.found_origin
         lines.append(f"  BOLT origin: {_fmt(ox)} {_fmt(oy)} {_fmt(oz)}")
         lines.append("  Contact point locations:")
-        lines.append(f"    {'X':>11} {'Y':>11} {'Z':>11}  {'pairs':>5}  {'bolt/nut':<16}"
-                     f" {'normal (nut -> bolt)'}")
+        lines.append(
+            f"    {'X':>11} {'Y':>11} {'Z':>11}  {'pairs':>5}  {'bolt/nut':<16}"
+            f" {'normal (nut -> bolt)'}"
+        )
         for c in stage.contacts:
             x, y, z = c.point
             n = " ".join(f"{v:7.4f}" for v in c.normal)
             lines.append(f"    {_fmt(x)} {_fmt(y)} {_fmt(z)}  {c.pairs:5d}  {c.regions:<16} {n}")
     lines.append("")
-    lines.append(f"Interference at the 3rd contact: {_fmt(result.interference, 0)} {u}   "
-                 f"origin drop 2nd -> 3rd: {_fmt(result.origin_drop, 0)} {u}")
-    lines.append(f"Pivot axis to compliance centre: {_fmt(result.pivot_offset, 0)} {u}   "
-                 f"rolling pivot axis: {'yes' if result.rolling else 'no'}   "
-                 f"collision queries: {result.queries}")
+    lines.append(
+        f"Interference at the 3rd contact: {_fmt(result.interference, 0)} {u}   "
+        f"origin drop 2nd -> 3rd: {_fmt(result.origin_drop, 0)} {u}"
+    )
+    lines.append(
+        f"Pivot axis to compliance centre: {_fmt(result.pivot_offset, 0)} {u}   "
+        f"rolling pivot axis: {'yes' if result.rolling else 'no'}   "
+        f"collision queries: {result.queries}"
+    )
     final = result.final_pose
     if final is not None:
         r, p, ph = final.angles()
-        lines.append(f"Final orientation: roll {r:.4f}  pitch {p:.4f}  phase {ph:.4f} deg; "
-                     f"origin z {final.origin[2]:.6f} {u}")
+        lines.append(
+            f"Final orientation: roll {r:.4f}  pitch {p:.4f}  phase {ph:.4f} deg; "
+            f"origin z {final.origin[2]:.6f} {u}"
+        )
     return "\n".join(lines)
 
 
-@cli.command("contact", help=f"""First, second and third contact of a tilted bolt on the nut:
+@cli.command(
+    "contact",
+    help=f"""First, second and third contact of a tilted bolt on the nut:
 the thesis's fixed-pivot procedure.
 
 The bolt, tilted by ROLL and PITCH and spun to PHASE (degrees, conventions.md), comes down
@@ -84,23 +94,50 @@ bolt dropped into the nut), no-contact. Also reports the thesis's rolling sign: 
 contact gained triangle pairs once the turn about the pivot axis began. Lengths are in the
 spec's units.
 
-{SPEC_HELP}""")
+{SPEC_HELP}""",
+)
 @click.argument("spec_text", metavar="DESIGNATION|SPEC")
-@click.option("--roll", type=float, required=True,
-              help=f"Tilt about fixed X in degrees (within +/-{MAX_TILT:g}).")
-@click.option("--pitch", type=float, required=True,
-              help=f"Tilt about fixed Y in degrees (within +/-{MAX_TILT:g}).")
-@click.option("--phase", type=float, required=True,
-              help="Spin of the bolt about its axis in degrees (counter-clockwise from above).")
+@click.option(
+    "--roll",
+    type=float,
+    required=True,
+    help=f"Tilt about fixed X in degrees (within +/-{MAX_TILT:g}).",
+)
+@click.option(
+    "--pitch",
+    type=float,
+    required=True,
+    help=f"Tilt about fixed Y in degrees (within +/-{MAX_TILT:g}).",
+)
+@click.option(
+    "--phase",
+    type=float,
+    required=True,
+    help="Spin of the bolt about its axis in degrees (counter-clockwise from above).",
+)
 @chord_option
-@click.option("--compliance-z", type=float, default=0.0, show_default=True,
-              help=f"Compliance centre on the bolt axis, bolt frame, in the spec's units "
-                   f"(0: the tip centre; within +/-{MAX_LENGTH:g}).")
+@click.option(
+    "--compliance-z",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help=f"Compliance centre on the bolt axis, bolt frame, in the spec's units "
+    f"(0: the tip centre; within +/-{MAX_LENGTH:g}).",
+)
 @condition_option
-@click.option("--json", "as_json", is_flag=True,
-              help="Print one JSON document on stdout instead of text.")
-def contact(spec_text: str, roll: float, pitch: float, phase: float, chord: float | None,
-            compliance_z: float, condition: str, as_json: bool) -> None:
+@click.option(
+    "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
+)
+def contact(
+    spec_text: str,
+    roll: float,
+    pitch: float,
+    phase: float,
+    chord: float | None,
+    compliance_z: float,
+    condition: str,
+    as_json: bool,
+) -> None:
     """Run the three contact stages for one configuration."""
     check_configuration_options(roll, pitch, phase, chord)
     spec = resolve_spec(spec_text, condition)
@@ -108,7 +145,8 @@ def contact(spec_text: str, roll: float, pitch: float, phase: float, chord: floa
     if chord is not None:
         check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
     result = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z).analyze(
-        roll, pitch, phase)
+        roll, pitch, phase
+    )
     if as_json:
         emit_json(result.to_dict())
     else:

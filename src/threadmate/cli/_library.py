@@ -38,8 +38,9 @@ from ._options import (
 
 __all__ = ["sweep_command", "library_group"]
 
-_RANGE_HELP = ("START:STOP:STEP (STOP included when on the grid), a value, or a comma list, "
-               "in degrees")
+_RANGE_HELP = (
+    "START:STOP:STEP (STOP included when on the grid), a value, or a comma list, in degrees"
+)
 
 
 @contextlib.contextmanager
@@ -61,8 +62,13 @@ def _progress_bar(label: str) -> Iterator[Any]:
         def render(self, task: Task) -> Text:
             return Text(f"{task.speed:.1f}/s" if task.speed else "-/s")
 
-    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), _Rate(),
-               TimeRemainingColumn())
+    columns = (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        _Rate(),
+        TimeRemainingColumn(),
+    )
     # The bar starts with the first report, i.e. once the request is validated, so that a
     # refused request prints its one error line and nothing else.
     bar: Progress | None = None
@@ -98,16 +104,27 @@ def _roles_line(counts: dict[str, int]) -> str:
 #: Largest ``--step`` of the continuation (degrees; the API's limit).
 MAX_STEP = 10.0
 #: The mechanics-only options, with the words that name them in a refusal.
-_MECHANICS_ONLY = (("force", "--force"), ("stiffness_text", "--stiffness"),
-                   ("lateral_stiffness", "--lateral-stiffness"), ("friction", "--friction"),
-                   ("step", "--step"), ("phase_tolerance", "--phase-tolerance"))
+_MECHANICS_ONLY = (
+    ("force", "--force"),
+    ("stiffness_text", "--stiffness"),
+    ("lateral_stiffness", "--lateral-stiffness"),
+    ("friction", "--friction"),
+    ("step", "--step"),
+    ("phase_tolerance", "--phase-tolerance"),
+)
 
 
 def _units(model: str, length: str) -> dict[str, str]:
     """The units of a library's JSON documents."""
     if model == "mechanics":
-        return {"length": length, "angle": "deg", "force": "N", "torque": "N m",
-                "potential": "mJ", "work": "mJ"}
+        return {
+            "length": length,
+            "angle": "deg",
+            "force": "N",
+            "torque": "N m",
+            "potential": "mJ",
+            "work": "mJ",
+        }
     return {"length": length, "angle": "deg"}
 
 
@@ -117,8 +134,14 @@ def _given(ctx: click.Context, name: str) -> bool:
     return source is not None and source != click.core.ParameterSource.DEFAULT
 
 
-def _check_sweep_options(ctx: click.Context, model: str, workers: int | None,
-                         chunk_size: int | None, step: float, phase_tolerance: float) -> None:
+def _check_sweep_options(
+    ctx: click.Context,
+    model: str,
+    workers: int | None,
+    chunk_size: int | None,
+    step: float,
+    phase_tolerance: float,
+) -> None:
     """Refuse bad or misplaced sweep options (one message, before anything is built)."""
     if workers is not None and workers < 1:
         raise InputError(f"--workers {workers} must be at least 1")
@@ -127,21 +150,28 @@ def _check_sweep_options(ctx: click.Context, model: str, workers: int | None,
     if model == "thesis":
         given = [flag for name, flag in _MECHANICS_ONLY if _given(ctx, name)]
         if given:
-            raise InputError(f"{given[0]} applies to --model mechanics only (the thesis's "
-                             "model uses the compliance centre, --compliance-z, alone)")
+            raise InputError(
+                f"{given[0]} applies to --model mechanics only (the thesis's "
+                "model uses the compliance centre, --compliance-z, alone)"
+            )
         return
     if chunk_size is not None:
-        raise InputError("--chunk-size applies to --model thesis only (a mechanics chunk is "
-                         "one held tilt with all its phases)")
+        raise InputError(
+            "--chunk-size applies to --model thesis only (a mechanics chunk is "
+            "one held tilt with all its phases)"
+        )
     if not (math.isfinite(step) and 0 < step <= MAX_STEP):
-        raise InputError(f"--step {step:g} is out of range: give degrees within "
-                         f"(0, {MAX_STEP:g}]")
+        raise InputError(f"--step {step:g} is out of range: give degrees within (0, {MAX_STEP:g}]")
     if not (math.isfinite(phase_tolerance) and 0 < phase_tolerance <= step):
-        raise InputError(f"--phase-tolerance {phase_tolerance:g} is out of range: give "
-                         f"degrees within (0, --step {step:g}]")
+        raise InputError(
+            f"--phase-tolerance {phase_tolerance:g} is out of range: give "
+            f"degrees within (0, --step {step:g}]"
+        )
 
 
-@cli.command("sweep", help=f"""Build the contact-state library of a thread pair over a grid.
+@cli.command(
+    "sweep",
+    help=f"""Build the contact-state library of a thread pair over a grid.
 
 Every roll x pitch x phase of the grid (default the thesis's: roll and pitch -4..4 by 1,
 phase 0..355 by 5; 5,832 configurations) is a start: the held tilt of the tool and the
@@ -163,78 +193,163 @@ N/m, lengths in the spec's units, angles in degrees.
 
 {DEFAULTS_NOTE}
 
-{SPEC_HELP}""")
+{SPEC_HELP}""",
+)
 @click.argument("spec_text", metavar="DESIGNATION|SPEC")
-@click.option("--roll", "roll", default=None, metavar="RANGE",
-              help=f"Held roll values: {_RANGE_HELP} (default -4:4:1).")
-@click.option("--pitch", "pitch", default=None, metavar="RANGE",
-              help=f"Held pitch values: {_RANGE_HELP} (default -4:4:1).")
-@click.option("--phase", "phase", default=None, metavar="RANGE",
-              help=f"Phase values, modulo 360: {_RANGE_HELP} (default 0:355:5).")
-@click.option("-o", "--out", "out", required=True, type=click.Path(path_type=Path),
-              help="Library directory (created, or resumed if it holds this sweep).")
-@click.option("--model", type=click.Choice(list(MODELS)), default="mechanics",
-              show_default=True,
-              help="mechanics: rest states, settling and the simulated search; thesis: the "
-                   "thesis's fixed-pivot stages.")
+@click.option(
+    "--roll",
+    "roll",
+    default=None,
+    metavar="RANGE",
+    help=f"Held roll values: {_RANGE_HELP} (default -4:4:1).",
+)
+@click.option(
+    "--pitch",
+    "pitch",
+    default=None,
+    metavar="RANGE",
+    help=f"Held pitch values: {_RANGE_HELP} (default -4:4:1).",
+)
+@click.option(
+    "--phase",
+    "phase",
+    default=None,
+    metavar="RANGE",
+    help=f"Phase values, modulo 360: {_RANGE_HELP} (default 0:355:5).",
+)
+@click.option(
+    "-o",
+    "--out",
+    "out",
+    required=True,
+    type=click.Path(path_type=Path),
+    help="Library directory (created, or resumed if it holds this sweep).",
+)
+@click.option(
+    "--model",
+    type=click.Choice(list(MODELS)),
+    default="mechanics",
+    show_default=True,
+    help="mechanics: rest states, settling and the simulated search; thesis: the "
+    "thesis's fixed-pivot stages.",
+)
 @compliance_options
-@click.option("--step", type=float, default=CONTINUATION_STEP, show_default=True,
-              help=f"Mechanics: continuation step in degrees of phase (> 0, at most "
-                   f"{MAX_STEP:g}).")
-@click.option("--phase-tolerance", type=float, default=0.01, show_default=True,
-              help="Mechanics: how closely jumps and the snap are located in phase "
-                   "(degrees, > 0, at most --step).")
-@click.option("--workers", type=int, default=None,
-              help="Worker processes (default: the CPUs available; 1 runs in-process).")
-@click.option("--scheduler", default=None, metavar="ADDRESS|local|pool",
-              help="Dask scheduler address, 'local' for a Dask LocalCluster, or 'pool' for "
-                   "the process pool (default: Dask's scheduler-address setting if set, "
-                   "else the pool). Dask: pip install threadmate[dask].")
+@click.option(
+    "--step",
+    type=float,
+    default=CONTINUATION_STEP,
+    show_default=True,
+    help=f"Mechanics: continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).",
+)
+@click.option(
+    "--phase-tolerance",
+    type=float,
+    default=0.01,
+    show_default=True,
+    help="Mechanics: how closely jumps and the snap are located in phase "
+    "(degrees, > 0, at most --step).",
+)
+@click.option(
+    "--workers",
+    type=int,
+    default=None,
+    help="Worker processes (default: the CPUs available; 1 runs in-process).",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS|local|pool",
+    help="Dask scheduler address, 'local' for a Dask LocalCluster, or 'pool' for "
+    "the process pool (default: Dask's scheduler-address setting if set, "
+    "else the pool). Dask: pip install threadmate[dask].",
+)
 @chord_option
-@click.option("--chunk-size", type=int, default=None,
-              help="Thesis model: configurations per chunk, i.e. per Parquet part (default: "
-                   "automatic). A mechanics chunk is one held tilt.")
+@click.option(
+    "--chunk-size",
+    type=int,
+    default=None,
+    help="Thesis model: configurations per chunk, i.e. per Parquet part (default: "
+    "automatic). A mechanics chunk is one held tilt.",
+)
 @condition_option
-@click.option("--json", "as_json", is_flag=True,
-              help="Print one JSON document on stdout instead of text.")
+@click.option(
+    "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
+)
 @click.pass_context
-def sweep_command(ctx: click.Context, spec_text: str, roll: str | None, pitch: str | None,
-                  phase: str | None, out: Path, model: str, force: float,
-                  stiffness_text: str, lateral_stiffness: float | None, friction: float,
-                  compliance_z: float, step: float, phase_tolerance: float,
-                  workers: int | None, scheduler: str | None, chord: float | None,
-                  chunk_size: int | None, condition: str, as_json: bool) -> None:
+def sweep_command(
+    ctx: click.Context,
+    spec_text: str,
+    roll: str | None,
+    pitch: str | None,
+    phase: str | None,
+    out: Path,
+    model: str,
+    force: float,
+    stiffness_text: str,
+    lateral_stiffness: float | None,
+    friction: float,
+    compliance_z: float,
+    step: float,
+    phase_tolerance: float,
+    workers: int | None,
+    scheduler: str | None,
+    chord: float | None,
+    chunk_size: int | None,
+    condition: str,
+    as_json: bool,
+) -> None:
     """Sweep the grid into a library."""
     _check_sweep_options(ctx, model, workers, chunk_size, step, phase_tolerance)
-    compliance = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
-                                         compliance_z)
+    compliance = compliance_from_options(
+        force, stiffness_text, lateral_stiffness, friction, compliance_z
+    )
     spec = resolve_spec(spec_text, condition)
     existed = (out / METADATA_FILE).is_file()
     resumed: dict[str, int] = {}
     start = time.perf_counter()
     try:
         with _progress_bar("sweep") as bar:
+
             def callback(done: int, total: int) -> None:
                 if not resumed:
                     # The first report comes once the library is opened and checked.
                     resumed.update(done=done, total=total)
                     if existed or done:
-                        click.echo(f"threadmate: resuming {out}: {done} of {total} "
-                                   "configurations were already done", err=True)
+                        click.echo(
+                            f"threadmate: resuming {out}: {done} of {total} "
+                            "configurations were already done",
+                            err=True,
+                        )
                 bar(done, total)
 
-            sweep(spec, roll, pitch, phase, out=out, workers=workers, scheduler=scheduler,
-                  chunk_size=chunk_size, chord=chord, model=model, compliance=compliance,
-                  step=step, phase_tolerance=phase_tolerance, progress=callback)
+            sweep(
+                spec,
+                roll,
+                pitch,
+                phase,
+                out=out,
+                workers=workers,
+                scheduler=scheduler,
+                chunk_size=chunk_size,
+                chord=chord,
+                model=model,
+                compliance=compliance,
+                step=step,
+                phase_tolerance=phase_tolerance,
+                progress=callback,
+            )
     except SweepInterrupted as exc:
         raise click.ClickException(str(exc)) from None
     except KeyboardInterrupt:
         if out.is_dir():
             with contextlib.suppress(Exception):
                 doc = info(out)
-                click.echo(f"threadmate: {doc['done']} of {doc['configurations']} "
-                           f"configurations are saved in {out}; run the same command to "
-                           "resume", err=True)
+                click.echo(
+                    f"threadmate: {doc['done']} of {doc['configurations']} "
+                    f"configurations are saved in {out}; run the same command to "
+                    "resume",
+                    err=True,
+                )
         raise
     wall = time.perf_counter() - start
     doc = info(out)
@@ -262,11 +377,14 @@ def sweep_command(ctx: click.Context, spec_text: str, roll: str | None, pitch: s
         return
     click.echo(f"Library {out} ({doc['model']} model): {doc['grid']}")
     what = "rest states reached" if doc["model"] == "mechanics" else "states"
-    click.echo(f"  {doc['done']} of {doc['configurations']} done in {wall:.1f} s; "
-               f"{what}: {_counts_line(doc['classifications'])}")
+    click.echo(
+        f"  {doc['done']} of {doc['configurations']} done in {wall:.1f} s; "
+        f"{what}: {_counts_line(doc['classifications'])}"
+    )
     if doc["states"]:
-        click.echo(f"  {doc['states']['total']} contact states: "
-                   f"{_roles_line(doc['states']['by_role'])}")
+        click.echo(
+            f"  {doc['states']['total']} contact states: {_roles_line(doc['states']['by_role'])}"
+        )
 
 
 @cli.group("library")
@@ -285,18 +403,27 @@ def _with_units(doc: dict[str, Any]) -> dict[str, Any]:
 
 def _compliance_line(c: dict[str, Any], units: str) -> str:
     k = c["stiffness"]
-    stiff = (f"{k['roll']:g} N m/rad" if k["roll"] == k["pitch"]
-             else f"{k['roll']:g} (roll), {k['pitch']:g} (pitch) N m/rad")
-    lateral = ("held at x = y = 0" if c.get("lateral_stiffness") is None
-               else f"{c['lateral_stiffness']:g} N/m")
-    return (f"force {c['force']:g} N, stiffness {stiff}, lateral {lateral}, centre z "
-            f"{c['compliance_z']:g} {units}, friction {c['friction']:g}")
+    stiff = (
+        f"{k['roll']:g} N m/rad"
+        if k["roll"] == k["pitch"]
+        else f"{k['roll']:g} (roll), {k['pitch']:g} (pitch) N m/rad"
+    )
+    lateral = (
+        "held at x = y = 0"
+        if c.get("lateral_stiffness") is None
+        else f"{c['lateral_stiffness']:g} N/m"
+    )
+    return (
+        f"force {c['force']:g} N, stiffness {stiff}, lateral {lateral}, centre z "
+        f"{c['compliance_z']:g} {units}, friction {c['friction']:g}"
+    )
 
 
 @library_group.command("info")
 @_library_arg()
-@click.option("--json", "as_json", is_flag=True,
-              help="Print one JSON document on stdout instead of text.")
+@click.option(
+    "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
+)
 def info_command(library: Path, as_json: bool) -> None:
     """What a library holds: spec, grid, model, settings, progress and counts."""
     doc = info(library)
@@ -308,32 +435,41 @@ def info_command(library: Path, as_json: bool) -> None:
     mesh, contact = meta["mesh"], meta["contact"]
     name = spec.get("designation") or "custom spec"
     u = doc["units"]
-    click.echo(f"Library {doc['path']} ({doc['model']} model; threadmate "
-               f"{meta['threadmate_version']})")
-    click.echo(f"  spec: {name}, pitch {spec['pitch']:g} {u}, "
-               f"{spec.get('hand', 'right')} hand, bolt PD {spec['bolt']['pitch_diameter']:g},"
-               f" nut PD {spec['nut']['pitch_diameter']:g}")
+    click.echo(
+        f"Library {doc['path']} ({doc['model']} model; threadmate {meta['threadmate_version']})"
+    )
+    click.echo(
+        f"  spec: {name}, pitch {spec['pitch']:g} {u}, "
+        f"{spec.get('hand', 'right')} hand, bolt PD {spec['bolt']['pitch_diameter']:g},"
+        f" nut PD {spec['nut']['pitch_diameter']:g}"
+    )
     click.echo(f"  grid: {doc['grid']}")
     dev = mesh.get("max_deviation")
-    click.echo(f"  mesh: chord {mesh['chord']:g} {u}"
-               + (f", max deviation {dev:.3g} {u}" if dev is not None else ""))
+    click.echo(
+        f"  mesh: chord {mesh['chord']:g} {u}"
+        + (f", max deviation {dev:.3g} {u}" if dev is not None else "")
+    )
     if doc["model"] == "mechanics":
         click.echo(f"  compliance: {_compliance_line(meta['compliance'], u)}")
         cont = meta.get("continuation", {})
-        click.echo(f"  continuation: step {cont.get('step', float('nan')):g} deg, events "
-                   f"located to {cont.get('phase_tolerance', float('nan')):g} deg")
+        click.echo(
+            f"  continuation: step {cont.get('step', float('nan')):g} deg, events "
+            f"located to {cont.get('phase_tolerance', float('nan')):g} deg"
+        )
     else:
-        click.echo(f"  contact: compliance_z {contact['compliance_z']:g} {u}, "
-                   f"analyser {contact.get('analyzer', '?')}")
+        click.echo(
+            f"  contact: compliance_z {contact['compliance_z']:g} {u}, "
+            f"analyser {contact.get('analyzer', '?')}"
+        )
     state = "complete" if doc["complete"] else "incomplete: run the same sweep to resume"
-    click.echo(f"  done: {doc['done']} of {doc['configurations']} in {doc['parts']} parts "
-               f"({state})")
+    click.echo(
+        f"  done: {doc['done']} of {doc['configurations']} in {doc['parts']} parts ({state})"
+    )
     what = "rest states reached" if doc["model"] == "mechanics" else "states"
     click.echo(f"  {what}: {_counts_line(doc['classifications'])}")
     if doc["states"]:
         st = doc["states"]
-        click.echo(f"  all {st['total']} contact states by role: "
-                   f"{_roles_line(st['by_role'])}")
+        click.echo(f"  all {st['total']} contact states by role: {_roles_line(st['by_role'])}")
         click.echo(f"  by class: {_counts_line(st['by_class'])}")
 
 
@@ -346,13 +482,18 @@ def _fmt(v: Any) -> str:
 @click.option("--roll", type=float, required=True, help="(Held) roll in degrees.")
 @click.option("--pitch", type=float, required=True, help="(Held) pitch in degrees.")
 @click.option("--phase", type=float, required=True, help="Phase in degrees (modulo 360).")
-@click.option("--nearest", is_flag=True,
-              help="Take the nearest grid configuration when the one asked for is off the "
-                   "grid (without it, such a request is refused with the nearest named).")
-@click.option("--json", "as_json", is_flag=True,
-              help="Print one JSON document on stdout instead of text.")
-def query_command(library: Path, roll: float, pitch: float, phase: float, nearest: bool,
-                  as_json: bool) -> None:
+@click.option(
+    "--nearest",
+    is_flag=True,
+    help="Take the nearest grid configuration when the one asked for is off the "
+    "grid (without it, such a request is refused with the nearest named).",
+)
+@click.option(
+    "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
+)
+def query_command(
+    library: Path, roll: float, pitch: float, phase: float, nearest: bool, as_json: bool
+) -> None:
     """The stored contact state of a configuration of the grid: the thesis's stages, or
     the rest state the mechanics' drop reaches."""
     for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
@@ -365,12 +506,13 @@ def query_command(library: Path, roll: float, pitch: float, phase: float, neares
     g = doc["grid"]
     snap = " (snapped to the nearest grid state)" if doc["snapped"] else ""
     held = "HELD " if doc["model"] == "mechanics" else ""
-    click.echo(f"{held}ROLL = {g['roll']:g}   {held}PITCH = {g['pitch']:g}   PHASE = "
-               f"{g['phase']:g}   config_id {doc['config_id']}{snap}")
+    click.echo(
+        f"{held}ROLL = {g['roll']:g}   {held}PITCH = {g['pitch']:g}   PHASE = "
+        f"{g['phase']:g}   config_id {doc['config_id']}{snap}"
+    )
     rec = doc["record"]
     if rec is None:
-        click.echo("Not computed yet: the library's sweep is unfinished (run it again to "
-                   "resume).")
+        click.echo("Not computed yet: the library's sweep is unfinished (run it again to resume).")
         return
     if doc["model"] == "mechanics":
         _echo_state(rec, doc["units"])
@@ -380,34 +522,45 @@ def query_command(library: Path, roll: float, pitch: float, phase: float, neares
 
 def _echo_state(rec: dict[str, Any], u: str) -> None:
     """The rest state a mechanics drop reaches, its contacts and its passive transition."""
-    click.echo(f"Rest state: {rec['classification']}   ({rec['n_contacts']} contact(s); "
-               f"regions {rec['region_combination'] or '-'})   state {rec['state_id']}")
+    click.echo(
+        f"Rest state: {rec['classification']}   ({rec['n_contacts']} contact(s); "
+        f"regions {rec['region_combination'] or '-'})   state {rec['state_id']}"
+    )
     if rec["error"]:
         click.echo(f"Error: {rec['error']}")
         return
-    click.echo(f"Bolt tilt: roll {rec['roll']:.4f}  pitch {rec['pitch']:.4f} deg;  "
-               f"compliance centre height {_fmt(rec['centre_z'])} {u}")
+    click.echo(
+        f"Bolt tilt: roll {rec['roll']:.4f}  pitch {rec['pitch']:.4f} deg;  "
+        f"compliance centre height {_fmt(rec['centre_z'])} {u}"
+    )
     points, normals = rec["contact_points"] or [], rec["contact_normals"] or []
-    for i, (regions, force) in enumerate(zip(rec["contact_regions"] or [],
-                                             rec["contact_forces"] or [], strict=False)):
-        p = " ".join(_fmt(v) for v in points[3 * i:3 * i + 3])
-        n = " ".join(f"{v:8.5f}" for v in normals[3 * i:3 * i + 3])
+    for i, (regions, force) in enumerate(
+        zip(rec["contact_regions"] or [], rec["contact_forces"] or [], strict=False)
+    ):
+        p = " ".join(_fmt(v) for v in points[3 * i : 3 * i + 3])
+        n = " ".join(f"{v:8.5f}" for v in normals[3 * i : 3 * i + 3])
         click.echo(f"  contact {i + 1}: {p}  normal {n}  force {force:.4f} N  {regions}")
-    click.echo(f"Potential {rec['potential']:.6g} mJ;  driver torque "
-               f"{rec['driver_torque']:.6g} N m (friction {rec['friction_torque']:.6g} N m)")
+    click.echo(
+        f"Potential {rec['potential']:.6g} mJ;  driver torque "
+        f"{rec['driver_torque']:.6g} N m (friction {rec['friction_torque']:.6g} N m)"
+    )
     if rec["next_id"]:
         work = rec["work_friction"] + rec["work_potential"]
-        click.echo(f"Next: {rec['transition']} ({rec['transition_label']}) to "
-                   f"{rec['next_id']} after {rec['transition_turn']:.4f} deg, work "
-                   f"{work:.6g} mJ, drop {_fmt(rec['drop'])} {u}")
+        click.echo(
+            f"Next: {rec['transition']} ({rec['transition_label']}) to "
+            f"{rec['next_id']} after {rec['transition_turn']:.4f} deg, work "
+            f"{work:.6g} mJ, drop {_fmt(rec['drop'])} {u}"
+        )
     else:
         click.echo("Next: none (the search ends here)")
 
 
 def _echo_thesis(rec: dict[str, Any], u: str) -> None:
     """The thesis's stages of one configuration."""
-    click.echo(f"Classification: {rec['classification']}   ({rec['n_contacts']} contact(s); "
-               f"regions {rec['region_combination'] or '-'})")
+    click.echo(
+        f"Classification: {rec['classification']}   ({rec['n_contacts']} contact(s); "
+        f"regions {rec['region_combination'] or '-'})"
+    )
     if rec["error"]:
         click.echo(f"Error: {rec['error']}")
     for s in ("first", "second", "third"):
@@ -419,24 +572,38 @@ def _echo_thesis(rec: dict[str, Any], u: str) -> None:
         for i in (1, 2, 3):
             if rec[f"{s}_c{i}_pairs"]:
                 p = " ".join(_fmt(rec[f"{s}_c{i}_{a}"]) for a in "xyz")
-                click.echo(f"  contact {i}: {p}  pairs {rec[f'{s}_c{i}_pairs']}  "
-                           f"{rec[f'{s}_c{i}_bolt_region']}/{rec[f'{s}_c{i}_nut_region']}")
-    click.echo(f"interference {_fmt(rec['interference'])} {u}, origin drop "
-               f"{_fmt(rec['origin_drop'])} {u}, pivot offset {_fmt(rec['pivot_offset'])} {u}")
+                click.echo(
+                    f"  contact {i}: {p}  pairs {rec[f'{s}_c{i}_pairs']}  "
+                    f"{rec[f'{s}_c{i}_bolt_region']}/{rec[f'{s}_c{i}_nut_region']}"
+                )
+    click.echo(
+        f"interference {_fmt(rec['interference'])} {u}, origin drop "
+        f"{_fmt(rec['origin_drop'])} {u}, pivot offset {_fmt(rec['pivot_offset'])} {u}"
+    )
 
 
 @library_group.command("summary")
 @_library_arg()
-@click.option("--phase", type=float, default=None,
-              help="Phase of the stability map and of the per-phase counts (degrees; "
-                   "default the first grid phase).")
-@click.option("-o", "--out", "figdir", type=click.Path(path_type=Path), default=None,
-              help="Write the figures (stability map, phase strips, region combinations) "
-                   "as PNG into this directory.")
-@click.option("--json", "as_json", is_flag=True,
-              help="Print one JSON document on stdout instead of text.")
-def summary_command(library: Path, phase: float | None, figdir: Path | None,
-                    as_json: bool) -> None:
+@click.option(
+    "--phase",
+    type=float,
+    default=None,
+    help="Phase of the stability map and of the per-phase counts (degrees; "
+    "default the first grid phase).",
+)
+@click.option(
+    "-o",
+    "--out",
+    "figdir",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Write the figures (stability map, phase strips, region combinations) "
+    "as PNG into this directory.",
+)
+@click.option(
+    "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
+)
+def summary_command(library: Path, phase: float | None, figdir: Path | None, as_json: bool) -> None:
     """Counts of the classes over the configurations (the mechanics: of the rest state
     each drop reaches, and of all states by role), region combinations, figures."""
     if phase is not None and not math.isfinite(phase):
@@ -457,21 +624,28 @@ def summary_command(library: Path, phase: float | None, figdir: Path | None,
         click.echo(f"  {c:<13}{n:>8}  {100 * doc['fractions'][c]:5.1f} %")
     if done:
         among = "the rest classes" if mech else "the three states"
-        click.echo(f"  most common of {among}: {doc['most_common']}; least common: "
-                   f"{doc['least_common']}")
+        click.echo(
+            f"  most common of {among}: {doc['most_common']}; least common: {doc['least_common']}"
+        )
     at = doc["at_phase"]
     click.echo(f"At phase {at['phase']:g} deg: {_counts_line(at['counts'])}")
     if mech and doc.get("states"):
         st = doc["states"]
         click.echo(f"All {st['total']} contact states (role: classes):")
         for role in [r for r in ROLES if r in st["by_role_and_class"]]:
-            click.echo(f"  {role:<14}{st['by_role'][role]:>8}  "
-                       f"{_counts_line(st['by_role_and_class'][role])}")
+            click.echo(
+                f"  {role:<14}{st['by_role'][role]:>8}  "
+                f"{_counts_line(st['by_role_and_class'][role])}"
+            )
         moves = st.get("transitions", {})
         if moves:
-            click.echo("Passive transitions (kind: labels): " + "; ".join(
-                f"{k} {', '.join(f'{lab} {n}' for lab, n in v.items())}"
-                for k, v in moves.items()))
+            click.echo(
+                "Passive transitions (kind: labels): "
+                + "; ".join(
+                    f"{k} {', '.join(f'{lab} {n}' for lab, n in v.items())}"
+                    for k, v in moves.items()
+                )
+            )
     click.echo("Contact-region combinations (bolt/nut per contact):")
     for combo, n in list(doc["region_combinations"].items())[:15]:
         click.echo(f"  {n:>8}  {combo}")

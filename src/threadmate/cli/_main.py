@@ -44,8 +44,7 @@ def main(argv: list[str] | None = None) -> None:
     except click.UsageError as exc:
         # One line naming the problem (click's usage block would bury it), and where to look.
         where = exc.ctx.command_path if exc.ctx is not None else "threadmate"
-        click.echo(f"threadmate: error: {exc.format_message()} (see '{where} --help')",
-                   err=True)
+        click.echo(f"threadmate: error: {exc.format_message()} (see '{where} --help')", err=True)
         sys.exit(2)
     except click.ClickException as exc:
         exc.show()

@@ -57,36 +57,61 @@ def _mechanics_options(func: Callable[..., Any]) -> Callable[..., Any]:
     """The configuration and the compliance's parameters, shared by both commands."""
     options: list[Callable[[Any], Any]] = [
         click.argument("spec_text", metavar="DESIGNATION|SPEC"),
-        click.option("--roll", type=float, required=True,
-                     help=f"Held tilt about fixed X in degrees (within +/-{MAX_TILT:g})."),
-        click.option("--pitch", type=float, required=True,
-                     help=f"Held tilt about fixed Y in degrees (within +/-{MAX_TILT:g})."),
-        click.option("--phase", type=float, required=True,
-                     help="Spin of the bolt about its axis in degrees (counter-clockwise "
-                          "seen from above)."),
+        click.option(
+            "--roll",
+            type=float,
+            required=True,
+            help=f"Held tilt about fixed X in degrees (within +/-{MAX_TILT:g}).",
+        ),
+        click.option(
+            "--pitch",
+            type=float,
+            required=True,
+            help=f"Held tilt about fixed Y in degrees (within +/-{MAX_TILT:g}).",
+        ),
+        click.option(
+            "--phase",
+            type=float,
+            required=True,
+            help="Spin of the bolt about its axis in degrees (counter-clockwise seen from above).",
+        ),
         *compliance_option_list(),
         chord_option,
         condition_option,
-        click.option("--json", "as_json", is_flag=True,
-                     help="Print one JSON document on stdout instead of text."),
+        click.option(
+            "--json",
+            "as_json",
+            is_flag=True,
+            help="Print one JSON document on stdout instead of text.",
+        ),
     ]
     for option in reversed(options):
         func = option(func)
     return func
 
 
-def _setup(spec_text: str, roll: float, pitch: float, phase: float, force: float,
-           stiffness_text: str, lateral_stiffness: float | None, friction: float,
-           compliance_z: float, chord: float | None, condition: str
-           ) -> tuple[ThreadSpec, Compliance]:
+def _setup(
+    spec_text: str,
+    roll: float,
+    pitch: float,
+    phase: float,
+    force: float,
+    stiffness_text: str,
+    lateral_stiffness: float | None,
+    friction: float,
+    compliance_z: float,
+    chord: float | None,
+    condition: str,
+) -> tuple[ThreadSpec, Compliance]:
     """Check the options (cheapest first) and build the spec and the compliance.
 
     Every check runs before the meshes are built and before anything is written.
     """
     check_configuration_options(roll, pitch, phase, chord)
     # The Compliance refuses non-finite or out-of-range values with a message naming them.
-    compliance = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
-                                         compliance_z)
+    compliance = compliance_from_options(
+        force, stiffness_text, lateral_stiffness, friction, compliance_z
+    )
     spec = resolve_spec(spec_text, condition)
     if chord is not None:
         check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
@@ -105,49 +130,64 @@ def _num(v: float | None, fmt: str = ".6f") -> str:
 
 def _parameters(p: dict[str, Any], units: str) -> list[str]:
     k = p["stiffness"]
-    stiff = (f"{k['roll']:g} N m/rad" if k["roll"] == k["pitch"]
-             else f"{k['roll']:g} (roll), {k['pitch']:g} (pitch) N m/rad")
-    lateral = ("held at x = y = 0" if p.get("lateral_stiffness") is None
-               else f"{p['lateral_stiffness']:g} N/m")
-    return [f"Parameters: force {p['force']:g} N, stiffness {stiff}, lateral {lateral},",
-            f"            compliance centre z = {p['compliance_z']:g} {units} (bolt frame), "
-            f"friction {p['friction']:g}"]
+    stiff = (
+        f"{k['roll']:g} N m/rad"
+        if k["roll"] == k["pitch"]
+        else f"{k['roll']:g} (roll), {k['pitch']:g} (pitch) N m/rad"
+    )
+    lateral = (
+        "held at x = y = 0"
+        if p.get("lateral_stiffness") is None
+        else f"{p['lateral_stiffness']:g} N/m"
+    )
+    return [
+        f"Parameters: force {p['force']:g} N, stiffness {stiff}, lateral {lateral},",
+        f"            compliance centre z = {p['compliance_z']:g} {units} (bolt frame), "
+        f"friction {p['friction']:g}",
+    ]
 
 
 def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
     u = rest.units
     s = rest.state
     touching = s.touching
-    lines = [f"{_name(spec)}: rest state of the bolt held at roll {rest.held_roll:g}, "
-             f"pitch {rest.held_pitch:g} deg, turned to phase {rest.phase:g} deg "
-             f"(lengths in {u})",
-             *_parameters(rest.parameters, u),
-             f"Class: {s.classification}",
-             f"Rest pose: roll {s.roll:.4f}  pitch {s.pitch:.4f} deg;  origin "
-             f"({s.origin[0]:.6f}, {s.origin[1]:.6f}, {s.origin[2]:.6f}) {u};  "
-             f"compliance centre height {s.centre[2]:.6f} {u}",
-             f"Contacts ({len(touching)} touching):"]
+    lines = [
+        f"{_name(spec)}: rest state of the bolt held at roll {rest.held_roll:g}, "
+        f"pitch {rest.held_pitch:g} deg, turned to phase {rest.phase:g} deg "
+        f"(lengths in {u})",
+        *_parameters(rest.parameters, u),
+        f"Class: {s.classification}",
+        f"Rest pose: roll {s.roll:.4f}  pitch {s.pitch:.4f} deg;  origin "
+        f"({s.origin[0]:.6f}, {s.origin[1]:.6f}, {s.origin[2]:.6f}) {u};  "
+        f"compliance centre height {s.centre[2]:.6f} {u}",
+        f"Contacts ({len(touching)} touching):",
+    ]
     if touching:
-        lines.append(f"  {'X':>10} {'Y':>10} {'Z':>10}  {'normal (nut -> bolt)':<26} "
-                     f"{'force N':>9}  bolt/nut")
+        lines.append(
+            f"  {'X':>10} {'Y':>10} {'Z':>10}  {'normal (nut -> bolt)':<26} "
+            f"{'force N':>9}  bolt/nut"
+        )
         for c in touching:
             p = " ".join(f"{v:10.6f}" for v in c.point)
             n = " ".join(f"{v:8.5f}" for v in c.normal)
             lines.append(f"  {p}  {n} {_num(c.force, '9.4f'):>9}  {c.regions}")
-    lines.append(f"Potential: {_num(s.potential, '.6g')} mJ   driver torque: "
-                 f"{_num(s.driver_torque, '.6g')} N m (friction part "
-                 f"{_num(s.friction_torque, '.6g')} N m)")
+    lines.append(
+        f"Potential: {_num(s.potential, '.6g')} mJ   driver torque: "
+        f"{_num(s.driver_torque, '.6g')} N m (friction part "
+        f"{_num(s.friction_torque, '.6g')} N m)"
+    )
     b = rest.balance
     if "force" in b and "moment" in b:
         note = "" if b.get("converged", 1.0) else "   (the descent did NOT converge)"
-        lines.append(f"Balance residuals (relative to the load): force {b['force']:.2g}, "
-                     f"moment {b['moment']:.2g}{note}")
+        lines.append(
+            f"Balance residuals (relative to the load): force {b['force']:.2g}, "
+            f"moment {b['moment']:.2g}{note}"
+        )
     if rest.path:
         lines.append(f"Path from first contact ({len(rest.path)} unstable state(s)):")
         lines.append(f"  {'kind':<14} {'turn deg':>9}  regions")
         for step in rest.path:
-            lines.append(f"  {step.kind:<14} {step.turn:9.4f}  "
-                         f"{step.region_combination or '-'}")
+            lines.append(f"  {step.kind:<14} {step.turn:9.4f}  {step.region_combination or '-'}")
     else:
         lines.append("Path from first contact: none (the first contact is at rest)")
     return "\n".join(lines)
@@ -157,32 +197,44 @@ def _search_text(spec: ThreadSpec, run: SearchResult, step: float) -> str:
     u = run.units
     sense = "counter-clockwise" if spec.handedness > 0 else "clockwise"
     start = run.states[0] if run.states else None
-    lines = [f"{_name(spec)}: {sense} search from roll {run.held_roll:g}, pitch "
-             f"{run.held_pitch:g} deg, phase {run.start_phase:g} deg ({run.turns:g} turn(s), "
-             f"step {step:g} deg; lengths in {u})",
-             *_parameters(run.parameters, u)]
+    lines = [
+        f"{_name(spec)}: {sense} search from roll {run.held_roll:g}, pitch "
+        f"{run.held_pitch:g} deg, phase {run.start_phase:g} deg ({run.turns:g} turn(s), "
+        f"step {step:g} deg; lengths in {u})",
+        *_parameters(run.parameters, u),
+    ]
     if start is not None:
-        lines.append(f"Start: {start.classification} on {start.region_combination or '-'}, "
-                     f"compliance centre height {start.centre[2]:.6f} {u}")
+        lines.append(
+            f"Start: {start.classification} on {start.region_combination or '-'}, "
+            f"compliance centre height {start.centre[2]:.6f} {u}"
+        )
     if run.snap is None:
         lines.append(f"Snap: no snap within {run.turns:g} turn(s)")
         over = "over the turns searched"
     else:
-        lines.append(f"Snap: at phase {run.snap.phase:.4f} deg after a turn of "
-                     f"{run.snap_turn:.4f} deg; drop (click) {run.snap.drop:.6f} {u}")
+        lines.append(
+            f"Snap: at phase {run.snap.phase:.4f} deg after a turn of "
+            f"{run.snap_turn:.4f} deg; drop (click) {run.snap.drop:.6f} {u}"
+        )
         over = "to the snap"
-    lines.append(f"Work {over}: total {run.work:.6g} mJ (friction {run.work_friction:.6g} "
-                 f"mJ, potential {run.work_potential:.6g} mJ)")
+    lines.append(
+        f"Work {over}: total {run.work:.6g} mJ (friction {run.work_friction:.6g} "
+        f"mJ, potential {run.work_potential:.6g} mJ)"
+    )
     torques = [s.driver_torque for s in run.states if math.isfinite(s.driver_torque)]
     if torques:
         lines.append(f"Peak driver torque: {max(torques, key=abs):.6g} N m")
     lines.append(f"Events ({len(run.events)}):")
     if run.events:
-        lines.append(f"  {'phase deg':>10}  {'kind':<14} {'drop ' + u:>11} "
-                     f"{'tilt chg deg':>12}  before -> after")
+        lines.append(
+            f"  {'phase deg':>10}  {'kind':<14} {'drop ' + u:>11} "
+            f"{'tilt chg deg':>12}  before -> after"
+        )
         for e in run.events:
-            lines.append(f"  {e.phase:10.4f}  {e.kind:<14} {e.drop:11.6f} "
-                         f"{e.tilt_change:12.4f}  {e.before or '-'} -> {e.after or '-'}")
+            lines.append(
+                f"  {e.phase:10.4f}  {e.kind:<14} {e.drop:11.6f} "
+                f"{e.tilt_change:12.4f}  {e.before or '-'} -> {e.after or '-'}"
+            )
     return "\n".join(lines)
 
 
@@ -192,8 +244,10 @@ def _figure_path(plot: Path | None) -> Path | None:
     if plot is None:
         return None
     if plot.suffix.lower() not in _FIGURE_FORMATS:
-        raise InputError(f"--plot {plot}: expected a file ending in "
-                         f"{', '.join(_FIGURE_FORMATS)} (got {plot.suffix or 'no suffix'!r})")
+        raise InputError(
+            f"--plot {plot}: expected a file ending in "
+            f"{', '.join(_FIGURE_FORMATS)} (got {plot.suffix or 'no suffix'!r})"
+        )
     if plot.is_dir():
         raise InputError(f"--plot {plot}: is a folder; give a file name")
     return plot
@@ -218,41 +272,65 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
 
     fig = new_figure((8.0, 8.0))
     axes = fig.subplots(3, 1, sharex=True)
-    series = ((height, f"compliance centre height [{run.units}]"),
-              (tilt, "tilt of the bolt axis [deg]"), (torque, "driver torque [N m]"))
+    series = (
+        (height, f"compliance centre height [{run.units}]"),
+        (tilt, "tilt of the bolt axis [deg]"),
+        (torque, "driver torque [N m]"),
+    )
     for ax, (values, label) in zip(axes, series, strict=True):
         ax.plot(phase, values, ".-", color="#3182bd", lw=1.2, ms=3)
         ax.set_ylabel(label)
         ax.grid(True, color="0.9")
         for e in run.events:
             snap = e.kind == "snap"
-            ax.axvline(e.phase, color="#d62728" if snap else "0.55", lw=2.0 if snap else 0.8,
-                       ls="-" if snap else "--", zorder=0)
+            ax.axvline(
+                e.phase,
+                color="#d62728" if snap else "0.55",
+                lw=2.0 if snap else 0.8,
+                ls="-" if snap else "--",
+                zorder=0,
+            )
     top = axes[0]
     for e in run.events:
         snap = e.kind == "snap"
         text = f"snap: click {e.drop:.4g} {run.units}" if snap else e.kind
-        top.annotate(text, (e.phase, 1.0), xycoords=("data", "axes fraction"),
-                     xytext=(2, -4), textcoords="offset points", rotation=90, va="top",
-                     ha="left", fontsize="small" if snap else "x-small",
-                     fontweight="bold" if snap else "normal",
-                     color="#d62728" if snap else "0.35")
+        top.annotate(
+            text,
+            (e.phase, 1.0),
+            xycoords=("data", "axes fraction"),
+            xytext=(2, -4),
+            textcoords="offset points",
+            rotation=90,
+            va="top",
+            ha="left",
+            fontsize="small" if snap else "x-small",
+            fontweight="bold" if snap else "normal",
+            color="#d62728" if snap else "0.35",
+        )
     axes[-1].set_xlabel("phase [deg]")
     if spec.handedness < 0:
         axes[-1].invert_xaxis()  # the search turns clockwise: time runs right to left
     p = run.parameters
     k = p["stiffness"]
-    outcome = ("no snap within " f"{run.turns:g} turn(s)" if run.snap is None
-               else f"snap at {run.snap.phase:.2f} deg after {run.snap_turn:.2f} deg")
-    fig.suptitle(f"{_name(spec)}: search from roll {run.held_roll:g}, pitch "
-                 f"{run.held_pitch:g}, phase {run.start_phase:g} deg - {outcome}\n"
-                 f"F {p['force']:g} N, k {k['roll']:g}/{k['pitch']:g} N m/rad, "
-                 f"mu {p['friction']:g}, work {run.work:.4g} mJ", fontsize="medium")
+    outcome = (
+        f"no snap within {run.turns:g} turn(s)"
+        if run.snap is None
+        else f"snap at {run.snap.phase:.2f} deg after {run.snap_turn:.2f} deg"
+    )
+    fig.suptitle(
+        f"{_name(spec)}: search from roll {run.held_roll:g}, pitch "
+        f"{run.held_pitch:g}, phase {run.start_phase:g} deg - {outcome}\n"
+        f"F {p['force']:g} N, k {k['roll']:g}/{k['pitch']:g} N m/rad, "
+        f"mu {p['friction']:g}, work {run.work:.4g} mJ",
+        fontsize="medium",
+    )
     return save_figure(fig, path, _FIGURE_FORMATS[path.suffix.lower()])
 
 
 # -- commands --------------------------------------------------------------------------------
-@cli.command("settle", help=f"""The rest state of a bolt held through a compliance.
+@cli.command(
+    "settle",
+    help=f"""The rest state of a bolt held through a compliance.
 
 The tool holds the bolt's tilt at ROLL and PITCH through a rotational stiffness about the
 compliance centre, spins it to PHASE and presses it down with FORCE (degrees,
@@ -268,15 +346,37 @@ contact.
 
 {DEFAULTS_NOTE}
 
-{SPEC_HELP}""")
+{SPEC_HELP}""",
+)
 @_mechanics_options
-def settle_command(spec_text: str, roll: float, pitch: float, phase: float, force: float,
-                   stiffness_text: str, lateral_stiffness: float | None, friction: float,
-                   compliance_z: float, chord: float | None, condition: str,
-                   as_json: bool) -> None:
+def settle_command(
+    spec_text: str,
+    roll: float,
+    pitch: float,
+    phase: float,
+    force: float,
+    stiffness_text: str,
+    lateral_stiffness: float | None,
+    friction: float,
+    compliance_z: float,
+    chord: float | None,
+    condition: str,
+    as_json: bool,
+) -> None:
     """One rest state (see the command's help)."""
-    spec, compliance = _setup(spec_text, roll, pitch, phase, force, stiffness_text,
-                              lateral_stiffness, friction, compliance_z, chord, condition)
+    spec, compliance = _setup(
+        spec_text,
+        roll,
+        pitch,
+        phase,
+        force,
+        stiffness_text,
+        lateral_stiffness,
+        friction,
+        compliance_z,
+        chord,
+        condition,
+    )
     rest = settle(spec, roll, pitch, phase, compliance=compliance, chord=chord)
     if as_json:
         emit_json(rest.to_dict())
@@ -284,7 +384,9 @@ def settle_command(spec_text: str, roll: float, pitch: float, phase: float, forc
         click.echo(_settle_text(spec, rest))
 
 
-@cli.command("search", help=f"""The counter-clockwise search simulated from a start.
+@cli.command(
+    "search",
+    help=f"""The counter-clockwise search simulated from a start.
 
 From the rest state at the held tilt ROLL, PITCH and the start PHASE, the driver turns the
 bolt the way that unscrews it (counter-clockwise for a right-hand thread) in steps of
@@ -299,34 +401,80 @@ N/m, lengths in the spec's units, angles in degrees, work in mJ.
 
 {DEFAULTS_NOTE}
 
-{SPEC_HELP}""")
+{SPEC_HELP}""",
+)
 @_mechanics_options
-@click.option("--turns", type=float, default=1.0, show_default=True,
-              help=f"How far to search, in turns of 360 degrees (> 0, at most {MAX_TURNS:g}).")
-@click.option("--step", type=float, default=CONTINUATION_STEP, show_default=True,
-              help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).")
-@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Write the snap signature (compliance centre height, tilt of the bolt "
-                   "axis, driver torque against phase, events marked) to this .png, .pdf "
-                   "or .svg file.")
-def search_command(spec_text: str, roll: float, pitch: float, phase: float, force: float,
-                   stiffness_text: str, lateral_stiffness: float | None, friction: float,
-                   compliance_z: float, chord: float | None, condition: str, as_json: bool,
-                   turns: float, step: float, plot: Path | None) -> None:
+@click.option(
+    "--turns",
+    type=float,
+    default=1.0,
+    show_default=True,
+    help=f"How far to search, in turns of 360 degrees (> 0, at most {MAX_TURNS:g}).",
+)
+@click.option(
+    "--step",
+    type=float,
+    default=CONTINUATION_STEP,
+    show_default=True,
+    help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).",
+)
+@click.option(
+    "--plot",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Write the snap signature (compliance centre height, tilt of the bolt "
+    "axis, driver torque against phase, events marked) to this .png, .pdf "
+    "or .svg file.",
+)
+def search_command(
+    spec_text: str,
+    roll: float,
+    pitch: float,
+    phase: float,
+    force: float,
+    stiffness_text: str,
+    lateral_stiffness: float | None,
+    friction: float,
+    compliance_z: float,
+    chord: float | None,
+    condition: str,
+    as_json: bool,
+    turns: float,
+    step: float,
+    plot: Path | None,
+) -> None:
     """The simulated search (see the command's help)."""
     if not (math.isfinite(turns) and 0 < turns <= MAX_TURNS):
-        raise InputError(f"--turns {turns:g} is out of range: give turns within "
-                         f"(0, {MAX_TURNS:g}]")
+        raise InputError(f"--turns {turns:g} is out of range: give turns within (0, {MAX_TURNS:g}]")
     if not (math.isfinite(step) and 0 < step <= MAX_STEP):
-        raise InputError(f"--step {step:g} is out of range: give degrees within "
-                         f"(0, {MAX_STEP:g}]")
+        raise InputError(f"--step {step:g} is out of range: give degrees within (0, {MAX_STEP:g}]")
     figure = _figure_path(plot)
-    spec, compliance = _setup(spec_text, roll, pitch, phase, force, stiffness_text,
-                              lateral_stiffness, friction, compliance_z, chord, condition)
+    spec, compliance = _setup(
+        spec_text,
+        roll,
+        pitch,
+        phase,
+        force,
+        stiffness_text,
+        lateral_stiffness,
+        friction,
+        compliance_z,
+        chord,
+        condition,
+    )
     with _progress_bar("search (deg)") as callback:
-        run = search(spec, roll, pitch, phase, compliance=compliance, turns=turns, step=step,
-                     phase_tolerance=min(PHASE_TOLERANCE, step), chord=chord,
-                     progress=callback)
+        run = search(
+            spec,
+            roll,
+            pitch,
+            phase,
+            compliance=compliance,
+            turns=turns,
+            step=step,
+            phase_tolerance=min(PHASE_TOLERANCE, step),
+            chord=chord,
+            progress=callback,
+        )
     if figure is not None:
         plot_search(spec, run, figure)
     if as_json:
@@ -336,5 +484,7 @@ def search_command(spec_text: str, roll: float, pitch: float, phase: float, forc
         if figure is not None:
             click.echo(f"wrote {figure}")
     if run.snap is None:
-        raise NoPathError(f"no snap within {turns:g} turn(s) from roll {roll:g}, pitch "
-                          f"{pitch:g}, phase {phase:g} deg")
+        raise NoPathError(
+            f"no snap within {turns:g} turn(s) from roll {roll:g}, pitch "
+            f"{pitch:g}, phase {phase:g} deg"
+        )

@@ -16,8 +16,9 @@ from ._options import chord_option, condition_option
 __all__ = ["mesh", "mesh_document"]
 
 
-def mesh_document(text: str, out_dir: str | Path, chord: float | None = None,
-                  condition: str = "mean") -> dict[str, Any]:
+def mesh_document(
+    text: str, out_dir: str | Path, chord: float | None = None, condition: str = "mean"
+) -> dict[str, Any]:
     """Tessellate a designation or spec file into ``out_dir/bolt.stl`` and ``nut.stl``.
 
     Both files are written through temporary files and renamed only once both are
@@ -38,24 +39,39 @@ def mesh_document(text: str, out_dir: str | Path, chord: float | None = None,
         "units": spec.units,
         "designation": spec.designation,
         "chord": bolt.chord,
-        "bolt": {"path": str(paths["bolt"]), "triangles": bolt.triangles,
-                 "max_deviation": bolt.max_deviation},
-        "nut": {"path": str(paths["nut"]), "triangles": nut.triangles,
-                "max_deviation": nut.max_deviation},
+        "bolt": {
+            "path": str(paths["bolt"]),
+            "triangles": bolt.triangles,
+            "max_deviation": bolt.max_deviation,
+        },
+        "nut": {
+            "path": str(paths["nut"]),
+            "triangles": nut.triangles,
+            "max_deviation": nut.max_deviation,
+        },
     }
 
 
-@cli.command("mesh", help="Write the bolt and nut as binary STL (DIR/bolt.stl, DIR/nut.stl), "
-                          f"each in its own frame. {SPEC_HELP}")
+@cli.command(
+    "mesh",
+    help="Write the bolt and nut as binary STL (DIR/bolt.stl, DIR/nut.stl), "
+    f"each in its own frame. {SPEC_HELP}",
+)
 @click.argument("designation", metavar="DESIGNATION|SPEC")
-@click.option("-o", "--output", "out_dir", required=True,
-              type=click.Path(file_okay=False, path_type=Path),
-              help="Folder for bolt.stl and nut.stl (created if missing).")
+@click.option(
+    "-o",
+    "--output",
+    "out_dir",
+    required=True,
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Folder for bolt.stl and nut.stl (created if missing).",
+)
 @chord_option
 @condition_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def mesh(designation: str, out_dir: Path, chord: float | None, condition: str,
-         as_json: bool) -> None:
+def mesh(
+    designation: str, out_dir: Path, chord: float | None, condition: str, as_json: bool
+) -> None:
     """Tessellate a thread pair and write its two STL files."""
     doc = mesh_document(designation, out_dir, chord, condition.lower())
     if as_json:
@@ -65,5 +81,7 @@ def mesh(designation: str, out_dir: Path, chord: float | None, condition: str,
     click.echo(f"{doc['designation'] or 'thread spec'}: chord {doc['chord']:g} {units}")
     for name in ("bolt", "nut"):
         part = doc[name]
-        click.echo(f"  {name:4} {part['path']}  {part['triangles']} triangles, "
-                   f"max deviation {part['max_deviation']:.3g} {units}")
+        click.echo(
+            f"  {name:4} {part['path']}  {part['triangles']} triangles, "
+            f"max deviation {part['max_deviation']:.3g} {units}"
+        )

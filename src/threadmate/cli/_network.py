@@ -43,15 +43,29 @@ def _out_file(path: str, option: str, suffixes: tuple[str, ...] | None = None) -
 
 
 def _graph_options(func: Any) -> Any:
-    for option in reversed([
-        click.option("--active", is_flag=True,
-                     help="Add active moves: change the held tilt by one grid step (lift "
-                          "and re-drop), each at its stated cost."),
-        click.option("--jump-penalty", type=float, default=0.0, show_default=True,
-                     help="Weight of a jump [mJ] (a jump releases energy; 0 by default)."),
-        click.option("--move-penalty", type=float, default=None,
-                     help="Price of one active move [mJ] (default: force x thread pitch)."),
-    ]):
+    for option in reversed(
+        [
+            click.option(
+                "--active",
+                is_flag=True,
+                help="Add active moves: change the held tilt by one grid step (lift "
+                "and re-drop), each at its stated cost.",
+            ),
+            click.option(
+                "--jump-penalty",
+                type=float,
+                default=0.0,
+                show_default=True,
+                help="Weight of a jump [mJ] (a jump releases energy; 0 by default).",
+            ),
+            click.option(
+                "--move-penalty",
+                type=float,
+                default=None,
+                help="Price of one active move [mJ] (default: force x thread pitch).",
+            ),
+        ]
+    ):
         func = option(func)
     return func
 
@@ -70,31 +84,52 @@ def _summary(graph: Any) -> tuple[dict[str, Any], Any]:
     ok = out[~out["failed"]]
     snapped = ok[ok["snapped"]]
     return {
-        "nodes": graph.number_of_nodes(), "edges": graph.number_of_edges(),
-        "node_classes": classes, "edge_kinds": kinds, "edge_labels": labels,
-        "starts": len(out), "failed_starts": out.loc[out["failed"], "node"].tolist(),
+        "nodes": graph.number_of_nodes(),
+        "edges": graph.number_of_edges(),
+        "node_classes": classes,
+        "edge_kinds": kinds,
+        "edge_labels": labels,
+        "starts": len(out),
+        "failed_starts": out.loc[out["failed"], "node"].tolist(),
         "snap_within_one_turn": len(snapped),
         "never_snap": ok.loc[~ok["snapped"], "node"].tolist(),
         "passes_unstable": ok.loc[ok["passes_unstable"], "node"].tolist(),
-        "cost_to_snap": {n: float(w) for n, w in zip(snapped["node"], snapped["work"],
-                                                     strict=True)},
+        "cost_to_snap": {
+            n: float(w) for n, w in zip(snapped["node"], snapped["work"], strict=True)
+        },
     }, out
 
 
 @cli.command("network")
 @click.argument("library", type=click.Path())
-@click.option("-o", "--output", required=True, type=click.Path(),
-              help="GraphML file to write (.graphml).")
-@click.option("--json-graph", type=click.Path(), default=None,
-              help="Also write the network as node-link JSON to this file.")
-@click.option("--starts-csv", type=click.Path(), default=None,
-              help="Also write every start's outcome (snaps within a turn, turn, work, "
-                   "click, peak torque, unstable passage) to this CSV file.")
+@click.option(
+    "-o", "--output", required=True, type=click.Path(), help="GraphML file to write (.graphml)."
+)
+@click.option(
+    "--json-graph",
+    type=click.Path(),
+    default=None,
+    help="Also write the network as node-link JSON to this file.",
+)
+@click.option(
+    "--starts-csv",
+    type=click.Path(),
+    default=None,
+    help="Also write every start's outcome (snaps within a turn, turn, work, "
+    "click, peak torque, unstable passage) to this CSV file.",
+)
 @_graph_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def network_command(library: str, output: str, json_graph: str | None,
-                    starts_csv: str | None, active: bool, jump_penalty: float,
-                    move_penalty: float | None, as_json: bool) -> None:
+def network_command(
+    library: str,
+    output: str,
+    json_graph: str | None,
+    starts_csv: str | None,
+    active: bool,
+    jump_penalty: float,
+    move_penalty: float | None,
+    as_json: bool,
+) -> None:
     """Build the contact-state network of LIBRARY (a mechanics library) and write it as
     GraphML.
 
@@ -108,29 +143,38 @@ def network_command(library: str, output: str, json_graph: str | None,
     link = _out_file(json_graph, "--json-graph", (".json",)) if json_graph else None
     csv = _out_file(starts_csv, "--starts-csv", (".csv",)) if starts_csv else None
     t0 = time.perf_counter()
-    graph = from_library(library, active=active, jump_penalty=jump_penalty,
-                         move_penalty=move_penalty)
+    graph = from_library(
+        library, active=active, jump_penalty=jump_penalty, move_penalty=move_penalty
+    )
     doc, outcomes = _summary(graph)
     written = [write_graphml(graph, out)]
     if link is not None:
         written.append(write_node_link(graph, link))
     if csv is not None:
         written.append(atomic_write_text(csv, outcomes.to_csv(index=False)))
-    doc.update(library=library, graphml=str(out),
-               node_link=str(link) if link is not None else None,
-               starts_csv=str(csv) if csv is not None else None,
-               units={"length": graph.graph["units"], "angle": "deg", "cost": "mJ"},
-               weight_formula=WEIGHT_FORMULA, active=active,
-               seconds=round(time.perf_counter() - t0, 3))
+    doc.update(
+        library=library,
+        graphml=str(out),
+        node_link=str(link) if link is not None else None,
+        starts_csv=str(csv) if csv is not None else None,
+        units={"length": graph.graph["units"], "angle": "deg", "cost": "mJ"},
+        weight_formula=WEIGHT_FORMULA,
+        active=active,
+        seconds=round(time.perf_counter() - t0, 3),
+    )
     if as_json:
         emit_json(doc)
         return
-    click.echo(f"network of {library}: {doc['nodes']} states, {doc['edges']} edges "
-               f"({', '.join(f'{v} {k}' for k, v in sorted(doc['edge_kinds'].items()))})")
-    click.echo(f"starts: {doc['starts']}; snap within one turn: "
-               f"{doc['snap_within_one_turn']}; never within one turn: "
-               f"{len(doc['never_snap'])}; path passes an unstable transition: "
-               f"{len(doc['passes_unstable'])}; failed: {len(doc['failed_starts'])}")
+    click.echo(
+        f"network of {library}: {doc['nodes']} states, {doc['edges']} edges "
+        f"({', '.join(f'{v} {k}' for k, v in sorted(doc['edge_kinds'].items()))})"
+    )
+    click.echo(
+        f"starts: {doc['starts']}; snap within one turn: "
+        f"{doc['snap_within_one_turn']}; never within one turn: "
+        f"{len(doc['never_snap'])}; path passes an unstable transition: "
+        f"{len(doc['passes_unstable'])}; failed: {len(doc['failed_starts'])}"
+    )
     for path in written:
         click.echo(f"wrote {path}")
 
@@ -140,16 +184,34 @@ def network_command(library: str, output: str, json_graph: str | None,
 @click.option("--roll", type=float, required=True, help="Held roll of the start [deg].")
 @click.option("--pitch", type=float, required=True, help="Held pitch of the start [deg].")
 @click.option("--phase", type=float, required=True, help="Start phase [deg] (modulo 360).")
-@click.option("--k", "k", type=int, default=1, show_default=True,
-              help=f"Paths to report, the least-resistance one first (at most {MAX_K}; "
-                   "passively there is only one).")
-@click.option("--nearest", is_flag=True,
-              help="Take the nearest start of the grid when the one asked for is not on it.")
+@click.option(
+    "--k",
+    "k",
+    type=int,
+    default=1,
+    show_default=True,
+    help=f"Paths to report, the least-resistance one first (at most {MAX_K}; "
+    "passively there is only one).",
+)
+@click.option(
+    "--nearest",
+    is_flag=True,
+    help="Take the nearest start of the grid when the one asked for is not on it.",
+)
 @_graph_options
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def path_command(library: str, roll: float, pitch: float, phase: float, k: int,
-                 nearest: bool, active: bool, jump_penalty: float,
-                 move_penalty: float | None, as_json: bool) -> None:
+def path_command(
+    library: str,
+    roll: float,
+    pitch: float,
+    phase: float,
+    k: int,
+    nearest: bool,
+    active: bool,
+    jump_penalty: float,
+    move_penalty: float | None,
+    as_json: bool,
+) -> None:
     """The least-resistance path from a start of LIBRARY to the snap.
 
     Without --active it is the passive search from that start (as `threadmate search`
@@ -159,26 +221,34 @@ def path_command(library: str, roll: float, pitch: float, phase: float, k: int,
     check_angle("pitch", pitch, MAX_TILT)
     check_angle("phase", phase, 1e6)
     if isinstance(k, bool) or not 1 <= k <= MAX_K:
-        raise InputError(f"--k {k}: give a whole number from 1 to {MAX_K} (the cost of "
-                         "finding alternatives grows with k)")
-    graph = from_library(library, active=active, jump_penalty=jump_penalty,
-                         move_penalty=move_penalty)
+        raise InputError(
+            f"--k {k}: give a whole number from 1 to {MAX_K} (the cost of "
+            "finding alternatives grows with k)"
+        )
+    graph = from_library(
+        library, active=active, jump_penalty=jump_penalty, move_penalty=move_penalty
+    )
     best = k_best_paths(graph, k, roll, pitch, phase, active=active, nearest=nearest)
     if as_json:
         emit_json(best.to_dict())
         return
     if best.moved:
-        echo_err(f"threadmate: note: roll {roll:g}, pitch {pitch:g}, phase {phase:g} is off "
-                 f"the grid; starting from the nearest start, {best.start}")
+        echo_err(
+            f"threadmate: note: roll {roll:g}, pitch {pitch:g}, phase {phase:g} is off "
+            f"the grid; starting from the nearest start, {best.start}"
+        )
     for rank, result in enumerate([best, *best.alternatives], 1):
         title = "least-resistance path" if rank == 1 else f"alternative {rank}"
-        click.echo(f"{title}: {len(result.path) - 1} transitions, cost {result.cost:.4g} mJ, "
-                   f"turn {result.turn:.2f} deg, snap at phase {result.snap['phase']:.2f} "
-                   f"deg, click {result.snap['drop']:.4g} {graph.graph['units']}"
-                   + ("; passes an unstable transition" if result.passes_unstable else ""))
+        click.echo(
+            f"{title}: {len(result.path) - 1} transitions, cost {result.cost:.4g} mJ, "
+            f"turn {result.turn:.2f} deg, snap at phase {result.snap['phase']:.2f} "
+            f"deg, click {result.snap['drop']:.4g} {graph.graph['units']}"
+            + ("; passes an unstable transition" if result.passes_unstable else "")
+        )
         click.echo(f"  {result.path[0]}  ({graph.nodes[result.path[0]]['classification']})")
-        for node, kind, label, w in zip(result.path[1:], result.kinds, result.labels,
-                                        result.weights, strict=True):
+        for node, kind, label, w in zip(
+            result.path[1:], result.kinds, result.labels, result.weights, strict=True
+        ):
             click.echo(f"  -> {node}  {kind:<9} {label:<12} {w:10.4g} mJ")
     if len(best.alternatives) < k - 1:
         click.echo(f"only {len(best.alternatives) + 1} distinct path(s) exist")
@@ -186,17 +256,36 @@ def path_command(library: str, roll: float, pitch: float, phase: float, k: int,
 
 @cli.command("recommend")
 @click.argument("libraries", nargs=-1, required=True, type=click.Path())
-@click.option("--roll-spread", type=float, default=None,
-              help="Largest roll error expected [deg]: starts have |held roll| <= spread "
-                   "(default: every roll of the grid).")
-@click.option("--plot", "plot", type=click.Path(), default=None,
-              help="Write the figure (snap share and mean turn vs held pitch) to this "
-                   ".png/.pdf/.svg.")
-@click.option("--output", "-o", "output", type=click.Path(), default=None,
-              help="Also write the recommendation's JSON document to this file.")
+@click.option(
+    "--roll-spread",
+    type=float,
+    default=None,
+    help="Largest roll error expected [deg]: starts have |held roll| <= spread "
+    "(default: every roll of the grid).",
+)
+@click.option(
+    "--plot",
+    "plot",
+    type=click.Path(),
+    default=None,
+    help="Write the figure (snap share and mean turn vs held pitch) to this .png/.pdf/.svg.",
+)
+@click.option(
+    "--output",
+    "-o",
+    "output",
+    type=click.Path(),
+    default=None,
+    help="Also write the recommendation's JSON document to this file.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def recommend_command(libraries: tuple[str, ...], roll_spread: float | None,
-                      plot: str | None, output: str | None, as_json: bool) -> None:
+def recommend_command(
+    libraries: tuple[str, ...],
+    roll_spread: float | None,
+    plot: str | None,
+    output: str | None,
+    as_json: bool,
+) -> None:
     """Recommend the SRCC setting from one or more LIBRARIES (same thread and grid; give
     several to compare compliances).
 

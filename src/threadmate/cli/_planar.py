@@ -35,7 +35,9 @@ def _pivot_path(plot: Path) -> Path:
     return plot.with_name(f"{plot.stem}-pivot{plot.suffix}")
 
 
-@cli.command("planar", help=f"""Contact of the bolt standing flush on the nut at one phase.
+@cli.command(
+    "planar",
+    help=f"""Contact of the bolt standing flush on the nut at one phase.
 
 The bolt (roll = pitch = 0, tip face in the nut's top plane) is turned to PHASE degrees,
 counter-clockwise seen from above. Prints the contact points where the bolt's tip outline
@@ -44,22 +46,43 @@ contact, the common normal), the contact angle, the pivot axis, the in-phase win
 the critical phases at which a contact changes regions. Lengths are in the spec's units,
 angles in degrees.
 
-{SPEC_HELP}""")
+{SPEC_HELP}""",
+)
 @click.argument("spec_text", metavar="DESIGNATION|SPEC")
-@click.option("--phase", type=float, default=DEFAULT_PHASE, show_default=True,
-              help="Bolt phase in degrees (any finite value, taken modulo 360). The default "
-                   "is the thesis's example phase, where two contacts show.")
+@click.option(
+    "--phase",
+    type=float,
+    default=DEFAULT_PHASE,
+    show_default=True,
+    help="Bolt phase in degrees (any finite value, taken modulo 360). The default "
+    "is the thesis's example phase, where two contacts show.",
+)
 @condition_option
-@click.option("--json", "as_json", is_flag=True,
-              help="Print one JSON document on stdout instead of text.")
-@click.option("--plot", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Write the contact-region combination disk (one turn of phase) to this "
-                   ".png or .svg file, and the pivot-axis chart beside it as "
-                   "<stem>-pivot<suffix> unless --pivot-plot names another file.")
-@click.option("--pivot-plot", type=click.Path(dir_okay=False, path_type=Path), default=None,
-              help="Write the pivot-axis-versus-phase chart to this .png or .svg file.")
-def planar(spec_text: str, phase: float, condition: str, as_json: bool, plot: Path | None,
-           pivot_plot: Path | None) -> None:
+@click.option(
+    "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
+)
+@click.option(
+    "--plot",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Write the contact-region combination disk (one turn of phase) to this "
+    ".png or .svg file, and the pivot-axis chart beside it as "
+    "<stem>-pivot<suffix> unless --pivot-plot names another file.",
+)
+@click.option(
+    "--pivot-plot",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Write the pivot-axis-versus-phase chart to this .png or .svg file.",
+)
+def planar(
+    spec_text: str,
+    phase: float,
+    condition: str,
+    as_json: bool,
+    plot: Path | None,
+    pivot_plot: Path | None,
+) -> None:
     """Report the planar contact state (see the command's help)."""
     if not math.isfinite(phase):
         raise InputError(f"--phase {phase} is not a finite number of degrees")
@@ -99,8 +122,13 @@ def planar(spec_text: str, phase: float, condition: str, as_json: bool, plot: Pa
     _echo_text(spec, state, window, critical, figures)
 
 
-def _echo_text(spec: ThreadSpec, state: PlanarState, window: list[tuple[float, float]],
-               critical: list[CriticalPhase], figures: list[Path]) -> None:
+def _echo_text(
+    spec: ThreadSpec,
+    state: PlanarState,
+    window: list[tuple[float, float]],
+    critical: list[CriticalPhase],
+    figures: list[Path],
+) -> None:
     u = spec.units
     name = spec.designation or "spec"
     click.echo(f"{name}: bolt flush on nut at phase {state.phase:g} deg")
@@ -114,9 +142,11 @@ def _echo_text(spec: ThreadSpec, state: PlanarState, window: list[tuple[float, f
         click.echo(f"  contact angle: {state.contact_angle:.4f} deg")
         click.echo(f"  pivot axis length: {state.pivot_axis_length:.6g} {u}")
         for i, c in enumerate(state.contacts):
-            click.echo(f"  contact {i % 2 + 1}: theta {c.theta:.4f} deg, x {c.x:.6g} {u}, "
-                       f"y {c.y:.6g} {u}, bolt {c.bolt_region} / nut {c.nut_region}, "
-                       f"normal (0, 0, 1)")
+            click.echo(
+                f"  contact {i % 2 + 1}: theta {c.theta:.4f} deg, x {c.x:.6g} {u}, "
+                f"y {c.y:.6g} {u}, bolt {c.bolt_region} / nut {c.nut_region}, "
+                f"normal (0, 0, 1)"
+            )
     click.echo("  critical phases (deg):")
     for cp in critical:
         before = "in phase" if cp.before is None else f"{cp.before[0]}/{cp.before[1]}"

@@ -30,59 +30,104 @@ def _values(text: str | None, option: str) -> list[float]:
     try:
         return [float(v) for v in text.split(",") if v.strip()]
     except ValueError:
-        raise InputError(f"{option} {text!r}: give numbers separated by commas, e.g. "
-                         "0.5,1,2") from None
+        raise InputError(
+            f"{option} {text!r}: give numbers separated by commas, e.g. 0.5,1,2"
+        ) from None
 
 
-@cli.command("run", help=f"""Run the whole pipeline for DESIGNATION|SPEC into DIR.
+@cli.command(
+    "run",
+    help=f"""Run the whole pipeline for DESIGNATION|SPEC into DIR.
 
 Sweeps (or resumes, or reuses) the mechanics library DIR/library, builds the network,
 recommends the SRCC setting and writes DIR/network.graphml, DIR/starts.csv,
 DIR/recommendation.json, DIR/figures/ and DIR/report.md. Default: {DEFAULT_DESIGNATION}
-on held roll {RUN_GRID['roll']}, pitch {RUN_GRID['pitch']}, phase {RUN_GRID['phase']}
-(degrees). {SPEC_HELP} {DEFAULTS_NOTE}""")
-@click.argument("spec_text", metavar="[DESIGNATION|SPEC]", required=False,
-                default=DEFAULT_DESIGNATION)
-@click.option("-o", "--out", type=click.Path(path_type=Path), default=Path("threadmate-run"),
-              show_default=True, help="Output folder.")
-@click.option("--roll", default=None,
-              help=f"Held roll grid: {_RANGE_HELP} (default {RUN_GRID['roll']}).")
-@click.option("--pitch", default=None,
-              help=f"Held pitch grid: {_RANGE_HELP} (default {RUN_GRID['pitch']}).")
-@click.option("--phase", default=None,
-              help=f"Start phase grid: {_RANGE_HELP} (default {RUN_GRID['phase']}).")
+on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["phase"]}
+(degrees). {SPEC_HELP} {DEFAULTS_NOTE}""",
+)
+@click.argument(
+    "spec_text", metavar="[DESIGNATION|SPEC]", required=False, default=DEFAULT_DESIGNATION
+)
+@click.option(
+    "-o",
+    "--out",
+    type=click.Path(path_type=Path),
+    default=Path("threadmate-run"),
+    show_default=True,
+    help="Output folder.",
+)
+@click.option(
+    "--roll", default=None, help=f"Held roll grid: {_RANGE_HELP} (default {RUN_GRID['roll']})."
+)
+@click.option(
+    "--pitch", default=None, help=f"Held pitch grid: {_RANGE_HELP} (default {RUN_GRID['pitch']})."
+)
+@click.option(
+    "--phase", default=None, help=f"Start phase grid: {_RANGE_HELP} (default {RUN_GRID['phase']})."
+)
 @compliance_options
-@click.option("--compare-stiffness", default=None, metavar="K1,K2,...",
-              help="Also compare these rotational stiffnesses [N m/rad] (one library each).")
-@click.option("--compare-force", default=None, metavar="F1,F2,...",
-              help="Also compare these axial forces [N] (one library each).")
-@click.option("--step", type=float, default=CONTINUATION_STEP, show_default=True,
-              help="Continuation step of the search [deg].")
+@click.option(
+    "--compare-stiffness",
+    default=None,
+    metavar="K1,K2,...",
+    help="Also compare these rotational stiffnesses [N m/rad] (one library each).",
+)
+@click.option(
+    "--compare-force",
+    default=None,
+    metavar="F1,F2,...",
+    help="Also compare these axial forces [N] (one library each).",
+)
+@click.option(
+    "--step",
+    type=float,
+    default=CONTINUATION_STEP,
+    show_default=True,
+    help="Continuation step of the search [deg].",
+)
 @click.option("--workers", type=int, default=None, help="Worker processes (default: all cores).")
 @click.option("--scheduler", default=None, help="Dask scheduler address, or 'local'.")
 @chord_option
-@click.option("--roll-spread", type=float, default=None,
-              help="Roll errors to expect, +/- degrees (default: the whole grid).")
+@click.option(
+    "--roll-spread",
+    type=float,
+    default=None,
+    help="Roll errors to expect, +/- degrees (default: the whole grid).",
+)
 @condition_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def run_command(spec_text: str, out: Path, roll: str | None, pitch: str | None,
-                phase: str | None, force: float, stiffness_text: str,
-                lateral_stiffness: float | None, friction: float, compliance_z: float,
-                compare_stiffness: str | None, compare_force: str | None, step: float,
-                workers: int | None, scheduler: str | None, chord: float | None,
-                roll_spread: float | None, condition: str, as_json: bool) -> None:
+def run_command(
+    spec_text: str,
+    out: Path,
+    roll: str | None,
+    pitch: str | None,
+    phase: str | None,
+    force: float,
+    stiffness_text: str,
+    lateral_stiffness: float | None,
+    friction: float,
+    compliance_z: float,
+    compare_stiffness: str | None,
+    compare_force: str | None,
+    step: float,
+    workers: int | None,
+    scheduler: str | None,
+    chord: float | None,
+    roll_spread: float | None,
+    condition: str,
+    as_json: bool,
+) -> None:
     """The main job (help text above)."""
     if workers is not None and workers < 1:
         raise InputError(f"--workers {workers} must be at least 1")
     if roll_spread is not None and not (0 <= roll_spread <= MAX_TILT):
-        raise InputError(f"--roll-spread {roll_spread:g} must be within 0..{MAX_TILT:g} "
-                         "degrees")
+        raise InputError(f"--roll-spread {roll_spread:g} must be within 0..{MAX_TILT:g} degrees")
     writable_directory(out, "-o")
-    base = compliance_from_options(force, stiffness_text, lateral_stiffness, friction,
-                                   compliance_z)
+    base = compliance_from_options(force, stiffness_text, lateral_stiffness, friction, compliance_z)
     forces = _values(compare_force, "--compare-force")
     stiffnesses: list[float | tuple[float, float]] = list(
-        _values(compare_stiffness, "--compare-stiffness"))
+        _values(compare_stiffness, "--compare-stiffness")
+    )
     compliances = [base]
     for f, k in itertools.product(forces or [base.force], stiffnesses or [base.stiffness]):
         c = dataclasses.replace(base, force=f, stiffness=k)
@@ -92,19 +137,33 @@ def run_command(spec_text: str, out: Path, roll: str | None, pitch: str | None,
     for c in compliances:
         c.check_for(spec.pitch)
     with _progress_bar("sweep") as callback:
-        result = run_pipeline(spec, out, roll=roll, pitch=pitch, phase=phase,
-                              compliances=compliances, workers=workers,
-                              scheduler=scheduler, chord=chord, roll_spread=roll_spread,
-                              step=step, progress=callback)
+        result = run_pipeline(
+            spec,
+            out,
+            roll=roll,
+            pitch=pitch,
+            phase=phase,
+            compliances=compliances,
+            workers=workers,
+            scheduler=scheduler,
+            chord=chord,
+            roll_spread=roll_spread,
+            step=step,
+            progress=callback,
+        )
     if as_json:
         emit_json(result.to_dict())
         return
     best = result.recommended
-    click.echo(f"wrote {result.out}/: {len(result.libraries)} librar"
-               f"{'y' if len(result.libraries) == 1 else 'ies'}, network.graphml, "
-               f"network.json, starts.csv, recommendation.json, figures/ "
-               f"({len(result.figures)}), report.md")
-    click.echo(f"recommended pre-tilt: held pitch {best['held_pitch']:+g} deg; "
-               f"{best['share_snap']:.0%} of starts snap within one turn")
+    click.echo(
+        f"wrote {result.out}/: {len(result.libraries)} librar"
+        f"{'y' if len(result.libraries) == 1 else 'ies'}, network.graphml, "
+        f"network.json, starts.csv, recommendation.json, figures/ "
+        f"({len(result.figures)}), report.md"
+    )
+    click.echo(
+        f"recommended pre-tilt: held pitch {best['held_pitch']:+g} deg; "
+        f"{best['share_snap']:.0%} of starts snap within one turn"
+    )
     for note in result.notes:
         click.echo(f"note: {note}")

@@ -45,8 +45,12 @@ TRAVEL_TOLERANCE = {u: 1e-7 * MM_PER_UNIT["in"] / MM_PER_UNIT[u] for u in ("in",
 def _positive(name: str, value: float | None) -> float | None:
     if value is None:
         return None
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) \
-            or value <= 0:
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float)
+        or not math.isfinite(value)
+        or value <= 0
+    ):
         raise InputError(f"{name} must be a positive length, got {value!r}")
     return float(value)
 
@@ -70,8 +74,10 @@ def check_configuration(roll: float, pitch: float, phase: float) -> tuple[float,
         if not math.isfinite(value):
             raise InputError(f"{name} must be finite, got {value!r}")
         if name != "phase" and abs(value) > MAX_TILT:
-            raise InputError(f"{name} {value:g} deg is out of range: the contact stages take "
-                             f"roll and pitch within +/-{MAX_TILT:g} deg")
+            raise InputError(
+                f"{name} {value:g} deg is out of range: the contact stages take "
+                f"roll and pitch within +/-{MAX_TILT:g} deg"
+            )
         out.append(value)
     return out[0], out[1], out[2]
 
@@ -87,8 +93,9 @@ def _user_mesh(mesh: Any, kind: Literal["bolt", "nut"], spec: ThreadSpec) -> tri
 
         return load_mesh(mesh, kind, spec=spec)
     if not isinstance(mesh, trimesh.Trimesh):
-        raise InputError(f"{kind}_mesh must be a mesh file path or a trimesh.Trimesh, "
-                         f"got {type(mesh).__name__}")
+        raise InputError(
+            f"{kind}_mesh must be a mesh file path or a trimesh.Trimesh, got {type(mesh).__name__}"
+        )
     lo, hi = mesh.bounds
     size = float(np.max(hi - lo))
     slack = 1e-6 * max(size, spec.pitch)
@@ -100,8 +107,10 @@ def _user_mesh(mesh: Any, kind: Literal["bolt", "nut"], spec: ThreadSpec) -> tri
         framed = abs(hi[2]) <= slack and centred
         where = "top face at z = 0, body in z <= 0, axis along Z"
     if not framed:
-        raise InputError(f"{kind} mesh is not in its frame ({where}); its bounds are "
-                         f"{lo.round(6).tolist()} to {hi.round(6).tolist()}")
+        raise InputError(
+            f"{kind} mesh is not in its frame ({where}); its bounds are "
+            f"{lo.round(6).tolist()} to {hi.round(6).tolist()}"
+        )
     if not mesh.is_watertight:
         raise InputError(f"{kind} mesh is not a closed volume (not watertight)")
     return mesh
@@ -114,13 +123,19 @@ def _share(cluster: Cluster, corners: NDArray[np.float64]) -> list[Cluster]:
     n = len(ends) // 2
     mid = 0.5 * (ends[:n] + ends[n:])
     near = np.argmin(np.linalg.norm(mid[:, None] - corners[None], axis=-1), axis=1)
-    return [Cluster(corners[j], int((near == j).sum()),
-                    np.concatenate([ends[:n][near == j], ends[n:][near == j]]))
-            for j in range(len(corners))]
+    return [
+        Cluster(
+            corners[j],
+            int((near == j).sum()),
+            np.concatenate([ends[:n][near == j], ends[n:][near == j]]),
+        )
+        for j in range(len(corners))
+    ]
 
 
-def _flat_support(cluster: Cluster, centre: NDArray[np.float64], separation: float
-                  ) -> list[Cluster] | tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+def _flat_support(
+    cluster: Cluster, centre: NDArray[np.float64], separation: float
+) -> list[Cluster] | tuple[NDArray[np.float64], NDArray[np.float64]] | None:
     """How a tip face resting flat over an area supports the compliance centre.
 
     The area's horizontal convex hull either surrounds the compliance centre (the bolt
@@ -181,15 +196,26 @@ class ContactAnalyzer:
         Search range of the second and third stages (degrees, default 30).
     """
 
-    def __init__(self, spec: ThreadSpec, *, chord: float | None = None,
-                 compliance_z: float = 0.0, bolt_mesh: Any = None, nut_mesh: Any = None,
-                 quasi_tolerance: float | None = None,
-                 interference_tolerance: float | None = None, max_turn: float = 30.0) -> None:
+    def __init__(
+        self,
+        spec: ThreadSpec,
+        *,
+        chord: float | None = None,
+        compliance_z: float = 0.0,
+        bolt_mesh: Any = None,
+        nut_mesh: Any = None,
+        quasi_tolerance: float | None = None,
+        interference_tolerance: float | None = None,
+        max_turn: float = 30.0,
+    ) -> None:
         if not isinstance(spec, ThreadSpec):
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
         chord = _positive("chord", chord)
-        if isinstance(compliance_z, bool) or not isinstance(compliance_z, int | float) \
-                or not math.isfinite(compliance_z):
+        if (
+            isinstance(compliance_z, bool)
+            or not isinstance(compliance_z, int | float)
+            or not math.isfinite(compliance_z)
+        ):
             raise InputError(f"compliance_z must be a finite length, got {compliance_z!r}")
         if not (isinstance(max_turn, int | float) and 0 < max_turn <= 90):
             raise InputError(f"max_turn must be within (0, 90] degrees, got {max_turn!r}")
@@ -214,12 +240,19 @@ class ContactAnalyzer:
         else:
             nm = _user_mesh(nut_mesh, "nut", spec)
             dev_n = float(mesh_deviation(nm, self.nut))
-        self._setup(bm, nm, max(dev_b, dev_n, 0.0), quasi_tolerance, interference_tolerance,
-                    max_turn)
+        self._setup(
+            bm, nm, max(dev_b, dev_n, 0.0), quasi_tolerance, interference_tolerance, max_turn
+        )
 
-    def _setup(self, bolt_mesh: trimesh.Trimesh, nut_mesh: trimesh.Trimesh, deviation: float,
-               quasi_tolerance: float | None, interference_tolerance: float | None,
-               max_turn: float) -> None:
+    def _setup(
+        self,
+        bolt_mesh: trimesh.Trimesh,
+        nut_mesh: trimesh.Trimesh,
+        deviation: float,
+        quasi_tolerance: float | None,
+        interference_tolerance: float | None,
+        max_turn: float,
+    ) -> None:
         spec = self.spec
         self.deviation = deviation
         self.engine = CollisionPair(bolt_mesh, nut_mesh)
@@ -228,15 +261,20 @@ class ContactAnalyzer:
         self._tip = verts[np.abs(verts[:, 2]) <= 1e-9 * spec.pitch]
         self._nut_tree = cKDTree(self.engine.nut_vertices)
         travel = TRAVEL_TOLERANCE[spec.units]
-        self.search = Search(travel=travel, separation=spec.pitch / 4, pitch=spec.pitch,
-                             min_radius=0.5 * min(spec.nut.minor, spec.bolt.minor),
-                             max_turn=float(max_turn))
+        self.search = Search(
+            travel=travel,
+            separation=spec.pitch / 4,
+            pitch=spec.pitch,
+            min_radius=0.5 * min(spec.nut.minor, spec.bolt.minor),
+            max_turn=float(max_turn),
+        )
         bound = max(deviation, 1e-9 * spec.pitch)
         #: Distance within which a contact point is taken to lie on a face or edge.
         self.feature_tolerance = 2.0 * bound + 10.0 * travel
         self.quasi_tolerance = _positive("quasi_tolerance", quasi_tolerance) or spec.pitch / 10
-        self.interference_tolerance = (_positive("interference_tolerance",
-                                                 interference_tolerance) or 4.0 * bound)
+        self.interference_tolerance = (
+            _positive("interference_tolerance", interference_tolerance) or 4.0 * bound
+        )
 
     @property
     def tolerances(self) -> dict[str, float]:
@@ -258,9 +296,17 @@ class ContactAnalyzer:
         out = []
         for c in clusters:
             n, fn, fb = contact_normal(self.nut, self.bolt, pose, c.point, tol)
-            out.append(Contact(_vec(c.point), _vec(n),
-                               c.pairs, region_at(self.bolt, pose.to_bolt(c.point), fb),
-                               region_at(self.nut, c.point, fn), fb.kind, fn.kind))
+            out.append(
+                Contact(
+                    _vec(c.point),
+                    _vec(n),
+                    c.pairs,
+                    region_at(self.bolt, pose.to_bolt(c.point), fb),
+                    region_at(self.nut, c.point, fn),
+                    fb.kind,
+                    fn.kind,
+                )
+            )
         return out
 
     def _centre(self, pose: Pose) -> NDArray[np.float64]:
@@ -276,26 +322,49 @@ class ContactAnalyzer:
         ends = np.concatenate([segs.start, segs.end])
         bolt_tris_b = eng.bolt_vertices[eng.bolt_faces[np.unique(pairs[:, 0])]]
         nut_tris_f = eng.nut_vertices[eng.nut_faces[np.unique(pairs[:, 1])]]
-        return interference_depth(self.bolt, self.nut, pose, eng.bolt_vertices,
-                                  self._bolt_tree, eng.nut_vertices, self._nut_tree,
-                                  bolt_tris_b, nut_tris_f, ends, self.search.separation)
+        return interference_depth(
+            self.bolt,
+            self.nut,
+            pose,
+            eng.bolt_vertices,
+            self._bolt_tree,
+            eng.nut_vertices,
+            self._nut_tree,
+            bolt_tris_b,
+            nut_tris_f,
+            ends,
+            self.search.separation,
+        )
 
-    def _turn(self, name: str, start: Pose, existing: list[tuple[Contact, Cluster]],
-              axis_point: NDArray[np.float64], axis: NDArray[np.float64]
-              ) -> tuple[StageResult, Pose, list[tuple[Contact, Cluster]],
-                         frozenset[int] | None] | None:
-        out = turn_to_new_contact(self.engine, start, axis_point, axis,
-                                  [cl for _, cl in existing], self.search)
+    def _turn(
+        self,
+        name: str,
+        start: Pose,
+        existing: list[tuple[Contact, Cluster]],
+        axis_point: NDArray[np.float64],
+        axis: NDArray[np.float64],
+    ) -> tuple[StageResult, Pose, list[tuple[Contact, Cluster]], frozenset[int] | None] | None:
+        out = turn_to_new_contact(
+            self.engine, start, axis_point, axis, [cl for _, cl in existing], self.search
+        )
         if out is None:
             return None
         found = [c for c in out.existing if c is not None] + out.new
         fresh = iter(zip(self._contacts(out.contact, found), found, strict=True))
         # An existing contact without pairs left lies on the turn axis: it stays put.
-        kept = [next(fresh) if c is not None else old
-                for c, old in zip(out.existing, existing, strict=True)]
+        kept = [
+            next(fresh) if c is not None else old
+            for c, old in zip(out.existing, existing, strict=True)
+        ]
         both = kept + list(fresh)
-        stage = StageResult.at(name, out.free, tuple(c for c, _ in both), out.angle,
-                               out.queries, axis=(axis_point, axis))
+        stage = StageResult.at(
+            name,
+            out.free,
+            tuple(c for c, _ in both),
+            out.angle,
+            out.queries,
+            axis=(axis_point, axis),
+        )
         return stage, out.contact, both, out.sectors
 
     # -- the analysis ---------------------------------------------------------------------
@@ -318,18 +387,27 @@ class ContactAnalyzer:
         eng = self.engine
         q0 = eng.queries
         rotation = bolt_rotation(roll, pitch, phase)
-        floor = -float(self.nut.z_max - self.nut.z_min) - float(
-            (eng.bolt_vertices @ rotation[2]).max()) - self.spec.pitch
+        floor = (
+            -float(self.nut.z_max - self.nut.z_min)
+            - float((eng.bolt_vertices @ rotation[2]).max())
+            - self.spec.pitch
+        )
         none = {name: StageResult(name, False) for name in ("first", "second", "third")}
-        common: dict[str, Any] = dict(units=self.units, roll=roll, pitch=pitch, phase=phase,
-                                      compliance_z=self.compliance_z,
-                                      tolerances=self.tolerances)
+        common: dict[str, Any] = dict(
+            units=self.units,
+            roll=roll,
+            pitch=pitch,
+            phase=phase,
+            compliance_z=self.compliance_z,
+            tolerances=self.tolerances,
+        )
 
         def done(cls: str, **kw: Any) -> ContactResult:
             stages = {**none, **{k: v for k, v in kw.items() if k in none}}
             rest = {k: v for k, v in kw.items() if k not in none}
-            return ContactResult(classification=cls, queries=eng.queries - q0, **stages,
-                                 **common, **rest)
+            return ContactResult(
+                classification=cls, queries=eng.queries - q0, **stages, **common, **rest
+            )
 
         s1 = first_contact(eng, rotation, self.search, floor)
         if s1 is None or not s1.clusters:
@@ -338,8 +416,11 @@ class ContactAnalyzer:
         c1 = tuple(self._contacts(s1.contact, clusters))
         centre = self._centre(s1.contact)
         turn_line = None
-        if len(clusters) == 1 and np.ptp(clusters[0].ends, axis=0).max() > self.search.separation \
-                and c1[0].bolt_feature == "cap":
+        if (
+            len(clusters) == 1
+            and np.ptp(clusters[0].ends, axis=0).max() > self.search.separation
+            and c1[0].bolt_feature == "cap"
+        ):
             # The tip face itself touches over an area (an upright bolt flat on the top
             # face): the area's hull decides the support (see _flat_support).
             support = _flat_support(clusters[0], centre, self.search.separation)
@@ -383,8 +464,9 @@ class ContactAnalyzer:
             turned = self._turn("third", pose2, held[:2], p1, axis)
             if turned is not None:
                 third, sectors = turned[0], turned[3]
-                rolling = is_rolling([c.pairs for c in c2[:2]],
-                                     [c.pairs for c in third.contacts[:2]])
+                rolling = is_rolling(
+                    [c.pairs for c in c2[:2]], [c.pairs for c in third.contacts[:2]]
+                )
             else:
                 third = StageResult("third", False)
         interference = math.nan
@@ -392,24 +474,48 @@ class ContactAnalyzer:
         if third.found:
             interference = self._interference(third.found_pose, sectors)
             drop = float(second.found_origin[2] - third.found_origin[2])
-        cls = classify(first_found=True, in_phase=False, second_found=True, offset=offset,
-                       third_found=third.found, interference=interference, origin_drop=drop,
-                       quasi_tolerance=self.quasi_tolerance,
-                       interference_tolerance=self.interference_tolerance)
-        return done(cls, first=first, second=second, third=third, interference=interference,
-                    origin_drop=drop, pivot_offset=offset, rolling=rolling)
+        cls = classify(
+            first_found=True,
+            in_phase=False,
+            second_found=True,
+            offset=offset,
+            third_found=third.found,
+            interference=interference,
+            origin_drop=drop,
+            quasi_tolerance=self.quasi_tolerance,
+            interference_tolerance=self.interference_tolerance,
+        )
+        return done(
+            cls,
+            first=first,
+            second=second,
+            third=third,
+            interference=interference,
+            origin_drop=drop,
+            pivot_offset=offset,
+            rolling=rolling,
+        )
 
 
 @functools.lru_cache(maxsize=4)
-def _cached(spec: ThreadSpec, chord: float | None, compliance_z: float,
-            quasi_tolerance: float | None) -> ContactAnalyzer:
-    return ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z,
-                           quasi_tolerance=quasi_tolerance)
+def _cached(
+    spec: ThreadSpec, chord: float | None, compliance_z: float, quasi_tolerance: float | None
+) -> ContactAnalyzer:
+    return ContactAnalyzer(
+        spec, chord=chord, compliance_z=compliance_z, quasi_tolerance=quasi_tolerance
+    )
 
 
-def analyze(spec: ThreadSpec, *, roll: float = 0.0, pitch: float = 0.0, phase: float = 0.0,
-            chord: float | None = None, compliance_z: float = 0.0,
-            quasi_tolerance: float | None = None) -> ContactResult:
+def analyze(
+    spec: ThreadSpec,
+    *,
+    roll: float = 0.0,
+    pitch: float = 0.0,
+    phase: float = 0.0,
+    chord: float | None = None,
+    compliance_z: float = 0.0,
+    quasi_tolerance: float | None = None,
+) -> ContactResult:
     """The contact stages of one configuration (a cached :class:`ContactAnalyzer` per
     spec and settings).
 

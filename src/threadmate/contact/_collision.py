@@ -44,9 +44,12 @@ SECTORS = 36
 _KEY = 1 << 31
 
 
-def _pair_ids(bolt: fcl.CollisionObject, nut: fcl.CollisionObject,
-              request: fcl.CollisionRequest, nut_ids: NDArray[np.int64] | None
-              ) -> NDArray[np.int64]:
+def _pair_ids(
+    bolt: fcl.CollisionObject,
+    nut: fcl.CollisionObject,
+    request: fcl.CollisionRequest,
+    nut_ids: NDArray[np.int64] | None,
+) -> NDArray[np.int64]:
     """Unique intersecting (bolt face, nut face) pairs; ``nut_ids`` maps a sector's local
     face numbers to the nut's."""
     result = fcl.CollisionResult()
@@ -86,10 +89,8 @@ class CollisionPair:
         self.bolt_faces = np.asarray(bolt_mesh.faces, dtype=np.int64)
         self.nut_vertices = np.asarray(nut_mesh.vertices, dtype=float)
         self.nut_faces = np.asarray(nut_mesh.faces, dtype=np.int64)
-        self._bolt = fcl.CollisionObject(_bvh(self.bolt_vertices, self.bolt_faces),
-                                         fcl.Transform())
-        self._nut = fcl.CollisionObject(_bvh(self.nut_vertices, self.nut_faces),
-                                        fcl.Transform())
+        self._bolt = fcl.CollisionObject(_bvh(self.bolt_vertices, self.bolt_faces), fcl.Transform())
+        self._nut = fcl.CollisionObject(_bvh(self.nut_vertices, self.nut_faces), fcl.Transform())
         centroid = self.nut_vertices[self.nut_faces].mean(axis=1)
         angle = np.arctan2(centroid[:, 1], centroid[:, 0])
         #: Sector (0 .. SECTORS-1, counter-clockwise from -pi) of each nut face.
@@ -101,8 +102,12 @@ class CollisionPair:
             if len(ids) == 0:
                 continue
             used, local = np.unique(self.nut_faces[ids], return_inverse=True)
-            self._sectors[k] = (fcl.CollisionObject(
-                _bvh(self.nut_vertices[used], local.reshape(-1, 3)), fcl.Transform()), ids)
+            self._sectors[k] = (
+                fcl.CollisionObject(
+                    _bvh(self.nut_vertices[used], local.reshape(-1, 3)), fcl.Transform()
+                ),
+                ids,
+            )
         self._yes_no = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
         self._all = fcl.CollisionRequest(num_max_contacts=MAX_PAIRS, enable_contact=False)
         #: Collision queries spent since construction (or the last reset).
@@ -129,11 +134,14 @@ class CollisionPair:
             return self.collides(pose)
         self._place(pose)
         self.queries += 1
-        return any(self._hits(obj) for k, (obj, _) in self._sectors.items()
-                   if k not in excluded)
+        return any(self._hits(obj) for k, (obj, _) in self._sectors.items() if k not in excluded)
 
-    def colliding_sectors(self, pose: Pose, excluded: frozenset[int] = frozenset(),
-                          among: frozenset[int] | None = None) -> frozenset[int]:
+    def colliding_sectors(
+        self,
+        pose: Pose,
+        excluded: frozenset[int] = frozenset(),
+        among: frozenset[int] | None = None,
+    ) -> frozenset[int]:
         """The sectors, other than ``excluded`` and within ``among`` when given, that the
         bolt at ``pose`` intersects (one query)."""
         self._place(pose)
@@ -141,8 +149,9 @@ class CollisionPair:
         keys = self._sectors.keys() if among is None else sorted(among & self._sectors.keys())
         return frozenset(k for k in keys if k not in excluded and self._hits(self._sectors[k][0]))
 
-    def sectors_near(self, points: NDArray[np.float64], reach: float,
-                     min_radius: float) -> frozenset[int]:
+    def sectors_near(
+        self, points: NDArray[np.float64], reach: float, min_radius: float
+    ) -> frozenset[int]:
         """Sectors within arc length ``reach`` of any of ``points`` (F), measured at each
         point's radius (not below ``min_radius``)."""
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
@@ -163,14 +172,18 @@ class CollisionPair:
         self.queries += 1
         if sectors is None:
             return _pair_ids(self._bolt, self._nut, self._all, None)
-        found = [_pair_ids(self._bolt, obj, self._all, ids)
-                 for k, (obj, ids) in self._sectors.items() if k in sectors]
+        found = [
+            _pair_ids(self._bolt, obj, self._all, ids)
+            for k, (obj, ids) in self._sectors.items()
+            if k in sectors
+        ]
         if not found:
             return np.empty((0, 2), dtype=np.int64)
         return np.unique(np.concatenate(found), axis=0)
 
-    def triangles(self, pose: Pose, pairs: NDArray[np.int64]
-                  ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def triangles(
+        self, pose: Pose, pairs: NDArray[np.int64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Vertices (fixed frame) of the paired bolt and nut triangles, each ``(n, 3, 3)``."""
         bolt = pose.to_fixed(self.bolt_vertices[self.bolt_faces[pairs[:, 0]]])
         nut = self.nut_vertices[self.nut_faces[pairs[:, 1]]]

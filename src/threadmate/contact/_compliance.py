@@ -58,8 +58,10 @@ def _in_range(name: str, value: Any, key: str | None = None) -> float:
     value = _number(name, value)
     lo, hi, unit = LIMITS[key or name]
     if not lo <= value <= hi:
-        raise InputError(f"{name} {value:g} {unit} is out of range: give a value within "
-                         f"[{lo:g}, {hi:g}] {unit}".rstrip().replace("  ", " "))
+        raise InputError(
+            f"{name} {value:g} {unit} is out of range: give a value within "
+            f"[{lo:g}, {hi:g}] {unit}".rstrip().replace("  ", " ")
+        )
     return value
 
 
@@ -100,15 +102,16 @@ class Compliance:
         if isinstance(k, list | tuple):
             if len(k) != 2:
                 raise InputError(f"stiffness must be one number or (roll, pitch), got {k!r}")
-            pair = (_in_range("roll stiffness", k[0], "stiffness"),
-                    _in_range("pitch stiffness", k[1], "stiffness"))
+            pair = (
+                _in_range("roll stiffness", k[0], "stiffness"),
+                _in_range("pitch stiffness", k[1], "stiffness"),
+            )
         else:
             value = _in_range("stiffness", k)
             pair = (value, value)
         set_(self, "stiffness", pair)
         if self.lateral_stiffness is not None:
-            set_(self, "lateral_stiffness",
-                 _in_range("lateral_stiffness", self.lateral_stiffness))
+            set_(self, "lateral_stiffness", _in_range("lateral_stiffness", self.lateral_stiffness))
         set_(self, "compliance_z", _number("compliance_z", self.compliance_z))
         set_(self, "friction", _in_range("friction", self.friction))
 
@@ -131,13 +134,20 @@ class Compliance:
         """Refuse a compliance centre absurdly far from a thread of ``pitch`` (spec
         units): beyond 1000 pitches from the tip it is no longer the bolt's."""
         if abs(self.compliance_z) > 1000 * pitch:
-            raise InputError(f"compliance_z {self.compliance_z:g} is out of range: give a "
-                             f"height within +/-{1000 * pitch:g} (1000 pitches) of the tip")
+            raise InputError(
+                f"compliance_z {self.compliance_z:g} is out of range: give a "
+                f"height within +/-{1000 * pitch:g} (1000 pitches) of the tip"
+            )
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping with units, for JSON and library metadata."""
         d = asdict(self)
         d["stiffness"] = {"roll": self.roll_stiffness, "pitch": self.pitch_stiffness}
-        d["units"] = {"force": "N", "stiffness": "N m/rad", "lateral_stiffness": "N/m",
-                      "compliance_z": "spec length unit", "friction": "1"}
+        d["units"] = {
+            "force": "N",
+            "stiffness": "N m/rad",
+            "lateral_stiffness": "N/m",
+            "compliance_z": "spec length unit",
+            "friction": "1",
+        }
         return d

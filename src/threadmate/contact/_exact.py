@@ -41,8 +41,17 @@ from numpy.typing import NDArray
 
 from ..geometry import Pose, ThreadBody
 
-__all__ = ["Feature", "feature_at", "contact_normal", "region_at", "turn_axis_tangent",
-           "refine_on_edge", "refined_contact", "edge_crossing", "lowest_on_rim"]
+__all__ = [
+    "Feature",
+    "feature_at",
+    "contact_normal",
+    "region_at",
+    "turn_axis_tangent",
+    "refine_on_edge",
+    "refined_contact",
+    "edge_crossing",
+    "lowest_on_rim",
+]
 
 TWO_PI = 2.0 * math.pi
 SQRT3 = math.sqrt(3.0)
@@ -123,17 +132,16 @@ def _slope(body: ThreadBody, t: NDArray[np.float64]) -> NDArray[np.float64]:
     a1, a2, a3, a4 = prof.breakpoints
     hu, lu = prof.centre_hi[0], prof.centre_lo[0]
     rh, rl = prof.fillet_hi, prof.fillet_lo
-    out = np.where(u <= a4, (u - lu) / np.sqrt(np.maximum(rl * rl - (u - lu) ** 2, 1e-300)),
-                   0.0)
+    out = np.where(u <= a4, (u - lu) / np.sqrt(np.maximum(rl * rl - (u - lu) ** 2, 1e-300)), 0.0)
     out = np.where(u <= a3, -SQRT3, out)
-    out = np.where(u <= a2, -(u - hu) / np.sqrt(np.maximum(rh * rh - (u - hu) ** 2, 1e-300)),
-                   out)
+    out = np.where(u <= a2, -(u - hu) / np.sqrt(np.maximum(rh * rh - (u - hu) ** 2, 1e-300)), out)
     out = np.where(u <= a1, 0.0, out)
     return np.where(t < 0, -1.0, 1.0) * out
 
 
-def _t_array(body: ThreadBody, theta: NDArray[np.float64], z: NDArray[np.float64] | float
-             ) -> NDArray[np.float64]:
+def _t_array(
+    body: ThreadBody, theta: NDArray[np.float64], z: NDArray[np.float64] | float
+) -> NDArray[np.float64]:
     """:meth:`ThreadBody.t_of` without its argument conversions."""
     return _wrap(z - body.hand * body.lead * theta / TWO_PI, body.profile.pitch)
 
@@ -165,8 +173,9 @@ def _rim_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64
 def _helix_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
     r = math.hypot(p[0], p[1])
     theta = math.atan2(p[1], p[0])
-    return _unit(np.array([-r * math.sin(theta), r * math.cos(theta),
-                           body.hand * body.lead / TWO_PI]))
+    return _unit(
+        np.array([-r * math.sin(theta), r * math.cos(theta), body.hand * body.lead / TWO_PI])
+    )
 
 
 def _sharp_corners(body: ThreadBody) -> list[float]:
@@ -216,8 +225,9 @@ def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feat
     return Feature("thread", n, None, n)
 
 
-def contact_normal(nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64],
-                   tol: float) -> tuple[NDArray[np.float64], Feature, Feature]:
+def contact_normal(
+    nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64], tol: float
+) -> tuple[NDArray[np.float64], Feature, Feature]:
     """Common normal at a contact (fixed frame, unit, from the nut into the bolt).
 
     Returns the normal and the nut's and bolt's features (each in its own frame).
@@ -253,8 +263,9 @@ def region_at(body: ThreadBody, point: NDArray[np.float64], feature: Feature) ->
     return str(body.profile.region(body.t_of(math.atan2(p[1], p[0]), p[2])))
 
 
-def turn_axis_tangent(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
-                      point_f: NDArray[np.float64], tol: float) -> NDArray[np.float64]:
+def turn_axis_tangent(
+    nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64], tol: float
+) -> NDArray[np.float64]:
     """Tangent of the nut's surface or edge at a first contact: the second stage's axis.
 
     Rule (by the features at the contact):
@@ -306,19 +317,22 @@ def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray
         q = p[beyond]
         r = np.hypot(q[:, 0], q[:, 1])
         outline = _radius(body, _t_array(body, np.arctan2(q[:, 1], q[:, 0]), body.cap_z))
-        radial = np.maximum(outline - r, 0.0) if body.kind == "nut" else \
-            np.maximum(r - outline, 0.0)
+        radial = (
+            np.maximum(outline - r, 0.0) if body.kind == "nut" else np.maximum(r - outline, 0.0)
+        )
         d[beyond] = np.hypot(off[beyond], radial)
     return d
 
 
-def _edge_points(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64],
-                 angles: NDArray[np.float64]) -> NDArray[np.float64]:
+def _edge_points(
+    body: ThreadBody, feature: Feature, anchor: NDArray[np.float64], angles: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """Points of the exact edge through ``anchor`` (body frame) at polar ``angles``."""
     if feature.kind == "rim":
         r_rim = _radius(body, _t_array(body, angles, body.cap_z))
-        return np.column_stack([r_rim * np.cos(angles), r_rim * np.sin(angles),
-                                np.full_like(angles, body.cap_z)])
+        return np.column_stack(
+            [r_rim * np.cos(angles), r_rim * np.sin(angles), np.full_like(angles, body.cap_z)]
+        )
     theta0 = math.atan2(anchor[1], anchor[0])
     r = math.hypot(anchor[0], anchor[1])
     prof = body.profile
@@ -332,8 +346,14 @@ def _edge_points(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]
     return np.column_stack([r * np.cos(angles), r * np.sin(angles), z])
 
 
-def refine_on_edge(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
-                   point_f: NDArray[np.float64], tol: float, window: float) -> NDArray[np.float64]:
+def refine_on_edge(
+    nut: ThreadBody,
+    bolt: ThreadBody,
+    pose: Pose,
+    point_f: NDArray[np.float64],
+    tol: float,
+    window: float,
+) -> NDArray[np.float64]:
     """The exact contact point of an edge touching a face near ``point_f`` (fixed frame).
 
     A mesh locates an edge-on-face contact only to within a facet of the edge, and the
@@ -343,13 +363,26 @@ def refine_on_edge(nut: ThreadBody, bolt: ThreadBody, pose: Pose,
     shrinking grids. Contacts that are not edge-on-face are returned unchanged.
     """
     p = np.asarray(point_f, dtype=float)
-    return _refine(nut, bolt, pose, p, tol, window, feature_at(nut, p, tol),
-                   feature_at(bolt, pose.to_bolt(p), tol))
+    return _refine(
+        nut,
+        bolt,
+        pose,
+        p,
+        tol,
+        window,
+        feature_at(nut, p, tol),
+        feature_at(bolt, pose.to_bolt(p), tol),
+    )
 
 
-def refined_contact(nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64],
-                    tol: float, window: float
-                    ) -> tuple[NDArray[np.float64], NDArray[np.float64], Feature, Feature]:
+def refined_contact(
+    nut: ThreadBody,
+    bolt: ThreadBody,
+    pose: Pose,
+    point_f: NDArray[np.float64],
+    tol: float,
+    window: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], Feature, Feature]:
     """:func:`refine_on_edge`, then :func:`contact_normal` at the refined point.
 
     A face-on-face contact is not moved: its features are then those already found, and
@@ -365,8 +398,16 @@ def refined_contact(nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDAr
     return _common_normal(fn, fb, pose), p, fn, fb
 
 
-def _refine(nut: ThreadBody, bolt: ThreadBody, pose: Pose, p: NDArray[np.float64], tol: float,
-            window: float, fn: Feature, fb: Feature) -> NDArray[np.float64]:
+def _refine(
+    nut: ThreadBody,
+    bolt: ThreadBody,
+    pose: Pose,
+    p: NDArray[np.float64],
+    tol: float,
+    window: float,
+    fn: Feature,
+    fb: Feature,
+) -> NDArray[np.float64]:
     """:func:`refine_on_edge` with the features at ``p`` known."""
     if fn.is_edge and fb.is_edge:
         return _edge_crossing(nut, fn, bolt, fb, pose, p, window)[0]
@@ -388,6 +429,7 @@ def _refine(nut: ThreadBody, bolt: ThreadBody, pose: Pose, p: NDArray[np.float64
 
         def to_f(pts: NDArray[np.float64]) -> NDArray[np.float64]:
             return pose.to_fixed(pts)
+
     theta0 = math.atan2(anchor[1], anchor[0])
     half = window / max(math.hypot(anchor[0], anchor[1]), 1e-300)
     best = theta0
@@ -397,7 +439,7 @@ def _refine(nut: ThreadBody, bolt: ThreadBody, pose: Pose, p: NDArray[np.float64
         j = int(np.argmin(values))
         best = float(angles[j])
         if 0 < j < 16:  # the parabola through the least value and its neighbours
-            a, b, c = values[j - 1:j + 2]
+            a, b, c = values[j - 1 : j + 2]
             den = a - 2 * b + c
             if den > 0:
                 best += 0.5 * (a - c) / den * (angles[1] - angles[0])
@@ -405,8 +447,9 @@ def _refine(nut: ThreadBody, bolt: ThreadBody, pose: Pose, p: NDArray[np.float64
     return to_f(_edge_points(edge_body, edge, anchor, np.array([best])))[0]
 
 
-def _edge_curve(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]
-                ) -> Callable[[float], tuple[float, float, float]]:
+def _edge_curve(
+    body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]
+) -> Callable[[float], tuple[float, float, float]]:
     """:func:`_edge_points` at one polar angle, in plain floats: the point of the exact
     edge through ``anchor`` (body frame) at that angle."""
     prof = body.profile
@@ -434,9 +477,15 @@ def _edge_curve(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]
     return helix
 
 
-def _edge_crossing(nut: ThreadBody, fn: Feature, bolt: ThreadBody, fb: Feature, pose: Pose,
-                   point_f: NDArray[np.float64], window: float
-                   ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+def _edge_crossing(
+    nut: ThreadBody,
+    fn: Feature,
+    bolt: ThreadBody,
+    fb: Feature,
+    pose: Pose,
+    point_f: NDArray[np.float64],
+    window: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
     """Where two exact edges cross, seen along Z (an edge-on-edge contact under a vertical
     approach): Gauss-Newton on the two edges' polar angles from the mesh's point. Returns
     the nut edge's point and the bolt edge's above or below it (fixed frame);
@@ -449,8 +498,11 @@ def _edge_crossing(nut: ThreadBody, fn: Feature, bolt: ThreadBody, fb: Feature, 
 
     def bolt_f(angle: float) -> tuple[float, float, float]:
         x, y, z = bolt_at(angle)
-        return (r00 * x + r01 * y + r02 * z + o0, r10 * x + r11 * y + r12 * z + o1,
-                r20 * x + r21 * y + r22 * z + o2)
+        return (
+            r00 * x + r01 * y + r02 * z + o0,
+            r10 * x + r11 * y + r12 * z + o1,
+            r20 * x + r21 * y + r22 * z + o2,
+        )
 
     def gap(a: float, b: float) -> tuple[float, float]:
         q, w = nut_at(a), bolt_f(b)
@@ -484,9 +536,15 @@ def _edge_crossing(nut: ThreadBody, fn: Feature, bolt: ThreadBody, fb: Feature, 
     return q, w
 
 
-def edge_crossing(nut: ThreadBody, bolt: ThreadBody, pose: Pose, nut_point: NDArray[np.float64],
-                  bolt_point_f: NDArray[np.float64], tol: float, window: float
-                  ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
+def edge_crossing(
+    nut: ThreadBody,
+    bolt: ThreadBody,
+    pose: Pose,
+    nut_point: NDArray[np.float64],
+    bolt_point_f: NDArray[np.float64],
+    tol: float,
+    window: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
     """Where the nut's edge through ``nut_point`` and the bolt's edge through
     ``bolt_point_f`` (both fixed frame) cross, seen along Z: the nut's point and the
     bolt's point above it (the latter None: not two edges, or no crossing within
@@ -498,8 +556,9 @@ def edge_crossing(nut: ThreadBody, bolt: ThreadBody, pose: Pose, nut_point: NDAr
     return _edge_crossing(nut, fn, bolt, fb, pose, nut_point, window)
 
 
-def lowest_on_rim(bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64],
-                  window: float) -> NDArray[np.float64]:
+def lowest_on_rim(
+    bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64], window: float
+) -> NDArray[np.float64]:
     """The lowest point (fixed frame) of the bolt's exact tip rim within ``window`` (arc
     length) of ``point_f``."""
     anchor = pose.to_bolt(point_f)

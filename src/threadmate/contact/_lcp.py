@@ -32,9 +32,13 @@ def _independent(rows: NDArray[np.float64], candidate: NDArray[np.float64]) -> b
     return bool(s[-1] > 1e-6 * s[0])
 
 
-def contact_step(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64],
-                 gap: NDArray[np.float64], first: tuple[int, ...] = ()
-                 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def contact_step(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    G: NDArray[np.float64],
+    gap: NDArray[np.float64],
+    first: tuple[int, ...] = (),
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The step ``x`` and contact forces ``lambda`` of the QP (see the module docstring).
 
     Parameters
@@ -57,14 +61,23 @@ def contact_step(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.f
     # The coordinates differ in scale by many orders (metres against radians, a proximal
     # weight of 1e5 N/m against a stiffness of 1 N m/rad): solve in y = D x, D^2 = diag H.
     d = np.sqrt(np.maximum(np.diag(H), 1e-300))
-    y, lam = _solve(H / np.outer(d, d), np.asarray(c, dtype=float) / d, G / d,
-                    np.asarray(gap, dtype=float), first)
+    y, lam = _solve(
+        H / np.outer(d, d),
+        np.asarray(c, dtype=float) / d,
+        G / d,
+        np.asarray(gap, dtype=float),
+        first,
+    )
     return y / d, lam
 
 
-def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64],
-           gap: NDArray[np.float64], first: tuple[int, ...]
-           ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _solve(
+    H: NDArray[np.float64],
+    c: NDArray[np.float64],
+    G: NDArray[np.float64],
+    gap: NDArray[np.float64],
+    first: tuple[int, ...],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """:func:`contact_step` on a well-scaled problem."""
     m, n = len(c), len(gap)
     gap = np.maximum(np.asarray(gap, dtype=float), 0.0)
@@ -74,8 +87,13 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
     working: list[int] = []
     # Start with the touching rows of the previous support that are independent.
     for i in list(first) + [i for i in range(n) if gap[i] <= tol]:
-        if i < n and gap[i] <= tol and i not in working and len(working) < m \
-                and _independent(G[working], G[i]):
+        if (
+            i < n
+            and gap[i] <= tol
+            and i not in working
+            and len(working) < m
+            and _independent(G[working], G[i])
+        ):
             working.append(i)
     # The metric is small (at most 5 x 5) and positive definite: its inverse once, and
     # each equality problem by its Schur complement on the working rows, avoid a
@@ -91,8 +109,7 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
         k = len(working)
         p, mult = _equality_step(h_inv, G[working], g)
         # Nil when its force, H p, is rounding against the forces acting, g.
-        if stationary or float(np.abs(H @ p).max()) <= 1e-12 * max(
-                float(np.abs(g).max()), 1e-300):
+        if stationary or float(np.abs(H @ p).max()) <= 1e-12 * max(float(np.abs(g).max()), 1e-300):
             stationary = False
             if k == 0 or mult.min() >= -1e-12 * max(float(np.abs(mult).max()), 1e-300):
                 lam[:] = 0.0
@@ -100,8 +117,11 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
                 return x, lam
             # Bland's rule against cycling at degenerate vertices (more touching rows than
             # coordinates): drop the first row, by index, whose multiplier is negative.
-            negative = [r for r, v in zip(working, mult, strict=True)
-                        if v < -1e-12 * max(float(np.abs(mult).max()), 1e-300)]
+            negative = [
+                r
+                for r, v in zip(working, mult, strict=True)
+                if v < -1e-12 * max(float(np.abs(mult).max()), 1e-300)
+            ]
             working.remove(min(negative))
             continue
         # Step along p until a row outside the working set blocks.
@@ -128,21 +148,28 @@ def _solve(H: NDArray[np.float64], c: NDArray[np.float64], G: NDArray[np.float64
     # "fun" as scalar-valued and its "jac" as 1-D: SLSQP takes a vector inequality with
     # its Jacobian matrix, as here.)
     res = minimize(  # type: ignore[call-overload]
-        lambda v: 0.5 * v @ H @ v + c @ v, x, jac=lambda v: H @ v + c,
+        lambda v: 0.5 * v @ H @ v + c @ v,
+        x,
+        jac=lambda v: H @ v + c,
         constraints=[{"type": "ineq", "fun": lambda v: G @ v + gap, "jac": lambda v: G}],
-        method="SLSQP", options={"ftol": 1e-16, "maxiter": 1000})
+        method="SLSQP",
+        options={"ftol": 1e-16, "maxiter": 1000},
+    )
     x = res.x
     slack = G @ x + gap
-    active = np.flatnonzero(slack <= 1e-9 * (float(np.abs(G @ x).max(initial=0.0))
-                                             + float(gap.max(initial=0.0))) + 1e-15)
+    active = np.flatnonzero(
+        slack
+        <= 1e-9 * (float(np.abs(G @ x).max(initial=0.0)) + float(gap.max(initial=0.0))) + 1e-15
+    )
     lam[:] = 0.0
     if len(active):
         lam[active] = nnls(G[active].T, H @ x + c)[0]
     return x, lam
 
 
-def _equality_step(h_inv: NDArray[np.floating], A: NDArray[np.float64], g: NDArray[np.float64]
-                   ) -> tuple[NDArray[np.floating], NDArray[np.floating]]:
+def _equality_step(
+    h_inv: NDArray[np.floating], A: NDArray[np.float64], g: NDArray[np.float64]
+) -> tuple[NDArray[np.floating], NDArray[np.floating]]:
     """Step ``p`` and multipliers of ``min 1/2 p'Hp + g'p`` subject to ``A p = 0``.
 
     ``H p - A' mult = -g`` and ``A p = 0`` give ``(A H^-1 A') mult = A H^-1 g`` and

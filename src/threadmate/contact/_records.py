@@ -43,11 +43,11 @@ __all__ = [
 #: What a state is on the way (the ``role`` column).
 ROLES = (
     "first-contact",  # the fresh drop's first touch (unstable)
-    "passed",         # a new contact or a rolling pivot on the way to rest (unstable)
-    "start",          # the rest state a fresh drop at a grid phase reaches
-    "continued",      # the continuation's rest state at a grid phase (not a start's)
-    "before-jump",    # the last rest state before a fold
-    "after-jump",     # where a jump lands (the in-phase state after the snap)
+    "passed",  # a new contact or a rolling pivot on the way to rest (unstable)
+    "start",  # the rest state a fresh drop at a grid phase reaches
+    "continued",  # the continuation's rest state at a grid phase (not a start's)
+    "before-jump",  # the last rest state before a fold
+    "after-jump",  # where a jump lands (the in-phase state after the snap)
 )
 #: Kinds of passive transition (the ``transition`` column; "" for none).
 TRANSITIONS = ("settling", "turning", "jump", "snap")
@@ -70,8 +70,13 @@ _LF, _LS = pa.list_(pa.float64()), pa.list_(pa.string())
 
 #: The columns of a state record, in order.
 STATE_COLUMNS: tuple[Column, ...] = (
-    Column("config_id", _I, "", "grid configuration (held tilt, start phase) whose drop or "
-           "continuation first reached the state"),
+    Column(
+        "config_id",
+        _I,
+        "",
+        "grid configuration (held tilt, start phase) whose drop or "
+        "continuation first reached the state",
+    ),
     Column("state_id", _S, "", "unique id: held tilt, phase and a serial within the tilt"),
     Column("held_roll", _F, "deg", "roll the tool holds"),
     Column("held_pitch", _F, "deg", "pitch the tool holds"),
@@ -103,8 +108,7 @@ STATE_COLUMNS: tuple[Column, ...] = (
     Column("work_friction", _F, "mJ", "driver's work against friction along it"),
     Column("work_potential", _F, "mJ", "driver's work against the potential along it"),
     Column("torque_peak", _F, "N m", "largest driver torque along it (NaN: none)"),
-    Column("drop", _F, "length", "fall of the compliance centre along it (the click at a "
-           "snap)"),
+    Column("drop", _F, "length", "fall of the compliance centre along it (the click at a snap)"),
     Column("tilt_change", _F, "deg", "angle between the bolt axes at its ends"),
     Column("error", _S, "", "the message when the configuration failed, else ''"),
 )
@@ -143,23 +147,39 @@ def state_id(held_roll: float, held_pitch: float, phase: float, serial: int) -> 
     return f"r{held_roll:+g}_p{held_pitch:+g}_ph{phase % 360.0:07.3f}_s{serial}"
 
 
-def state_row(state: MechanicalState, *, config_id: int, state_id: str, held_roll: float,
-              held_pitch: float, role: str) -> dict[str, Any]:
+def state_row(
+    state: MechanicalState,
+    *,
+    config_id: int,
+    state_id: str,
+    held_roll: float,
+    held_pitch: float,
+    role: str,
+) -> dict[str, Any]:
     """A state record for ``state`` without its transition (fill it with the successor's)."""
     touching = state.touching
     row = blank_row(state_schema())
     row.update(
-        config_id=int(config_id), state_id=state_id, held_roll=float(held_roll),
-        held_pitch=float(held_pitch), phase=float(state.phase % 360.0), role=role,
-        classification=state.classification, roll=float(state.roll),
+        config_id=int(config_id),
+        state_id=state_id,
+        held_roll=float(held_roll),
+        held_pitch=float(held_pitch),
+        phase=float(state.phase % 360.0),
+        role=role,
+        classification=state.classification,
+        roll=float(state.roll),
         pitch=float(state.pitch),
-        origin_x=float(state.origin[0]), origin_y=float(state.origin[1]),
+        origin_x=float(state.origin[0]),
+        origin_y=float(state.origin[1]),
         origin_z=float(state.origin[2]),
         rotation=[float(v) for v in np.asarray(state.rotation, dtype=float).ravel()],
-        centre_x=float(state.centre[0]), centre_y=float(state.centre[1]),
-        centre_z=float(state.centre[2]), potential=float(state.potential),
+        centre_x=float(state.centre[0]),
+        centre_y=float(state.centre[1]),
+        centre_z=float(state.centre[2]),
+        potential=float(state.potential),
         driver_torque=float(state.driver_torque),
-        friction_torque=float(state.friction_torque), n_contacts=len(touching),
+        friction_torque=float(state.friction_torque),
+        n_contacts=len(touching),
         region_combination=state.region_combination,
         contact_regions=[c.regions for c in touching],
         contact_forces=[float(c.force) for c in touching],

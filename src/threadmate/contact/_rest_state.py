@@ -14,11 +14,18 @@ import numpy as np
 from ..geometry import Pose
 from ._result import RegionPair, Vec
 
-__all__ = ["LoadedContact", "MechanicalState", "RestState", "SearchEvent", "SearchResult",
-           "REST_CLASSES"]
+__all__ = [
+    "LoadedContact",
+    "MechanicalState",
+    "RestState",
+    "SearchEvent",
+    "SearchResult",
+    "REST_CLASSES",
+]
 
 #: Classes of a mechanical state (design/mechanics.md, "Classes of states").
 REST_CLASSES = ("stable", "quasi-stable", "unstable", "in-phase")
+
 
 @dataclass(frozen=True)
 class LoadedContact(RegionPair):
@@ -49,7 +56,6 @@ class LoadedContact(RegionPair):
     nut_region: str
     bolt_feature: str = ""
     nut_feature: str = ""
-
 
 
 @dataclass(frozen=True)
@@ -117,14 +123,22 @@ class MechanicalState:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""
-        return {"kind": self.kind, "classification": self.classification,
-                "phase": self.phase, "roll": self.roll, "pitch": self.pitch,
-                "origin": list(self.origin), "rotation": [list(r) for r in self.rotation],
-                "centre": list(self.centre), "potential": self.potential,
-                "driver_torque": self.driver_torque,
-                "friction_torque": self.friction_torque, "turn": self.turn,
-                "region_combination": self.region_combination,
-                "contacts": [c.to_dict() for c in self.contacts]}
+        return {
+            "kind": self.kind,
+            "classification": self.classification,
+            "phase": self.phase,
+            "roll": self.roll,
+            "pitch": self.pitch,
+            "origin": list(self.origin),
+            "rotation": [list(r) for r in self.rotation],
+            "centre": list(self.centre),
+            "potential": self.potential,
+            "driver_torque": self.driver_torque,
+            "friction_torque": self.friction_torque,
+            "turn": self.turn,
+            "region_combination": self.region_combination,
+            "contacts": [c.to_dict() for c in self.contacts],
+        }
 
 
 @dataclass(frozen=True)
@@ -172,14 +186,24 @@ class RestState:
         """The JSON document of ``threadmate settle --json``."""
         s = self.state
         return {
-            "units": {"length": self.units, "angle": "deg", "force": "N",
-                      "torque": "N m", "potential": "mJ"},
+            "units": {
+                "length": self.units,
+                "angle": "deg",
+                "force": "N",
+                "torque": "N m",
+                "potential": "mJ",
+            },
             "held": {"roll": self.held_roll, "pitch": self.held_pitch},
             "phase": self.phase,
             "parameters": self.parameters,
             "classification": s.classification,
-            "rest": {"origin": list(s.origin), "rotation": [list(r) for r in s.rotation],
-                     "roll": s.roll, "pitch": s.pitch, "centre": list(s.centre)},
+            "rest": {
+                "origin": list(s.origin),
+                "rotation": [list(r) for r in s.rotation],
+                "roll": s.roll,
+                "pitch": s.pitch,
+                "centre": list(s.centre),
+            },
             "contacts": [c.to_dict() for c in s.touching],
             "region_combination": s.region_combination,
             "potential": s.potential,
@@ -220,8 +244,14 @@ class SearchEvent:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""
-        return {"phase": self.phase, "kind": self.kind, "before": self.before,
-                "after": self.after, "drop": self.drop, "tilt_change": self.tilt_change}
+        return {
+            "phase": self.phase,
+            "kind": self.kind,
+            "before": self.before,
+            "after": self.after,
+            "drop": self.drop,
+            "tilt_change": self.tilt_change,
+        }
 
 
 @dataclass(frozen=True)
@@ -276,16 +306,25 @@ class SearchResult:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document of ``threadmate search --json``."""
         return {
-            "units": {"length": self.units, "angle": "deg", "force": "N",
-                      "torque": "N m", "work": "mJ", "potential": "mJ"},
+            "units": {
+                "length": self.units,
+                "angle": "deg",
+                "force": "N",
+                "torque": "N m",
+                "work": "mJ",
+                "potential": "mJ",
+            },
             "parameters": self.parameters,
-            "start": {"roll": self.held_roll, "pitch": self.held_pitch,
-                      "phase": self.start_phase},
+            "start": {"roll": self.held_roll, "pitch": self.held_pitch, "phase": self.start_phase},
             "turns": self.turns,
-            "snap": None if self.snap is None else {
-                "phase": self.snap.phase, "turn": self.snap_turn, "drop": self.snap.drop},
-            "work": {"total": self.work, "friction": self.work_friction,
-                     "potential": self.work_potential},
+            "snap": None
+            if self.snap is None
+            else {"phase": self.snap.phase, "turn": self.snap_turn, "drop": self.snap.drop},
+            "work": {
+                "total": self.work,
+                "friction": self.work_friction,
+                "potential": self.work_potential,
+            },
             "events": [e.to_dict() for e in self.events],
             "states": [s.to_dict() for s in self.states],
             "queries": self.queries,

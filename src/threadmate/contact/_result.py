@@ -18,8 +18,7 @@ from ..geometry import Pose
 if TYPE_CHECKING:
     from _typeshed import DataclassInstance
 
-__all__ = ["Contact", "StageResult", "ContactResult", "record_schema", "STAGES",
-           "CLASSIFICATIONS"]
+__all__ = ["Contact", "StageResult", "ContactResult", "record_schema", "STAGES", "CLASSIFICATIONS"]
 
 #: Stage names, in order.
 STAGES = ("first", "second", "third")
@@ -51,9 +50,11 @@ class RegionPair:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""
-        return {f.name: list(v) if isinstance(v, tuple) else v
-                for f in fields(cast("DataclassInstance", self))  # every subclass is one
-                for v in [getattr(self, f.name)]}
+        return {
+            f.name: list(v) if isinstance(v, tuple) else v
+            for f in fields(cast("DataclassInstance", self))  # every subclass is one
+            for v in [getattr(self, f.name)]
+        }
 
 
 @dataclass(frozen=True)
@@ -81,7 +82,6 @@ class Contact(RegionPair):
     nut_region: str
     bolt_feature: str = ""
     nut_feature: str = ""
-
 
 
 @dataclass(frozen=True)
@@ -118,13 +118,28 @@ class StageResult:
     queries: int = 0
 
     @classmethod
-    def at(cls, name: str, pose: Pose, contacts: tuple[Contact, ...], angle: float,
-           queries: int, axis: tuple[Any, Any] | None = None) -> StageResult:
+    def at(
+        cls,
+        name: str,
+        pose: Pose,
+        contacts: tuple[Contact, ...],
+        angle: float,
+        queries: int,
+        axis: tuple[Any, Any] | None = None,
+    ) -> StageResult:
         """A found stage at ``pose``."""
         rot = (_vec(pose.rotation[0]), _vec(pose.rotation[1]), _vec(pose.rotation[2]))
-        return cls(name, True, float(angle), _vec(pose.origin), rot, tuple(contacts),
-                   None if axis is None else _vec(axis[0]),
-                   None if axis is None else _vec(axis[1]), int(queries))
+        return cls(
+            name,
+            True,
+            float(angle),
+            _vec(pose.origin),
+            rot,
+            tuple(contacts),
+            None if axis is None else _vec(axis[0]),
+            None if axis is None else _vec(axis[1]),
+            int(queries),
+        )
 
     @property
     def pose(self) -> Pose | None:
@@ -154,8 +169,9 @@ class StageResult:
             "origin": None if self.origin is None else list(self.origin),
             "rotation": None if self.rotation is None else [list(r) for r in self.rotation],
             "contacts": [c.to_dict() for c in self.contacts],
-            "axis": None if self.axis_point is None or self.axis_direction is None else {
-                "point": list(self.axis_point), "direction": list(self.axis_direction)},
+            "axis": None
+            if self.axis_point is None or self.axis_direction is None
+            else {"point": list(self.axis_point), "direction": list(self.axis_direction)},
             "queries": self.queries,
         }
 
@@ -254,7 +270,9 @@ class ContactResult:
             "origin_drop": self.origin_drop,
             "pivot_offset": self.pivot_offset,
             "rolling": bool(self.rolling),
-            "final": None if final is None else {
+            "final": None
+            if final is None
+            else {
                 "origin": final.origin.tolist(),
                 "angles": list(final.angles()),
             },
@@ -315,12 +333,20 @@ def record_schema() -> pa.Schema:
     """
     f64, i64, b, s = pa.float64(), pa.int64(), pa.bool_(), pa.string()
     fields: list[pa.Field] = [
-        pa.field("roll", f64), pa.field("pitch", f64), pa.field("phase", f64),
-        pa.field("classification", s), pa.field("n_contacts", i64),
-        pa.field("region_combination", s), pa.field("interference", f64),
-        pa.field("origin_drop", f64), pa.field("pivot_offset", f64), pa.field("rolling", b),
-        pa.field("final_roll", f64), pa.field("final_pitch", f64),
-        pa.field("final_phase", f64), pa.field("final_origin_z", f64),
+        pa.field("roll", f64),
+        pa.field("pitch", f64),
+        pa.field("phase", f64),
+        pa.field("classification", s),
+        pa.field("n_contacts", i64),
+        pa.field("region_combination", s),
+        pa.field("interference", f64),
+        pa.field("origin_drop", f64),
+        pa.field("pivot_offset", f64),
+        pa.field("rolling", b),
+        pa.field("final_roll", f64),
+        pa.field("final_pitch", f64),
+        pa.field("final_phase", f64),
+        pa.field("final_origin_z", f64),
         pa.field("queries", i64),
     ]
     for st in STAGES:

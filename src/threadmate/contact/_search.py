@@ -123,9 +123,15 @@ class Continuation:
         How closely events are located in phase (degrees).
     """
 
-    def __init__(self, mech: Mechanics, roll: float, pitch: float, *,
-                 step: float = CONTINUATION_STEP,
-                 phase_tolerance: float = 0.01) -> None:
+    def __init__(
+        self,
+        mech: Mechanics,
+        roll: float,
+        pitch: float,
+        *,
+        step: float = CONTINUATION_STEP,
+        phase_tolerance: float = 0.01,
+    ) -> None:
         self.mech = mech
         self.roll, self.pitch = float(roll), float(pitch)
         self.step, self.phase_tolerance = float(step), float(phase_tolerance)
@@ -139,13 +145,17 @@ class Continuation:
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
         if b.classification == "in-phase" and a.classification != "in-phase":
             return False
-        return (a.centre[2] - b.centre[2] <= self.drop_limit
-                and _tilt_between(a, b) <= JUMP_TILT)
+        return a.centre[2] - b.centre[2] <= self.drop_limit and _tilt_between(a, b) <= JUMP_TILT
 
-    def _bisect(self, phase: float, lo: float, hi: float, s_lo: MechanicalState,
-                s_hi: MechanicalState,
-                same: Callable[[MechanicalState, MechanicalState], bool]
-                ) -> tuple[float, float, MechanicalState, MechanicalState]:
+    def _bisect(
+        self,
+        phase: float,
+        lo: float,
+        hi: float,
+        s_lo: MechanicalState,
+        s_hi: MechanicalState,
+        same: Callable[[MechanicalState, MechanicalState], bool],
+    ) -> tuple[float, float, MechanicalState, MechanicalState]:
         """Close in on where ``same(s_lo, state)`` stops holding, from the side before
         (``lo``, ``hi``: turns from ``phase``)."""
         while hi - lo > self.phase_tolerance:
@@ -157,9 +167,14 @@ class Continuation:
                 hi, s_hi = mid, s_mid
         return lo, hi, s_lo, s_hi
 
-    def advance(self, state: MechanicalState, phase: float, turn: float, *,
-                progress: Callable[[float], None] | None = None
-                ) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]]:
+    def advance(
+        self,
+        state: MechanicalState,
+        phase: float,
+        turn: float,
+        *,
+        progress: Callable[[float], None] | None = None,
+    ) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]]:
         """Turn from ``state`` (a rest state at ``phase``, degrees) by ``turn`` degrees in
         the unscrewing sense, stopping early at a snap.
 
@@ -192,9 +207,18 @@ class Continuation:
         def close_branch(at: float) -> None:
             if at > branch_start or len(branch) > 1:
                 torques = [s.driver_torque for s in branch if math.isfinite(s.driver_torque)]
-                legs.append(Leg("turning", branch[0], branch[-1], at - branch_start,
-                                work[0], work[1], max(torques, default=math.nan),
-                                _label(branch)))
+                legs.append(
+                    Leg(
+                        "turning",
+                        branch[0],
+                        branch[-1],
+                        at - branch_start,
+                        work[0],
+                        work[1],
+                        max(torques, default=math.nan),
+                        _label(branch),
+                    )
+                )
 
         def signature(s: MechanicalState) -> tuple[str, ...]:
             return _signature(s, self.floor)
@@ -209,16 +233,22 @@ class Continuation:
                 if signature(cur) != signature(prev):
                     before = signature(prev)
 
-                    def same(a: MechanicalState, b: MechanicalState,
-                             before: tuple[str, ...] = before) -> bool:
+                    def same(
+                        a: MechanicalState, b: MechanicalState, before: tuple[str, ...] = before
+                    ) -> bool:
                         return signature(b) == before and self._continuous(a, b)
 
                     lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, same)
-                    events.append(SearchEvent(phase + sign * 0.5 * (lo + hi),
-                                              "contact-change", prev.region_combination,
-                                              s_hi.region_combination,
-                                              s_lo.centre[2] - s_hi.centre[2],
-                                              _tilt_between(s_lo, s_hi)))
+                    events.append(
+                        SearchEvent(
+                            phase + sign * 0.5 * (lo + hi),
+                            "contact-change",
+                            prev.region_combination,
+                            s_hi.region_combination,
+                            s_lo.centre[2] - s_hi.centre[2],
+                            _tilt_between(s_lo, s_hi),
+                        )
+                    )
                     for a, b in ((prev, s_lo), (s_lo, s_hi), (s_hi, cur)):
                         integrate(a, b)
                     states += [s_lo, s_hi]
@@ -236,10 +266,16 @@ class Continuation:
             close_branch(lo)
             kind = "snap" if s_hi.classification == "in-phase" else "jump"
             legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, "unstable"))
-            events.append(SearchEvent(phase + sign * hi, kind, s_lo.region_combination,
-                                      s_hi.region_combination,
-                                      s_lo.centre[2] - s_hi.centre[2],
-                                      _tilt_between(s_lo, s_hi)))
+            events.append(
+                SearchEvent(
+                    phase + sign * hi,
+                    kind,
+                    s_lo.region_combination,
+                    s_hi.region_combination,
+                    s_lo.centre[2] - s_hi.centre[2],
+                    _tilt_between(s_lo, s_hi),
+                )
+            )
             states += [s_lo, s_hi]
             if kind == "snap":
                 return legs, events, states
@@ -249,11 +285,19 @@ class Continuation:
         return legs, events, states
 
 
-def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: float, *,
-           compliance: Compliance | None = None, turns: float = 1.0,
-           step: float = CONTINUATION_STEP,
-           phase_tolerance: float = 0.01, chord: float | None = None,
-           progress: Callable[[int, int], None] | None = None) -> SearchResult:
+def search(
+    target: Mechanics | ThreadSpec,
+    roll: float,
+    pitch: float,
+    phase: float,
+    *,
+    compliance: Compliance | None = None,
+    turns: float = 1.0,
+    step: float = CONTINUATION_STEP,
+    phase_tolerance: float = 0.01,
+    chord: float | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> SearchResult:
     """Simulate the counter-clockwise search from a start (see the module docstring).
 
     The bolt turns the way that unscrews its thread: counter-clockwise (increasing phase)
@@ -292,29 +336,44 @@ def search(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: flo
     events: list[SearchEvent] = []
     states = [start]
     if start.classification == "in-phase":
-        events.append(SearchEvent(float(phase), "snap", "", start.region_combination,
-                                  0.0, 0.0))
+        events.append(SearchEvent(float(phase), "snap", "", start.region_combination, 0.0, 0.0))
     else:
         walk = Continuation(mech, roll, pitch, step=step, phase_tolerance=phase_tolerance)
-        tick = None if progress is None else (
-            lambda at: progress(int(at), int(math.ceil(end))))
+        tick = None if progress is None else (lambda at: progress(int(at), int(math.ceil(end))))
         legs, events, more = walk.advance(start, float(phase), end, progress=tick)
         states += more
     if progress is not None:
         progress(int(math.ceil(end)), int(math.ceil(end)))
     snap = next((e for e in events if e.kind == "snap"), None)
-    return SearchResult(mech.units, float(roll), float(pitch), float(phase),
-                        mech.compliance.to_dict(), tuple(states), tuple(events), snap,
-                        float(turns), sum(leg.work_friction for leg in legs),
-                        sum(leg.work_potential for leg in legs),
-                        mech.engine.queries - q0)
+    return SearchResult(
+        mech.units,
+        float(roll),
+        float(pitch),
+        float(phase),
+        mech.compliance.to_dict(),
+        tuple(states),
+        tuple(events),
+        snap,
+        float(turns),
+        sum(leg.work_friction for leg in legs),
+        sum(leg.work_potential for leg in legs),
+        mech.engine.queries - q0,
+    )
 
 
-def check_continuation(*, turns: float = 1.0, step: float = CONTINUATION_STEP,
-                       phase_tolerance: float = 0.01) -> None:
+def check_continuation(
+    *, turns: float = 1.0, step: float = CONTINUATION_STEP, phase_tolerance: float = 0.01
+) -> None:
     """Refuse continuation settings out of range (InputError naming the setting)."""
-    for name, value, lo, hi in (("turns", turns, 0.0, 10.0), ("step", step, 0.0, 10.0),
-                                ("phase_tolerance", phase_tolerance, 0.0, step)):
-        if isinstance(value, bool) or not isinstance(value, int | float) \
-                or not math.isfinite(value) or not lo < value <= hi:
+    for name, value, lo, hi in (
+        ("turns", turns, 0.0, 10.0),
+        ("step", step, 0.0, 10.0),
+        ("phase_tolerance", phase_tolerance, 0.0, step),
+    ):
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not math.isfinite(value)
+            or not lo < value <= hi
+        ):
             raise InputError(f"{name} must be within ({lo:g}, {hi:g}], got {value!r}")

@@ -127,10 +127,17 @@ class Mechanics:
         move by more than it.
     """
 
-    def __init__(self, spec: ThreadSpec, compliance: Compliance | None = None, *,
-                 chord: float | None = None, bolt_mesh: object = None,
-                 nut_mesh: object = None, tolerance: float | None = None,
-                 analyzer: ContactAnalyzer | None = None) -> None:
+    def __init__(
+        self,
+        spec: ThreadSpec,
+        compliance: Compliance | None = None,
+        *,
+        chord: float | None = None,
+        bolt_mesh: object = None,
+        nut_mesh: object = None,
+        tolerance: float | None = None,
+        analyzer: ContactAnalyzer | None = None,
+    ) -> None:
         if compliance is None:
             compliance = Compliance()
         if not isinstance(compliance, Compliance):
@@ -139,11 +146,17 @@ class Mechanics:
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
         compliance.check_for(spec.pitch)
         if analyzer is None:
-            analyzer = ContactAnalyzer(spec, chord=chord, compliance_z=compliance.compliance_z,
-                                       bolt_mesh=bolt_mesh, nut_mesh=nut_mesh)
+            analyzer = ContactAnalyzer(
+                spec,
+                chord=chord,
+                compliance_z=compliance.compliance_z,
+                bolt_mesh=bolt_mesh,
+                nut_mesh=nut_mesh,
+            )
         elif analyzer.compliance_z != compliance.compliance_z or analyzer.spec != spec:
-            raise InputError("the analyzer's spec or compliance centre differs from the "
-                             "compliance's")
+            raise InputError(
+                "the analyzer's spec or compliance centre differs from the compliance's"
+            )
         self.spec = spec
         self.units = spec.units
         self.compliance = compliance
@@ -152,10 +165,16 @@ class Mechanics:
         self.metres = METRES_PER_UNIT[spec.units]
         travel = analyzer.search.travel
         if tolerance is not None:
-            if isinstance(tolerance, bool) or not isinstance(tolerance, int | float) \
-                    or not math.isfinite(tolerance) or not 0 < tolerance <= spec.pitch / 100:
-                raise InputError(f"tolerance must be a length within (0, {spec.pitch / 100:g}]"
-                                 f" {spec.units}, got {tolerance!r}")
+            if (
+                isinstance(tolerance, bool)
+                or not isinstance(tolerance, int | float)
+                or not math.isfinite(tolerance)
+                or not 0 < tolerance <= spec.pitch / 100
+            ):
+                raise InputError(
+                    f"tolerance must be a length within (0, {spec.pitch / 100:g}]"
+                    f" {spec.units}, got {tolerance!r}"
+                )
             travel = float(tolerance)
         self.tolerance = travel
         #: Depth below the touching pose within which contacts are known to the descent.
@@ -185,8 +204,13 @@ class Mechanics:
         return bolt_rotation(math.degrees(tilt[0]), math.degrees(tilt[1]), phase)
 
     # -- lowering -------------------------------------------------------------------------
-    def drop(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float | None,
-             span: float | None = None) -> _Drop | None:
+    def drop(
+        self,
+        rotation: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        zc: float | None,
+        span: float | None = None,
+    ) -> _Drop | None:
         """Lower the bolt at ``rotation`` (compliance centre over ``xy``) onto the nut.
 
         ``zc`` is where the compliance centre is expected to touch (None: unknown, the
@@ -196,8 +220,11 @@ class Mechanics:
         q0 = eng.queries
         known_free = False
         # Where the lowest bolt point is just above the nut's top face: free for sure.
-        above = -eng.lowest_bolt_z(rotation) + self.compliance.compliance_z * rotation[2, 2] \
+        above = (
+            -eng.lowest_bolt_z(rotation)
+            + self.compliance.compliance_z * rotation[2, 2]
             + self.tolerance
+        )
         if zc is None or zc + (span or 0.0) >= above:
             # Short first steps, doubling: a thin wedge of material where a thread runs out
             # on the nut's face (a few 1e-5 in at the edge of the in-phase window) is met
@@ -242,8 +269,7 @@ class Mechanics:
             touch = top - first
             if touch - low < self.near * (1 - 1e-9):
                 pairs = eng.pairs(self._pose(rotation, xy, touch - self.near))
-                drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top),
-                                                             pairs))
+                drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), pairs))
                 ok = np.isfinite(drop)
             if start - touch > 2 * self.near and self._embedded(rotation, xy, touch):
                 # A thin wedge of one body (where a thread runs out on an end face) passed
@@ -256,12 +282,17 @@ class Mechanics:
                 continue
             gaps = drop - first
             keep = ok & (gaps <= self.near)
-            return _Drop(rotation, np.array(xy, dtype=float), touch, np.maximum(gaps[keep], 0.0),
-                         points[keep], eng.queries - q0)
+            return _Drop(
+                rotation,
+                np.array(xy, dtype=float),
+                touch,
+                np.maximum(gaps[keep], 0.0),
+                points[keep],
+                eng.queries - q0,
+            )
         raise RuntimeError("lowering the bolt did not settle on a bracket")
 
-    def _embedded(self, rotation: NDArray[np.float64], xy: NDArray[np.float64],
-                  zc: float) -> bool:
+    def _embedded(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> bool:
         """Whether a vertex of one mesh lies inside the other exact body, deeper than the
         meshes' deviation, at the pose where the bolt's centre is at ``zc``."""
         pose = self._pose(rotation, xy, zc)
@@ -275,10 +306,17 @@ class Mechanics:
         bolt, nut = an.bolt, an.nut
         m = self.tolerance  # a margin: rounding differs from the full transform's
         candidates = (
-            (bolt, pose.to_bolt(self._nut_top[(bolt_z >= bolt.z_min - m)
-                                              & (bolt_z <= bolt.z_max + m)])),
-            (nut, pose.to_fixed(self._bolt_tip[(nut_z >= nut.z_min - m)
-                                               & (nut_z <= nut.z_max + m)])))
+            (
+                bolt,
+                pose.to_bolt(
+                    self._nut_top[(bolt_z >= bolt.z_min - m) & (bolt_z <= bolt.z_max + m)]
+                ),
+            ),
+            (
+                nut,
+                pose.to_fixed(self._bolt_tip[(nut_z >= nut.z_min - m) & (nut_z <= nut.z_max + m)]),
+            ),
+        )
         for body, points in candidates:
             # Only points on the material's side of the profile's extreme radius can be
             # inside (the bolt's material lies within r_hi, the nut's beyond r_lo): most
@@ -286,9 +324,9 @@ class Mechanics:
             z, r2 = points[:, 2], points[:, 0] ** 2 + points[:, 1] ** 2
             prof = body.profile
             if body.kind == "bolt":
-                maybe = r2 <= prof.r_hi ** 2 * (1 + 1e-9)
+                maybe = r2 <= prof.r_hi**2 * (1 + 1e-9)
             else:
-                maybe = r2 >= prof.r_lo ** 2 * (1 - 1e-9)
+                maybe = r2 >= prof.r_lo**2 * (1 - 1e-9)
             points = points[maybe & (z >= body.z_min) & (z <= body.z_max)]
             inside = points[body.contains(points)]  # cheap; the distance only for these
             if len(inside) and float(body.surface_distance(inside).max()) > depth:
@@ -298,21 +336,32 @@ class Mechanics:
     def in_phase(self, d: _Drop) -> bool:
         """Whether the whole tip face is below the nut's top face (the snap)."""
         pose = self._pose(d.rotation, d.xy, d.zc)
-        return bool(pose.origin[2] + float((self._tip @ d.rotation[2]).max())
-                    < -self.analyzer.feature_tolerance)
+        return bool(
+            pose.origin[2] + float((self._tip @ d.rotation[2]).max())
+            < -self.analyzer.feature_tolerance
+        )
 
     # -- contacts -------------------------------------------------------------------------
-    def _contact(self, d: _Drop, point: NDArray[np.float64], gap: float,
-                 refine: bool = True) -> _Near:
+    def _contact(
+        self, d: _Drop, point: NDArray[np.float64], gap: float, refine: bool = True
+    ) -> _Near:
         an = self.analyzer
         pose = self._pose(d.rotation, d.xy, d.zc - gap)
         if refine:
-            n, point, fn, fb = refined_contact(an.nut, an.bolt, pose, point,
-                                               an.feature_tolerance, self.separation / 4)
+            n, point, fn, fb = refined_contact(
+                an.nut, an.bolt, pose, point, an.feature_tolerance, self.separation / 4
+            )
         else:
             n, fn, fb = contact_normal(an.nut, an.bolt, pose, point, an.feature_tolerance)
-        return _Near(point, n, gap, str(region_at(an.bolt, pose.to_bolt(point), fb)),
-                     str(region_at(an.nut, point, fn)), fb.kind, fn.kind)
+        return _Near(
+            point,
+            n,
+            gap,
+            str(region_at(an.bolt, pose.to_bolt(point), fb)),
+            str(region_at(an.nut, point, fn)),
+            fb.kind,
+            fn.kind,
+        )
 
     def _rim_modes(self, d: _Drop, c: _Near) -> list[_Near]:
         """The tip rim touching the nut's top face at its bore edge: both supports.
@@ -337,15 +386,21 @@ class Mechanics:
             point, above = edge_crossing(an.nut, an.bolt, pose, anchor, c.point, tol, window)
             if above is None:
                 return [c]
-            other = self._contact(d, point, max(float(above[2] - point[2]), 0.0),
-                                  refine=False)
+            other = self._contact(d, point, max(float(above[2] - point[2]), 0.0), refine=False)
         else:
             point = lowest_on_rim(an.bolt, pose, c.point, window)
             r = math.hypot(point[0], point[1])
             if r < float(an.nut.section_radius(math.atan2(point[1], point[0]), 0.0)):
                 return [c]  # the lowest point is over the bore: the edge alone holds
-            other = _Near(np.array([point[0], point[1], 0.0]), np.array([0.0, 0.0, 1.0]),
-                          max(float(point[2]), 0.0), c.bolt_region, "surface", "rim", "cap")
+            other = _Near(
+                np.array([point[0], point[1], 0.0]),
+                np.array([0.0, 0.0, 1.0]),
+                max(float(point[2]), 0.0),
+                c.bolt_region,
+                "surface",
+                "rim",
+                "cap",
+            )
         return [c, other]
 
     def contacts(self, d: _Drop) -> list[_Near]:
@@ -380,14 +435,17 @@ class Mechanics:
                 out.extend(self._rim_modes(d, first))
             else:
                 # The corners of a flat contact are where the mesh puts them.
-                out.extend(self._contact(d, pts[flat][c], float(gaps[flat][c]), refine=False)
-                           for c in corners)
+                out.extend(
+                    self._contact(d, pts[flat][c], float(gaps[flat][c]), refine=False)
+                    for c in corners
+                )
         out.sort(key=lambda c: c.gap)
         return out
 
     # -- mechanics ------------------------------------------------------------------------
-    def _rows(self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64]
-              ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    def _rows(
+        self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Contact rows ``G`` (SI: per m and per rad) and normal gaps (m)."""
         m = self.metres
         width = 3 if self.compliance.held_laterally else 5
@@ -399,22 +457,29 @@ class Mechanics:
         r = (np.array([c.point for c in near], dtype=float) - centre) * m
         # ``np.cross``'s formula, written out: its axis handling costs more than the
         # products on a few rows.
-        moment = np.column_stack([r[:, 1] * normal[:, 2] - r[:, 2] * normal[:, 1],
-                                  r[:, 2] * normal[:, 0] - r[:, 0] * normal[:, 2],
-                                  r[:, 0] * normal[:, 1] - r[:, 1] * normal[:, 0]])
+        moment = np.column_stack(
+            [
+                r[:, 1] * normal[:, 2] - r[:, 2] * normal[:, 1],
+                r[:, 2] * normal[:, 0] - r[:, 0] * normal[:, 2],
+                r[:, 0] * normal[:, 1] - r[:, 1] * normal[:, 0],
+            ]
+        )
         cols = [normal[:, 2], moment[:, 0], moment @ pitch_axis]
         if not self.compliance.held_laterally:
             cols += [normal[:, 0], normal[:, 1]]
-        gaps = np.array([c.gap for c in near], dtype=float) * m \
-            * np.maximum(normal[:, 2], 0.05)
+        gaps = np.array([c.gap for c in near], dtype=float) * m * np.maximum(normal[:, 2], 0.05)
         return np.column_stack(cols), gaps
 
-    def _gradient(self, tilt: NDArray[np.float64], xy: NDArray[np.float64],
-                  held: NDArray[np.float64]) -> NDArray[np.float64]:
+    def _gradient(
+        self, tilt: NDArray[np.float64], xy: NDArray[np.float64], held: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
         """Gradient of U in (z_C, roll, pitch[, x, y]) (SI)."""
         comp = self.compliance
-        g = [comp.force, comp.roll_stiffness * (tilt[0] - held[0]),
-             comp.pitch_stiffness * (tilt[1] - held[1])]
+        g = [
+            comp.force,
+            comp.roll_stiffness * (tilt[0] - held[0]),
+            comp.pitch_stiffness * (tilt[1] - held[1]),
+        ]
         if comp.lateral_stiffness is not None:  # not held laterally
             g += list(comp.lateral_stiffness * xy * self.metres)
         return np.array(g)
@@ -426,20 +491,30 @@ class Mechanics:
             k += [comp.lateral_stiffness] * 2
         return np.array(k)
 
-    def potential(self, zc: float, tilt: NDArray[np.float64], xy: NDArray[np.float64],
-                  held: NDArray[np.float64]) -> float:
+    def potential(
+        self,
+        zc: float,
+        tilt: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        held: NDArray[np.float64],
+    ) -> float:
         """U in J (``z_C`` in spec units from the nut's top, tilts in radians)."""
         comp = self.compliance
         u = comp.force * zc * self.metres
         u += 0.5 * comp.roll_stiffness * (tilt[0] - held[0]) ** 2
         u += 0.5 * comp.pitch_stiffness * (tilt[1] - held[1]) ** 2
         if comp.lateral_stiffness is not None:  # not held laterally
-            u += 0.5 * comp.lateral_stiffness * float(xy @ xy) * self.metres ** 2
+            u += 0.5 * comp.lateral_stiffness * float(xy @ xy) * self.metres**2
         return float(u)
 
-    def forces(self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64],
-               xy: NDArray[np.float64], held: NDArray[np.float64]
-               ) -> tuple[NDArray[np.float64], float, float]:
+    def forces(
+        self,
+        near: list[_Near],
+        centre: NDArray[np.float64],
+        tilt: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        held: NDArray[np.float64],
+    ) -> tuple[NDArray[np.float64], float, float]:
         """Non-negative normal forces (N) of the touching contacts that best balance the
         load and the spring, and the force and moment residuals relative to the load."""
         touching = [c for c in near if c.gap <= self.touching]
@@ -457,8 +532,9 @@ class Mechanics:
         moment = float(np.abs(resid[1:]).max()) if len(resid) > 1 else 0.0
         return forces, float(abs(resid[0])), moment
 
-    def holds_without_compliance(self, near: list[_Near], centre: NDArray[np.float64],
-                                 tilt: NDArray[np.float64]) -> bool:
+    def holds_without_compliance(
+        self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64]
+    ) -> bool:
         """Whether the touching contacts alone hold the load with a margin (``stable``)."""
         touching = [c for c in near if c.gap <= self.touching]
         if len(touching) == 0:
@@ -483,9 +559,13 @@ class Mechanics:
                     return False
         return True
 
-    def driver_torque(self, near: list[_Near], forces: NDArray[np.float64],
-                      rotation: NDArray[np.float64], centre: NDArray[np.float64]
-                      ) -> tuple[float, float]:
+    def driver_torque(
+        self,
+        near: list[_Near],
+        forces: NDArray[np.float64],
+        rotation: NDArray[np.float64],
+        centre: NDArray[np.float64],
+    ) -> tuple[float, float]:
         """Torque the driver applies about the bolt axis in the unscrewing sense (N m),
         and its friction part.
 
@@ -510,10 +590,18 @@ class Mechanics:
         return normal + friction, friction
 
     # -- the descent ----------------------------------------------------------------------
-    def state(self, kind: str, cls: str, d: _Drop, near: list[_Near], phase: float,
-              held: NDArray[np.float64], tilt: NDArray[np.float64],
-              forces: NDArray[np.float64] | None = None, turn: float = 0.0
-              ) -> MechanicalState:
+    def state(
+        self,
+        kind: str,
+        cls: str,
+        d: _Drop,
+        near: list[_Near],
+        phase: float,
+        held: NDArray[np.float64],
+        tilt: NDArray[np.float64],
+        forces: NDArray[np.float64] | None = None,
+        turn: float = 0.0,
+    ) -> MechanicalState:
         """A :class:`MechanicalState` of the pose ``d`` (forces None: not at rest)."""
         pose = self._pose(d.rotation, d.xy, d.zc)
         centre = np.array([d.xy[0], d.xy[1], d.zc])
@@ -525,23 +613,48 @@ class Mechanics:
         # A support given twice (the tip rim at the bore edge, as face and as edge) is
         # reported once: the one that carries the force.
         idle = forces <= BALANCE / 10 * self.compliance.force
-        twin = [bool(idle[i]) and any(
-            j != i and not idle[j] and np.linalg.norm(o.point - c.point) < self.separation / 4
-            for j, o in enumerate(near)) for i, c in enumerate(near)]
+        twin = [
+            bool(idle[i])
+            and any(
+                j != i and not idle[j] and np.linalg.norm(o.point - c.point) < self.separation / 4
+                for j, o in enumerate(near)
+            )
+            for i, c in enumerate(near)
+        ]
         contacts = tuple(
-            LoadedContact(_vec(c.point), _vec(c.normal), float(f),
-                          0.0 if c.gap <= self.touching else float(c.gap), c.bolt_region,
-                          c.nut_region, c.bolt_feature, c.nut_feature)
-            for c, f, t in zip(near, forces, twin, strict=True) if not t)
+            LoadedContact(
+                _vec(c.point),
+                _vec(c.normal),
+                float(f),
+                0.0 if c.gap <= self.touching else float(c.gap),
+                c.bolt_region,
+                c.nut_region,
+                c.bolt_feature,
+                c.nut_feature,
+            )
+            for c, f, t in zip(near, forces, twin, strict=True)
+            if not t
+        )
         rot = (_vec(d.rotation[0]), _vec(d.rotation[1]), _vec(d.rotation[2]))
-        return MechanicalState(kind, cls, float(phase), math.degrees(tilt[0]),
-                               math.degrees(tilt[1]), _vec(pose.origin), rot,
-                               _vec(centre), contacts,
-                               1e3 * self.potential(d.zc, tilt, d.xy, held), torque, friction,
-                               turn)
+        return MechanicalState(
+            kind,
+            cls,
+            float(phase),
+            math.degrees(tilt[0]),
+            math.degrees(tilt[1]),
+            _vec(pose.origin),
+            rot,
+            _vec(centre),
+            contacts,
+            1e3 * self.potential(d.zc, tilt, d.xy, held),
+            torque,
+            friction,
+            turn,
+        )
 
-    def settle(self, roll: float, pitch: float, phase: float, *,
-               start: MechanicalState | None = None) -> RestState:
+    def settle(
+        self, roll: float, pitch: float, phase: float, *, start: MechanicalState | None = None
+    ) -> RestState:
         """The rest state of the bolt held at tilt ``(roll, pitch)`` and turned to
         ``phase`` (degrees), reached from first contact (or from ``start``, a state at a
         nearby phase: the continuation of the search).
@@ -563,8 +676,10 @@ class Mechanics:
             zc = start.centre[2]
         d = self.drop(self._rotation(tilt, phase), xy, zc)
         if d is None:
-            raise InputError(f"the bolt passes the nut without touching at roll {roll:g}, "
-                             f"pitch {pitch:g}, phase {phase:g}")
+            raise InputError(
+                f"the bolt passes the nut without touching at roll {roll:g}, "
+                f"pitch {pitch:g}, phase {phase:g}"
+            )
         path: list[MechanicalState] = []
         near = self.contacts(d)
         if start is None:
@@ -575,9 +690,11 @@ class Mechanics:
         k = self._stiffness()
         pitch_m = self.spec.pitch * self.metres
         arm_m = self.radius * self.metres
-        prox0 = np.array([f / (pitch_m / 20), f * arm_m / math.radians(8.0),
-                          f * arm_m / math.radians(8.0)] + [f / (pitch_m / 20)] * 2)
-        prox = prox0[:len(k)].copy()
+        prox0 = np.array(
+            [f / (pitch_m / 20), f * arm_m / math.radians(8.0), f * arm_m / math.radians(8.0)]
+            + [f / (pitch_m / 20)] * 2
+        )
+        prox = prox0[: len(k)].copy()
         curvature = np.zeros((2, 2))
         if start is not None and self._warm is not None:
             # Continuation: the last rest state's model is a good start for the next.
@@ -608,8 +725,11 @@ class Mechanics:
             promised = -(grad @ dq + 0.5 * dq @ (k * dq))
             dtilt = dq[1:3]
             dxy = dq[3:5] / self.metres if len(dq) > 3 else np.zeros(2)
-            moved = float(np.abs(dtilt).max()) * (self.radius + filled(self.spec.bolt.length)) \
-                + float(np.abs(dxy).max(initial=0.0)) + abs(dq[0]) / self.metres
+            moved = (
+                float(np.abs(dtilt).max()) * (self.radius + filled(self.spec.bolt.length))
+                + float(np.abs(dxy).max(initial=0.0))
+                + abs(dq[0]) / self.metres
+            )
             # (The balance asks for tilts far finer than the travel tolerance: 1e-6 F times
             # the radius against a 1 N m/rad spring is 3e-8 rad, against 1e4 N m/rad
             # 3e-12 rad. Steps that small are still Newton steps of the same model.)
@@ -618,8 +738,10 @@ class Mechanics:
                 converged = f_res <= BALANCE and m_res <= BALANCE
                 break
             steps += 1
-            if float(np.abs(dtilt).max()) > math.radians(5.0) or \
-                    abs(dq[0]) / self.metres > self.spec.pitch:
+            if (
+                float(np.abs(dtilt).max()) > math.radians(5.0)
+                or abs(dq[0]) / self.metres > self.spec.pitch
+            ):
                 # Far beyond what the linearised contacts can tell: a shorter step.
                 prox *= 4
                 continue
@@ -628,9 +750,12 @@ class Mechanics:
                 new_xy = d.xy + dxy
             else:
                 new_xy = d.xy
-            trial = self.drop(self._rotation(new_tilt, phase), new_xy,
-                              d.zc + dq[0] / self.metres,
-                              span=max(4 * self.tolerance, 0.25 * moved))
+            trial = self.drop(
+                self._rotation(new_tilt, phase),
+                new_xy,
+                d.zc + dq[0] / self.metres,
+                span=max(4 * self.tolerance, 0.25 * moved),
+            )
             if trial is None:
                 prox *= 4
                 continue
@@ -639,12 +764,22 @@ class Mechanics:
             # Mesh heights carry the chord error: below it, the exact contact geometry of the
             # model decides (the step stays feasible: it was lowered onto the nut).
             if (u - u_new >= 0.1 * promised and u_new < u) or (
-                    promised <= noise and u_new <= u + noise):
+                promised <= noise and u_new <= u + noise
+            ):
                 if self.in_phase(trial) and not snapped:
                     snapped = True
-                    path.append(self.state("in-phase", "unstable", trial, self.contacts(trial),
-                                           phase, held, new_tilt))
-                old_rows, old_sig = G[:len(near), 1:3], _signature(near, self.touching)
+                    path.append(
+                        self.state(
+                            "in-phase",
+                            "unstable",
+                            trial,
+                            self.contacts(trial),
+                            phase,
+                            held,
+                            new_tilt,
+                        )
+                    )
+                old_rows, old_sig = G[: len(near), 1:3], _signature(near, self.touching)
                 d, tilt, u = trial, new_tilt, u_new
                 near = self.contacts(d)
                 ahead = []
@@ -653,8 +788,12 @@ class Mechanics:
                     # rim's lowest point turns with the tilt's direction): its rate, the
                     # contacts' geometric stiffness, is learnt by damped BFGS.
                     new_rows = self._rows(near, np.array([*d.xy, d.zc]), tilt)[0][:, 1:3]
-                    _bfgs(curvature, dtilt, -(new_rows - old_rows).T @ lam[:len(old_rows)],
-                          1e3 * f * arm_m)
+                    _bfgs(
+                        curvature,
+                        dtilt,
+                        -(new_rows - old_rows).T @ lam[: len(old_rows)],
+                        1e3 * f * arm_m,
+                    )
                 now = _signature(near, self.touching)
                 if float(dq[1:3] @ last_step) < 0:
                     # Turned back on the last step: the contact model flickers between two
@@ -662,15 +801,13 @@ class Mechanics:
                     prox *= 4
                 else:
                     # Same contacts: the model is good, trust it more.
-                    prox = np.maximum(prox / (10 if now == touching else 3),
-                                      prox0[:len(k)] * 1e-8)
+                    prox = np.maximum(prox / (10 if now == touching else 3), prox0[: len(k)] * 1e-8)
                 last_step = dq[1:3].copy()
                 if now != touching and not self.in_phase(d) and not snapped:
                     kind = "new-contact" if len(now) >= len(touching) else "rolling"
                     axis = d.rotation[:, 2]
                     turn = axis_turn(axis, last_axis)
-                    path.append(self.state(kind, "unstable", d, near, phase, held, tilt,
-                                           turn=turn))
+                    path.append(self.state(kind, "unstable", d, near, phase, held, tilt, turn=turn))
                     last_axis = axis.copy()
                     touching = now
             else:
@@ -687,10 +824,17 @@ class Mechanics:
                     row, _ = self._rows([c], centre, tilt)
                     opening = -float(row[0] @ step_q)
                     if opening > 0:
-                        ahead.append(_Near(c.point, c.normal,
-                                           opening / (self.metres * max(c.normal[2], 0.05)),
-                                           c.bolt_region, c.nut_region, c.bolt_feature,
-                                           c.nut_feature))
+                        ahead.append(
+                            _Near(
+                                c.point,
+                                c.normal,
+                                opening / (self.metres * max(c.normal[2], 0.05)),
+                                c.bolt_region,
+                                c.nut_region,
+                                c.bolt_feature,
+                                c.nut_feature,
+                            )
+                        )
         self._warm = curvature
         centre = np.array([d.xy[0], d.xy[1], d.zc])
         forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
@@ -708,10 +852,18 @@ class Mechanics:
         # The first state is a rest state already when the descent did not move.
         if path and path[0].kind == "first-contact" and steps == 0:
             path = []
-        return RestState(self.units, float(roll), float(pitch), float(phase),
-                         comp.to_dict(), final, tuple(path),
-                         {"force": f_res, "moment": m_res, "converged": float(converged)},
-                         steps, self.engine.queries - q0)
+        return RestState(
+            self.units,
+            float(roll),
+            float(pitch),
+            float(phase),
+            comp.to_dict(),
+            final,
+            tuple(path),
+            {"force": f_res, "moment": m_res, "converged": float(converged)},
+            steps,
+            self.engine.queries - q0,
+        )
 
 
 def axis_turn(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
@@ -719,8 +871,9 @@ def axis_turn(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
     return math.degrees(math.acos(min(1.0, float(a @ b))))
 
 
-def _bfgs(b: NDArray[np.float64], s: NDArray[np.float64], y: NDArray[np.float64],
-          bound: float) -> None:
+def _bfgs(
+    b: NDArray[np.float64], s: NDArray[np.float64], y: NDArray[np.float64], bound: float
+) -> None:
     """Powell-damped BFGS update of the 2 x 2 curvature ``b`` in place, kept symmetric
     with eigenvalues in ``[0, bound]`` (a step too short to measure leaves it alone)."""
     ss = float(s @ s)
@@ -777,8 +930,9 @@ def _signature(near: list[_Near], touching: float) -> tuple[str, ...]:
     return tuple(sorted(f"{c.bolt_region}/{c.nut_region}" for c in near if c.gap <= touching))
 
 
-def _area_corners(points: NDArray[np.float64], normal: NDArray[np.float64],
-                  extent: float) -> list[int] | None:
+def _area_corners(
+    points: NDArray[np.float64], normal: NDArray[np.float64], extent: float
+) -> list[int] | None:
     """Indices of up to six corners of the convex hull of ``points`` seen along
     ``normal`` (None when the points span less than ``extent``: a point contact)."""
     if len(points) < 2 or float(np.ptp(points, axis=0).max()) < extent:
@@ -800,8 +954,7 @@ def _area_corners(points: NDArray[np.float64], normal: NDArray[np.float64],
         return [int(v) for v in vertices]
     chosen = [vertices[0]]
     while len(chosen) < 6:
-        dist = np.min(np.linalg.norm(flat[vertices][:, None] - flat[chosen][None], axis=-1),
-                      axis=1)
+        dist = np.min(np.linalg.norm(flat[vertices][:, None] - flat[chosen][None], axis=-1), axis=1)
         chosen.append(vertices[int(np.argmax(dist))])
     return [int(v) for v in chosen]
 
@@ -811,8 +964,9 @@ def _cached(spec: ThreadSpec, compliance: Compliance, chord: float | None) -> Me
     return Mechanics(spec, compliance, chord=chord)
 
 
-def mechanics(target: Mechanics | ThreadSpec, compliance: Compliance | None = None,
-              chord: float | None = None) -> Mechanics:
+def mechanics(
+    target: Mechanics | ThreadSpec, compliance: Compliance | None = None, chord: float | None = None
+) -> Mechanics:
     """``target`` itself when it is a :class:`Mechanics`, else a cached one for the spec."""
     if isinstance(target, Mechanics):
         if compliance is not None and compliance != target.compliance:
@@ -823,8 +977,15 @@ def mechanics(target: Mechanics | ThreadSpec, compliance: Compliance | None = No
     return _cached(target, compliance if compliance is not None else Compliance(), chord)
 
 
-def settle(target: Mechanics | ThreadSpec, roll: float, pitch: float, phase: float, *,
-           compliance: Compliance | None = None, chord: float | None = None) -> RestState:
+def settle(
+    target: Mechanics | ThreadSpec,
+    roll: float,
+    pitch: float,
+    phase: float,
+    *,
+    compliance: Compliance | None = None,
+    chord: float | None = None,
+) -> RestState:
     """The rest state of a bolt held at ``(roll, pitch)`` and turned to ``phase`` (degrees).
 
     Parameters

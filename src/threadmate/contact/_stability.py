@@ -62,8 +62,10 @@ __all__ = ["interference_depth", "classify", "pivot_offset", "is_rolling"]
 
 # Barycentric sample of a triangle: 15 points (a 4-division grid).
 _N = 4
-_BARY = np.array([(i, j, _N - i - j) for i in range(_N + 1) for j in range(_N + 1 - i)],
-                 dtype=float) / _N
+_BARY = (
+    np.array([(i, j, _N - i - j) for i in range(_N + 1) for j in range(_N + 1 - i)], dtype=float)
+    / _N
+)
 
 
 def _sample(tris: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -80,11 +82,19 @@ def _within(tree: cKDTree, points: NDArray[np.float64], radius: float) -> NDArra
     return np.unique(np.concatenate([np.asarray(f, dtype=np.intp) for f in found]))
 
 
-def interference_depth(bolt: ThreadBody, nut: ThreadBody, pose: Pose,
-                       bolt_vertices: NDArray[np.float64], bolt_tree: cKDTree,
-                       nut_vertices: NDArray[np.float64], nut_tree: cKDTree,
-                       bolt_tris_b: NDArray[np.float64], nut_tris_f: NDArray[np.float64],
-                       ends_f: NDArray[np.float64], radius: float) -> float:
+def interference_depth(
+    bolt: ThreadBody,
+    nut: ThreadBody,
+    pose: Pose,
+    bolt_vertices: NDArray[np.float64],
+    bolt_tree: cKDTree,
+    nut_vertices: NDArray[np.float64],
+    nut_tree: cKDTree,
+    bolt_tris_b: NDArray[np.float64],
+    nut_tris_f: NDArray[np.float64],
+    ends_f: NDArray[np.float64],
+    radius: float,
+) -> float:
     """Depth of interference at ``pose`` (see the module docstring).
 
     ``bolt_tris_b`` are the intersecting bolt triangles in the bolt frame, ``nut_tris_f``
@@ -102,8 +112,9 @@ def interference_depth(bolt: ThreadBody, nut: ThreadBody, pose: Pose,
     return float(max(d_bolt_in_nut.max(initial=0.0), d_nut_in_bolt.max(initial=0.0)))
 
 
-def pivot_offset(p1: NDArray[np.float64], p2: NDArray[np.float64],
-                 centre: NDArray[np.float64]) -> float:
+def pivot_offset(
+    p1: NDArray[np.float64], p2: NDArray[np.float64], centre: NDArray[np.float64]
+) -> float:
     """Distance from ``centre`` to the line through ``p1`` and ``p2``."""
     a = np.asarray(p2, float) - np.asarray(p1, float)
     n = np.linalg.norm(a)
@@ -119,9 +130,18 @@ def is_rolling(second_pairs: Sequence[int], third_pairs: Sequence[int]) -> bool:
     return any(b > a for a, b in zip(second_pairs, third_pairs, strict=True))
 
 
-def classify(*, first_found: bool, in_phase: bool, second_found: bool, offset: float,
-             third_found: bool, interference: float, origin_drop: float,
-             quasi_tolerance: float, interference_tolerance: float) -> str:
+def classify(
+    *,
+    first_found: bool,
+    in_phase: bool,
+    second_found: bool,
+    offset: float,
+    third_found: bool,
+    interference: float,
+    origin_drop: float,
+    quasi_tolerance: float,
+    interference_tolerance: float,
+) -> str:
     """The classification rules of the module docstring, in order."""
     if not first_found:
         return "no-contact"

@@ -55,8 +55,16 @@ from ._triangles import (
     intersection_segments,
 )
 
-__all__ = ["Cluster", "Search", "StageOutcome", "TurnOutcome", "first_contact",
-           "turn_to_new_contact", "clusters_at", "lowering_direction"]
+__all__ = [
+    "Cluster",
+    "Search",
+    "StageOutcome",
+    "TurnOutcome",
+    "first_contact",
+    "turn_to_new_contact",
+    "clusters_at",
+    "lowering_direction",
+]
 
 
 @dataclass(frozen=True)
@@ -90,8 +98,9 @@ class StageOutcome:
     queries: int
 
 
-def _segments(engine: CollisionPair, pose: Pose,
-              sectors: frozenset[int] | None = None) -> IntersectionSegments:
+def _segments(
+    engine: CollisionPair, pose: Pose, sectors: frozenset[int] | None = None
+) -> IntersectionSegments:
     pairs = engine.pairs(pose, sectors)
     return intersection_segments(*engine.triangles(pose, pairs))
 
@@ -116,8 +125,9 @@ def clusters_at(engine: CollisionPair, pose: Pose, separation: float) -> list[Cl
     return _clusters(_segments(engine, pose), separation)
 
 
-def first_contact(engine: CollisionPair, rotation: NDArray[np.float64], search: Search,
-                  floor: float) -> StageOutcome | None:
+def first_contact(
+    engine: CollisionPair, rotation: NDArray[np.float64], search: Search, floor: float
+) -> StageOutcome | None:
     """Lower the bolt along -Z until it first touches the nut (None: it never does).
 
     ``floor`` is an origin height below which the bolt has passed the nut entirely.
@@ -150,9 +160,15 @@ def first_contact(engine: CollisionPair, rotation: NDArray[np.float64], search: 
     return StageOutcome(pose(hi), contact, clusters, 0.0, engine.queries - q0)
 
 
-def _close_in(engine: CollisionPair, pose: Callable[[float], Pose], free: float,
-              stuck: float, hit: frozenset[int], tol: float, excluded: frozenset[int]
-              ) -> tuple[float, float, frozenset[int] | None]:
+def _close_in(
+    engine: CollisionPair,
+    pose: Callable[[float], Pose],
+    free: float,
+    stuck: float,
+    hit: frozenset[int],
+    tol: float,
+    excluded: frozenset[int],
+) -> tuple[float, float, frozenset[int] | None]:
     """Bisect from a collision-free parameter ``free`` to a colliding one ``stuck``, where
     the bolt meets the nut sectors ``hit``, asking only those sectors (see the module
     docstring); ``excluded`` sectors never count.
@@ -181,8 +197,9 @@ def _close_in(engine: CollisionPair, pose: Callable[[float], Pose], free: float,
     return free, stuck, None
 
 
-def lowering_direction(axis_point: NDArray[np.float64], axis: NDArray[np.float64],
-                       centre: NDArray[np.float64]) -> NDArray[np.float64]:
+def lowering_direction(
+    axis_point: NDArray[np.float64], axis: NDArray[np.float64], centre: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """``axis`` or its opposite: the one whose right-hand turn lowers ``centre``."""
     a = axis / np.linalg.norm(axis)
     velocity = np.cross(a, centre - axis_point)
@@ -205,9 +222,14 @@ class TurnOutcome:
     sectors: frozenset[int] | None = None
 
 
-def turn_to_new_contact(engine: CollisionPair, start: Pose, axis_point: NDArray[np.float64],
-                        axis: NDArray[np.float64], existing: list[Cluster],
-                        search: Search) -> TurnOutcome | None:
+def turn_to_new_contact(
+    engine: CollisionPair,
+    start: Pose,
+    axis_point: NDArray[np.float64],
+    axis: NDArray[np.float64],
+    existing: list[Cluster],
+    search: Search,
+) -> TurnOutcome | None:
     """Turn ``start`` about the line (``axis_point``, unit ``axis``, right hand) until a new
     distinct contact appears (None: not within ``search.max_turn`` degrees).
 
@@ -248,8 +270,10 @@ def turn_to_new_contact(engine: CollisionPair, start: Pose, axis_point: NDArray[
         zone_of = np.concatenate([np.full(len(c.ends), k) for k, c in enumerate(existing)])
         _, nearest = cKDTree(zone_pts).query(segs.midpoint[~new_pair])
         owner[~new_pair] = zone_of[nearest]
-    old = [_cluster(_subset(segs, owner == k)) if (owner == k).any() else None
-           for k in range(len(existing))]
+    old = [
+        _cluster(_subset(segs, owner == k)) if (owner == k).any() else None
+        for k in range(len(existing))
+    ]
     new = _clusters(_subset(segs, new_pair), sep)
     free = start.rotated_about(axis_point, axis, lo)
     return TurnOutcome(free, contact, old, new, lo, engine.queries - q0, sectors)

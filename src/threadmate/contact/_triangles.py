@@ -31,8 +31,13 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-__all__ = ["IntersectionSegments", "intersection_segments", "cluster_segments",
-           "cluster_location", "touch_points"]
+__all__ = [
+    "IntersectionSegments",
+    "intersection_segments",
+    "cluster_segments",
+    "cluster_location",
+    "touch_points",
+]
 
 _EDGES = ((0, 1), (1, 2), (2, 0))
 
@@ -70,9 +75,12 @@ class IntersectionSegments:
         return len(self.valid)
 
 
-def _plane_crossing(tri: NDArray[np.float64], normal: NDArray[np.float64],
-                    offset: NDArray[np.float64], direction: NDArray[np.float64]
-                    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+def _plane_crossing(
+    tri: NDArray[np.float64],
+    normal: NDArray[np.float64],
+    offset: NDArray[np.float64],
+    direction: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
     """Where each triangle's edges cross the other triangle's plane.
 
     Returns the crossing points ``(n, 3, 3)``, their parameters along ``direction``
@@ -92,8 +100,9 @@ def _plane_crossing(tri: NDArray[np.float64], normal: NDArray[np.float64],
     return pts, par, ok
 
 
-def intersection_segments(bolt_tris: NDArray[np.float64],
-                          nut_tris: NDArray[np.float64]) -> IntersectionSegments:
+def intersection_segments(
+    bolt_tris: NDArray[np.float64], nut_tris: NDArray[np.float64]
+) -> IntersectionSegments:
     """Intersection segments of bolt/nut triangle pairs (each ``(n, 3, 3)``, fixed frame).
 
     Parameters
@@ -141,9 +150,12 @@ def intersection_segments(bolt_tris: NDArray[np.float64],
     return IntersectionSegments(start, end, valid)
 
 
-def _closest_on_segments(p0: NDArray[np.float64], p1: NDArray[np.float64],
-                         q0: NDArray[np.float64], q1: NDArray[np.float64]
-                         ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _closest_on_segments(
+    p0: NDArray[np.float64],
+    p1: NDArray[np.float64],
+    q0: NDArray[np.float64],
+    q1: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Closest points of segment pairs (vectorised; Ericson, Real-Time Collision Detection
     5.1.9), returned as (points on p, points on q)."""
     d1, d2, r = p1 - p0, q1 - q0, p0 - q0
@@ -163,8 +175,9 @@ def _closest_on_segments(p0: NDArray[np.float64], p1: NDArray[np.float64],
     return p0 + s[..., None] * d1, q0 + t[..., None] * d2
 
 
-def _vertex_on_face(v: NDArray[np.float64], tri: NDArray[np.float64]
-                    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def _vertex_on_face(
+    v: NDArray[np.float64], tri: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Projections of vertices ``v`` (n, 3, 3) onto the planes of ``tri`` (n, 3, 3), with
     their distances (inf where the projection falls outside the triangle)."""
     e0, e1 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]

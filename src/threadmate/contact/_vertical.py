@@ -24,8 +24,9 @@ __all__ = ["vertical_touch"]
 _NEXT = [1, 2, 0]
 
 
-def _inside(tri: NDArray[np.float64], pts: NDArray[np.float64]
-            ) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
+def _inside(
+    tri: NDArray[np.float64], pts: NDArray[np.float64]
+) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
     """Which of ``pts`` (n, k, 2) lie in the XY projection of ``tri`` (n, 3, 3), and the
     triangle's height there (NaN outside or for an edge-on triangle)."""
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
@@ -42,8 +43,9 @@ def _inside(tri: NDArray[np.float64], pts: NDArray[np.float64]
     return inside, np.where(inside, z, np.nan)
 
 
-def vertical_touch(bolt_tris: NDArray[np.float64], nut_tris: NDArray[np.float64]
-                   ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def vertical_touch(
+    bolt_tris: NDArray[np.float64], nut_tris: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Drop at which each bolt triangle first meets its nut triangle, and where.
 
     Parameters
@@ -80,7 +82,8 @@ def vertical_touch(bolt_tris: NDArray[np.float64], nut_tris: NDArray[np.float64]
     s = (b[:, _NEXT] - b)[:, None, :, :]
     den = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
     ok = np.abs(den) > 1e-14 * np.maximum(
-        np.hypot(r[..., 0], r[..., 1]) * np.hypot(s[..., 0], s[..., 1]), 1e-300)
+        np.hypot(r[..., 0], r[..., 1]) * np.hypot(s[..., 0], s[..., 1]), 1e-300
+    )
     safe = np.where(ok, den, 1.0)
     w = q - p
     t = (w[..., 0] * s[..., 1] - w[..., 1] * s[..., 0]) / safe

@@ -70,8 +70,9 @@ class ThreadBody:
     def t_of(self, theta: ArrayLike, z: ArrayLike) -> NDArray[np.float64]:
         """Profile coordinate of the helix point at angle ``theta`` (radians) and height z."""
         theta = np.asarray(theta, dtype=float)
-        return wrap_t(np.asarray(z, dtype=float) - self.hand * self.lead * theta / TWO_PI,
-                      self.profile.pitch)
+        return wrap_t(
+            np.asarray(z, dtype=float) - self.hand * self.lead * theta / TWO_PI, self.profile.pitch
+        )
 
     def section_radius(self, theta: ArrayLike, z: ArrayLike = 0.0) -> NDArray[np.float64]:
         """Radius of the cross-section at height ``z`` as a function of angle (radians).
@@ -127,9 +128,14 @@ class ThreadBody:
             over = r <= R if self.kind == "bolt" else (r >= R) & (r <= (self.outer_radius or 0))
             d = np.where(over, np.minimum(d, np.abs(p[..., 2] - zf)), d)
         if self.outer_radius is not None:
-            d = np.minimum(d, np.where(
-                (p[..., 2] >= self.z_min) & (p[..., 2] <= self.z_max),
-                np.abs(r - self.outer_radius), np.inf))
+            d = np.minimum(
+                d,
+                np.where(
+                    (p[..., 2] >= self.z_min) & (p[..., 2] <= self.z_max),
+                    np.abs(r - self.outer_radius),
+                    np.inf,
+                ),
+            )
         return d
 
     def contains(self, points: ArrayLike) -> NDArray[np.bool_]:
@@ -157,5 +163,11 @@ def bolt_body(spec: ThreadSpec) -> ThreadBody:
 
 def nut_body(spec: ThreadSpec) -> ThreadBody:
     """The exact nut of ``spec`` in the fixed frame: ``-nut.height <= z <= 0``."""
-    return ThreadBody(nut_profile(spec), spec.lead, spec.handedness, -filled(spec.nut.height), 0.0,
-                      filled(spec.nut.outer_radius))
+    return ThreadBody(
+        nut_profile(spec),
+        spec.lead,
+        spec.handedness,
+        -filled(spec.nut.height),
+        0.0,
+        filled(spec.nut.outer_radius),
+    )

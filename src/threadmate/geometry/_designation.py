@@ -47,9 +47,15 @@ __all__ = [
 #: Material conditions a designation expands at (aliases: maximum/mmc, minimum/lmc).
 MATERIAL_CONDITIONS = ("max", "mean", "min")
 _CONDITION_ALIASES = {
-    "max": "max", "maximum": "max", "mmc": "max",
-    "min": "min", "minimum": "min", "lmc": "min",
-    "mean": "mean", "mid": "mean", "middle": "mean",
+    "max": "max",
+    "maximum": "max",
+    "mmc": "max",
+    "min": "min",
+    "minimum": "min",
+    "lmc": "min",
+    "mean": "mean",
+    "mid": "mean",
+    "middle": "mean",
 }
 
 _EXAMPLES = "e.g. '1/4-20 UNC-2A/2B', '#10-24 UNC', 'M6x1-6g/6H' or 'M8'"
@@ -143,6 +149,7 @@ class ThreadLimits:
 
 
 # -- parsing -----------------------------------------------------------------------------
+
 
 def parse_designation(text: str | Designation) -> Designation:
     """Parse a Unified or ISO metric thread designation.
@@ -241,8 +248,17 @@ def _parse_unified(raw: str) -> Designation:
     hand = "left" if rest["hand"] == "LH" else "right"
     text = f"{label}-{tpi:g} {series}-{bolt_cls}/{nut_cls}" + (" LH" if hand == "left" else "")
     return Designation(
-        text=text, system="unified", units="in", size=label, major=major, pitch=pitch,
-        series=series, bolt_class=bolt_cls, nut_class=nut_cls, hand=hand, tpi=tpi,
+        text=text,
+        system="unified",
+        units="in",
+        size=label,
+        major=major,
+        pitch=pitch,
+        series=series,
+        bolt_class=bolt_cls,
+        nut_class=nut_cls,
+        hand=hand,
+        tpi=tpi,
     )
 
 
@@ -265,7 +281,7 @@ def _unified_size(token: str, tpi: float, base: str, raw: str) -> tuple[str, flo
         return _inch_size(fraction, raw)
     if "." in token:
         value = float(token)
-        for label in (table or {}):
+        for label in table or {}:
             if abs(_unified.size_value(label) - value) < 5e-5:
                 return label, _unified.size_value(label)
         as_fraction = Fraction(value).limit_denominator(64)
@@ -295,9 +311,7 @@ def _inch_size(value: Fraction, raw: str) -> tuple[str, float]:
 
 def _inch_size_checked(label: str, value: float, raw: str) -> tuple[str, float]:
     if not 0.06 <= value <= 6.0:
-        raise DesignationError(
-            f"unknown size '{label}' in '{raw}': ASME B1.1 covers 0.060 to 6 in"
-        )
+        raise DesignationError(f"unknown size '{label}' in '{raw}': ASME B1.1 covers 0.060 to 6 in")
     return label, value
 
 
@@ -374,8 +388,16 @@ def _parse_iso(raw: str) -> Designation:
     bolt_s, nut_s = _iso_class_text(bolt), _iso_class_text(nut)
     text = f"M{size:g}x{pitch:g}-{bolt_s}/{nut_s}" + ("-LH" if hand == "left" else "")
     return Designation(
-        text=text, system="iso", units="mm", size=f"M{size:g}", major=float(size),
-        pitch=pitch, series="M", bolt_class=bolt_s, nut_class=nut_s, hand=hand,
+        text=text,
+        system="iso",
+        units="mm",
+        size=f"M{size:g}",
+        major=float(size),
+        pitch=pitch,
+        series="M",
+        bolt_class=bolt_s,
+        nut_class=nut_s,
+        hand=hand,
     )
 
 
@@ -429,11 +451,11 @@ def _iso_classes(
             f"classes; a pair is one external (lower case) and one internal (upper case), "
             f"e.g. 6g/6H"
         )
-    return (external[0] if external else default_bolt,
-            internal[0] if internal else default_nut)
+    return (external[0] if external else default_bolt, internal[0] if internal else default_nut)
 
 
 # -- limits and specs ----------------------------------------------------------------------
+
 
 def thread_limits(designation: str | Designation) -> ThreadLimits:
     """Limits of size of the bolt and nut of a designation (see module docstring)."""
@@ -445,7 +467,8 @@ def thread_limits(designation: str | Designation) -> ThreadLimits:
     else:
         try:
             raw = _iso.iso_limits(
-                des.major, des.pitch,
+                des.major,
+                des.pitch,
                 _read_iso_class(des.bolt_class, des.text),
                 _read_iso_class(des.nut_class, des.text),
             )
@@ -479,9 +502,7 @@ def _pick(limits: tuple[float, float], condition: str, largest: bool) -> float:
     return hi if (condition == "max") == largest else lo
 
 
-def spec_from_designation(
-    designation: str | Designation, condition: str = "mean"
-) -> ThreadSpec:
+def spec_from_designation(designation: str | Designation, condition: str = "mean") -> ThreadSpec:
     """Expand a designation into a :class:`ThreadSpec` at a material condition.
 
     Parameters
@@ -505,10 +526,12 @@ def spec_from_designation(
     cond = material_condition(condition)
     lim = thread_limits(des)
     b, n = lim.bolt, lim.nut
-    bolt_vals = {k: _pick(getattr(b, k), cond, largest=True)
-                 for k in ("major", "pitch_diameter", "minor")}
-    nut_vals = {k: _pick(getattr(n, k), cond, largest=False)
-                for k in ("major", "pitch_diameter", "minor")}
+    bolt_vals = {
+        k: _pick(getattr(b, k), cond, largest=True) for k in ("major", "pitch_diameter", "minor")
+    }
+    nut_vals = {
+        k: _pick(getattr(n, k), cond, largest=False) for k in ("major", "pitch_diameter", "minor")
+    }
     # The radius of an arc tangent to both flanks at the minor diameter: a larger root
     # fillet would not fit its corner.
     h = math.sqrt(3.0) / 2.0 * des.pitch
@@ -517,10 +540,14 @@ def spec_from_designation(
     return ThreadSpec(
         units=des.units,
         pitch=des.pitch,
-        bolt=BoltSpec(**bolt_vals, crest_fillet=_pick(b.crest_fillet, cond, True),
-                      root_fillet=max(root, 0.0)),
-        nut=NutSpec(**nut_vals, crest_fillet=_pick(n.crest_fillet, cond, True),
-                    root_fillet=_pick(n.root_fillet, cond, True)),
+        bolt=BoltSpec(
+            **bolt_vals, crest_fillet=_pick(b.crest_fillet, cond, True), root_fillet=max(root, 0.0)
+        ),
+        nut=NutSpec(
+            **nut_vals,
+            crest_fillet=_pick(n.crest_fillet, cond, True),
+            root_fillet=_pick(n.root_fillet, cond, True),
+        ),
         hand=des.hand,
         designation=des.text,
     )

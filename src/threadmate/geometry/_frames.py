@@ -52,9 +52,13 @@ def axis_angle_rotation(axis: ArrayLike, deg: float) -> NDArray[np.float64]:
     x, y, z = axis / n
     c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
     t = 1.0 - c
-    return np.array([[c + x * x * t, x * y * t - z * s, x * z * t + y * s],
-                     [y * x * t + z * s, c + y * y * t, y * z * t - x * s],
-                     [z * x * t - y * s, z * y * t + x * s, c + z * z * t]])
+    return np.array(
+        [
+            [c + x * x * t, x * y * t - z * s, x * z * t + y * s],
+            [y * x * t + z * s, c + y * y * t, y * z * t - x * s],
+            [z * x * t - y * s, z * y * t + x * s, c + z * z * t],
+        ]
+    )
 
 
 @dataclass(frozen=True)
@@ -66,7 +70,12 @@ class Pose:
 
     @classmethod
     def from_angles(
-        cls, roll: float, pitch: float, phase: float, h: float = 0.0, x: float = 0.0,
+        cls,
+        roll: float,
+        pitch: float,
+        phase: float,
+        h: float = 0.0,
+        x: float = 0.0,
         y: float = 0.0,
     ) -> Pose:
         """The conventions' bolt pose: orientation from degrees, origin ``(x, y, h)``."""

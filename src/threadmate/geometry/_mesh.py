@@ -152,8 +152,9 @@ def nut_mesh(spec: ThreadSpec, chord: float | None = None) -> TessellatedBody:
     return _tessellate(nut_body(spec), chord, _NUT_GRID)
 
 
-def thread_meshes(spec: ThreadSpec,
-                  chord: float | None = None) -> tuple[TessellatedBody, TessellatedBody]:
+def thread_meshes(
+    spec: ThreadSpec, chord: float | None = None
+) -> tuple[TessellatedBody, TessellatedBody]:
     """``(bolt, nut)`` meshes of ``spec``, cached per ``(spec, chord)``.
 
     The contact, sweep and command-line stages call this repeatedly; the meshes are built
@@ -173,8 +174,9 @@ def mesh_deviation(mesh: trimesh.Trimesh, body: ThreadBody) -> float:
     f = np.asarray(mesh.faces, dtype=np.int64)
     if len(f) == 0:
         return float("inf")
-    edges = np.unique(np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]),
-                              axis=1), axis=0)
+    edges = np.unique(
+        np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1), axis=0
+    )
     worst = _max_distance(body, v)
     worst = max(worst, _max_distance(body, 0.5 * (v[edges[:, 0]] + v[edges[:, 1]])))
     tri = v[f]
@@ -184,12 +186,14 @@ def mesh_deviation(mesh: trimesh.Trimesh, body: ThreadBody) -> float:
 
 
 # -- internals ---------------------------------------------------------------------------
-_BARYCENTRIC = np.array([
-    [1 / 3, 1 / 3, 1 / 3],
-    [2 / 3, 1 / 6, 1 / 6],
-    [1 / 6, 2 / 3, 1 / 6],
-    [1 / 6, 1 / 6, 2 / 3],
-])
+_BARYCENTRIC = np.array(
+    [
+        [1 / 3, 1 / 3, 1 / 3],
+        [2 / 3, 1 / 6, 1 / 6],
+        [1 / 6, 2 / 3, 1 / 6],
+        [1 / 6, 1 / 6, 2 / 3],
+    ]
+)
 
 
 @dataclass(frozen=True)
@@ -223,13 +227,17 @@ def check_chord(spec: ThreadSpec, chord: float | None, name: str = "chord") -> f
     if chord <= 0:
         raise InputError(f"{name} must be a positive length, got {chord!r}")
     if chord < spec.pitch * _FINEST_CHORD:
-        raise InputError(f"{name} {chord:g} {spec.units} is too fine (the meshes would have "
-                         f"many millions of triangles): give at least "
-                         f"{spec.pitch * _FINEST_CHORD:g}")
+        raise InputError(
+            f"{name} {chord:g} {spec.units} is too fine (the meshes would have "
+            f"many millions of triangles): give at least "
+            f"{spec.pitch * _FINEST_CHORD:g}"
+        )
     if chord > spec.pitch * _COARSEST_CHORD:
-        raise InputError(f"{name} {chord:g} {spec.units} is too coarse for a pitch of "
-                         f"{spec.pitch:g} {spec.units}: give at most "
-                         f"{spec.pitch * _COARSEST_CHORD:g}")
+        raise InputError(
+            f"{name} {chord:g} {spec.units} is too coarse for a pitch of "
+            f"{spec.pitch:g} {spec.units}: give at most "
+            f"{spec.pitch * _COARSEST_CHORD:g}"
+        )
     return float(chord)
 
 
@@ -241,7 +249,7 @@ def _cached_pair(spec: ThreadSpec, chord: float) -> tuple[TessellatedBody, Tesse
 def _max_distance(body: ThreadBody, points: NDArray[np.float64], chunk: int = 200_000) -> float:
     worst = 0.0
     for start in range(0, len(points), chunk):
-        p = points[start:start + chunk]
+        p = points[start : start + chunk]
         # surface_distance measures the end faces and the outer cylinder only from points
         # within the body's extent; a point a hair outside (float32 STL rounding) is first
         # moved onto the extent, and the move added (triangle inequality).
@@ -249,8 +257,7 @@ def _max_distance(body: ThreadBody, points: NDArray[np.float64], chunk: int = 20
         q[:, 2] = np.clip(q[:, 2], body.z_min, body.z_max)
         if body.outer_radius is not None:
             r = np.hypot(q[:, 0], q[:, 1])
-            scale = np.where(r > body.outer_radius, body.outer_radius / np.maximum(r, 1e-300),
-                             1.0)
+            scale = np.where(r > body.outer_radius, body.outer_radius / np.maximum(r, 1e-300), 1.0)
             q[:, :2] *= scale[:, None]
         moved = np.linalg.norm(p - q, axis=1)
         worst = max(worst, float(np.max(moved + body.surface_distance(q))))
@@ -270,8 +277,10 @@ def _tessellate(body: ThreadBody, chord: float, grid: _Grid) -> TessellatedBody:
         # The twist term falls linearly with the meridian spacing, the sagitta as its
         # square: scaling the count by the excess covers both.
         count = _prime(math.ceil(count * deviation / chord * 1.02), grid.residue)
-    raise InputError(f"could not tessellate the {body.kind} within a chord of {chord:g} "
-                     f"(reached {deviation:.3g}); give a larger chord")
+    raise InputError(
+        f"could not tessellate the {body.kind} within a chord of {chord:g} "
+        f"(reached {deviation:.3g}); give a larger chord"
+    )
 
 
 def _plan(body: ThreadBody, chord: float) -> tuple[int, int]:
@@ -380,8 +389,14 @@ def _meridians(crossings: NDArray[np.float64], count: int, turn: float) -> NDArr
     return np.sort(np.concatenate([cross, regular]))
 
 
-def _build(body: ThreadBody, stations: NDArray[np.float64], crossings: NDArray[np.float64],
-           count: int, turn: float, chord: float) -> trimesh.Trimesh:
+def _build(
+    body: ThreadBody,
+    stations: NDArray[np.float64],
+    crossings: NDArray[np.float64],
+    count: int,
+    turn: float,
+    chord: float,
+) -> trimesh.Trimesh:
     profile = body.profile
     p, lead, hand = profile.pitch, body.lead, body.hand
     z_lo, z_hi = body.z_min, body.z_max
@@ -402,8 +417,12 @@ def _build(body: ThreadBody, stations: NDArray[np.float64], crossings: NDArray[n
         # crossing station's radius (the same helix, within the rounding of the angle).
         ends = np.array([lo, hi])
         near = [_station_at(e, stations, p, tol) for e in ends]
-        r_ends = np.array([profile.radius(n if n is not None else e).item()
-                           for e, n in zip(ends, near, strict=True)])
+        r_ends = np.array(
+            [
+                profile.radius(n if n is not None else e).item()
+                for e, n in zip(ends, near, strict=True)
+            ]
+        )
         r = np.concatenate([[r_ends[0]], profile.radius(tau), [r_ends[1]]])
         z = np.concatenate([[z_lo], tau + s, [z_hi]])
         key = np.concatenate([[lo], tau, [hi]])
@@ -451,13 +470,13 @@ def _build(body: ThreadBody, stations: NDArray[np.float64], crossings: NDArray[n
         nxt = np.roll(np.arange(n_out), -1)
         caps.append(np.column_stack([o_lo, o_lo[nxt], o_hi]))
         caps.append(np.column_stack([o_lo[nxt], o_hi[nxt], o_hi]))
-    mesh = trimesh.Trimesh(np.concatenate(vertices), np.concatenate([lateral, *caps]),
-                           process=False)
+    mesh = trimesh.Trimesh(
+        np.concatenate(vertices), np.concatenate([lateral, *caps]), process=False
+    )
     return mesh
 
 
-def _station_at(tau: float, stations: NDArray[np.float64], p: float,
-                tol: float) -> float | None:
+def _station_at(tau: float, stations: NDArray[np.float64], p: float, tol: float) -> float | None:
     """The station (as a ``tau`` on the same helix) within ``tol`` of ``tau``, if any."""
     k = np.round((tau - stations) / p)
     cand = stations + k * p
@@ -465,8 +484,12 @@ def _station_at(tau: float, stations: NDArray[np.float64], p: float,
     return float(cand[i]) if abs(cand[i] - tau) <= tol else None
 
 
-def _zipper(a_idx: NDArray[np.int64], a_key: NDArray[np.float64], b_idx: NDArray[np.int64],
-            b_key: NDArray[np.float64]) -> NDArray[np.int64]:
+def _zipper(
+    a_idx: NDArray[np.int64],
+    a_key: NDArray[np.float64],
+    b_idx: NDArray[np.int64],
+    b_key: NDArray[np.float64],
+) -> NDArray[np.int64]:
     """Triangles stitching two vertex chains merged in ``key`` order.
 
     Each step advances the chain whose next vertex has the smaller key and makes the
@@ -484,8 +507,12 @@ def _zipper(a_idx: NDArray[np.int64], a_key: NDArray[np.float64], b_idx: NDArray
     return np.column_stack([a_prev, b_prev, new])
 
 
-def _annulus(inner: NDArray[np.int64], inner_angle: NDArray[np.float64],
-             outer: NDArray[np.int64], outer_angle: NDArray[np.float64]) -> NDArray[np.int64]:
+def _annulus(
+    inner: NDArray[np.int64],
+    inner_angle: NDArray[np.float64],
+    outer: NDArray[np.int64],
+    outer_angle: NDArray[np.float64],
+) -> NDArray[np.int64]:
     """Triangles of a flat ring between two closed chains, wound to face +z."""
     start = inner_angle[0]
     o_ang = start + np.mod(outer_angle - start, TWO_PI)

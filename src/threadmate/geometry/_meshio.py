@@ -34,11 +34,13 @@ if TYPE_CHECKING:
 __all__ = ["write_stl", "read_stl", "load_mesh", "stl_header", "stl_units", "STL_FACET"]
 
 #: One binary-STL facet (the thesis's Figure 3.3): 50 bytes.
-STL_FACET = np.dtype([
-    ("normal", "<f4", (3,)),
-    ("vertices", "<f4", (3, 3)),
-    ("attribute", "<u2"),
-])
+STL_FACET = np.dtype(
+    [
+        ("normal", "<f4", (3,)),
+        ("vertices", "<f4", (3, 3)),
+        ("attribute", "<u2"),
+    ]
+)
 
 _FORMATS = {".stl": "stl", ".obj": "obj", ".ply": "ply"}
 # "units=in" or "units=mm" as a word of a binary STL header (written by stl_header).
@@ -48,8 +50,9 @@ _UNITS_RE = re.compile(rb"(?:^|\s)units=(in|mm)(?=\s|$)")
 _SIZE_BAND = (0.8, 1.25)
 
 
-def write_stl(mesh: trimesh.Trimesh, path: str | os.PathLike[str],
-              header: str = "threadmate") -> Path:
+def write_stl(
+    mesh: trimesh.Trimesh, path: str | os.PathLike[str], header: str = "threadmate"
+) -> Path:
     """Write ``mesh`` as binary STL (Figure 3.3 layout), atomically.
 
     Parameters
@@ -82,7 +85,7 @@ def stl_header(body: str, spec: ThreadSpec, chord: float | None = None) -> str:
     head = f"threadmate units={spec.units} {body} "
     room = 80 - len(head) - len(tail)
     if len(label) > room:
-        label = label[:max(room - 3, 0)] + "..."
+        label = label[: max(room - 3, 0)] + "..."
     return f"{head}{label}{tail}"[:80]
 
 
@@ -112,8 +115,7 @@ def stl_bytes(mesh: trimesh.Trimesh, header: str = "threadmate") -> bytes:
     records = np.zeros(len(faces), dtype=STL_FACET)
     records["normal"] = np.asarray(mesh.face_normals, dtype=float)
     records["vertices"] = np.asarray(mesh.vertices, dtype=float)[faces]
-    return (text.ljust(80, b" ") + np.uint32(len(faces)).astype("<u4").tobytes()
-            + records.tobytes())
+    return text.ljust(80, b" ") + np.uint32(len(faces)).astype("<u4").tobytes() + records.tobytes()
 
 
 def read_stl(path: str | os.PathLike[str]) -> trimesh.Trimesh:
@@ -127,8 +129,12 @@ def read_stl(path: str | os.PathLike[str]) -> trimesh.Trimesh:
     return _read(Path(path), "stl")
 
 
-def load_mesh(path: str | os.PathLike[str], body: Literal["bolt", "nut"],
-              spec: ThreadSpec | None = None, units: str | None = None) -> trimesh.Trimesh:
+def load_mesh(
+    path: str | os.PathLike[str],
+    body: Literal["bolt", "nut"],
+    spec: ThreadSpec | None = None,
+    units: str | None = None,
+) -> trimesh.Trimesh:
     """Load and validate a user mesh of a bolt or nut (STL, OBJ or PLY).
 
     Parameters
@@ -164,8 +170,9 @@ def load_mesh(path: str | os.PathLike[str], body: Literal["bolt", "nut"],
     path = Path(path)
     kind = _FORMATS.get(path.suffix.lower())
     if kind is None:
-        raise MeshError(f"{path}: unsupported mesh format {path.suffix!r} "
-                        "(give .stl, .obj or .ply)")
+        raise MeshError(
+            f"{path}: unsupported mesh format {path.suffix!r} (give .stl, .obj or .ply)"
+        )
     mesh = _read(path, kind)
     if units is None and kind == "stl":
         units = stl_units(path)
@@ -189,8 +196,9 @@ def _read(path: Path, kind: str) -> trimesh.Trimesh:
         raise MeshError(f"mesh path is not a file: {path}")
     data = path.read_bytes()
     if kind == "stl" and not _looks_like_stl(data):
-        raise MeshError(f"{path}: not an STL file (neither binary STL of consistent size "
-                        "nor ASCII STL)")
+        raise MeshError(
+            f"{path}: not an STL file (neither binary STL of consistent size nor ASCII STL)"
+        )
     if kind == "obj":
         try:
             data.decode("utf-8")
@@ -204,8 +212,11 @@ def _read(path: Path, kind: str) -> trimesh.Trimesh:
         raise MeshError(f"{path}: contains no triangles")
     if not np.all(np.isfinite(loaded.vertices)):
         raise MeshError(f"{path}: has vertices that are not finite numbers")
-    mesh = trimesh.Trimesh(np.asarray(loaded.vertices, dtype=np.float64),
-                           np.asarray(loaded.faces, dtype=np.int64), process=True)
+    mesh = trimesh.Trimesh(
+        np.asarray(loaded.vertices, dtype=np.float64),
+        np.asarray(loaded.faces, dtype=np.int64),
+        process=True,
+    )
     mesh.merge_vertices()  # STL repeats each vertex per facet; weld them
     return mesh
 
@@ -224,11 +235,15 @@ def _check_closed(mesh: trimesh.Trimesh, name: str) -> None:
         edges = mesh.edges_sorted
         _, counts = np.unique(edges, axis=0, return_counts=True)
         open_edges = int(np.sum(counts == 1))
-        raise MeshError(f"{name} is not a closed volume (not watertight): {open_edges} "
-                        "edges belong to a single triangle")
+        raise MeshError(
+            f"{name} is not a closed volume (not watertight): {open_edges} "
+            "edges belong to a single triangle"
+        )
     if not mesh.is_winding_consistent:
-        raise MeshError(f"{name} has inconsistent winding: some triangles face the other "
-                        "way from their neighbours")
+        raise MeshError(
+            f"{name} has inconsistent winding: some triangles face the other "
+            "way from their neighbours"
+        )
     if abs(mesh.volume) <= 0:
         raise MeshError(f"{name} encloses no volume")
 
@@ -253,8 +268,10 @@ def _check_size(mesh: trimesh.Trimesh, body: str, spec: ThreadSpec, name: str) -
         hint = ": it looks like mm (give units='mm' or convert it)"
     elif spec.units == "mm" and lo <= ratio * mm_per_in <= hi:
         hint = ": it looks like inches (give units='in' or convert it)"
-    raise MeshError(f"{name} has implausible size for the spec: its {what} is {got:.6g} "
-                    f"but the spec's is {expected:.6g} {spec.units}{hint}")
+    raise MeshError(
+        f"{name} has implausible size for the spec: its {what} is {got:.6g} "
+        f"but the spec's is {expected:.6g} {spec.units}{hint}"
+    )
 
 
 def _check_frame(mesh: trimesh.Trimesh, body: str, name: str) -> None:
@@ -271,4 +288,5 @@ def _check_frame(mesh: trimesh.Trimesh, body: str, name: str) -> None:
     if abs(face) > slack or np.any(np.abs(centre) > 0.05 * half) or size <= 0:
         raise MeshError(
             f"{name} is not in its frame ({where}, axis along Z through the origin): its "
-            f"bounds are {np.round(lo, 6).tolist()} to {np.round(hi, 6).tolist()}")
+            f"bounds are {np.round(lo, 6).tolist()} to {np.round(hi, 6).tolist()}"
+        )

@@ -300,8 +300,8 @@ class Profile:
         out = np.empty(tf.size)
         step = 20_000  # bounds the (points x shifts x pieces) temporaries
         for i in range(0, tf.size, step):
-            u = tf[i:i + step, None, None] + shifts[None, :, None]
-            rr = rf[i:i + step, None, None]
+            u = tf[i : i + step, None, None] + shifts[None, :, None]
+            rr = rf[i : i + step, None, None]
             du, dr = u - p0[:, 0], rr - p0[:, 1]
             w = np.clip((du * d[:, 0] + dr * d[:, 1]) * inv_dd, 0.0, 1.0)
             best = np.hypot(du - w * d[:, 0], dr - w * d[:, 1]).min(axis=(1, 2))
@@ -310,7 +310,7 @@ class Profile:
                 radial = np.abs(np.hypot(uu - centre[:, 0], rr - centre[:, 1]) - rho)
                 radial = np.where((uu >= lo) & (uu <= hi), radial, np.inf)
                 best = np.minimum(best, radial.min(axis=(1, 2)))
-            out[i:i + step] = best
+            out[i : i + step] = best
         return out.reshape(t.shape)
 
     @functools.cached_property
@@ -321,8 +321,14 @@ class Profile:
         arc centre, radius, u from, u to, side)``."""
         a1, a2, a3, a4 = self.breakpoints
         h = self.pitch / 2
-        pts = [(0.0, self.r_hi), (a1, self.r_hi), (a2, self._radius_at(a2)),
-               (a3, self._radius_at(a3)), (a4, self.r_lo), (h, self.r_lo)]
+        pts = [
+            (0.0, self.r_hi),
+            (a1, self.r_hi),
+            (a2, self._radius_at(a2)),
+            (a3, self._radius_at(a3)),
+            (a4, self.r_lo),
+            (h, self.r_lo),
+        ]
         lines, arcs = [], []
         for sd in (1.0, -1.0):
             q = [(sd * u, r) for u, r in pts]
@@ -343,15 +349,17 @@ class Profile:
 def bolt_profile(spec: ThreadSpec) -> Profile:
     """The bolt's profile from a spec."""
     b = spec.bolt
-    return Profile("bolt", spec.pitch, b.pitch_diameter, b.major, b.minor,
-                   b.crest_fillet, b.root_fillet)
+    return Profile(
+        "bolt", spec.pitch, b.pitch_diameter, b.major, b.minor, b.crest_fillet, b.root_fillet
+    )
 
 
 def nut_profile(spec: ThreadSpec) -> Profile:
     """The nut's profile from a spec."""
     n = spec.nut
-    return Profile("nut", spec.pitch, n.pitch_diameter, n.major, n.minor,
-                   n.crest_fillet, n.root_fillet)
+    return Profile(
+        "nut", spec.pitch, n.pitch_diameter, n.major, n.minor, n.crest_fillet, n.root_fillet
+    )
 
 
 def check_fillets(spec: ThreadSpec) -> None:

@@ -21,6 +21,7 @@ from .._validate import check_length, check_number, check_range
 
 __all__ = ["BoltSpec", "NutSpec", "ThreadSpec", "load_spec", "save_spec", "UNITS"]
 
+
 def filled(value: float | None) -> float:
     """A length that :class:`ThreadSpec` fills in (``bolt.length``, ``nut.height``,
     ``nut.outer_radius``), as a float: on a constructed spec it is never None."""
@@ -146,8 +147,7 @@ class ThreadSpec:
         bolt = _body(data["bolt"], "bolt", BoltSpec)
         nut = _body(data["nut"], "nut", NutSpec)
         starts = data.get("starts", 1)
-        if check_range("spec key 'starts'", starts, 1, MAX_STARTS, error=SpecError) \
-                != int(starts):
+        if check_range("spec key 'starts'", starts, 1, MAX_STARTS, error=SpecError) != int(starts):
             raise SpecError(f"spec key 'starts' must be a whole number, got {starts!r}")
         return cls(
             units=data["units"],
@@ -169,6 +169,7 @@ class ThreadSpec:
 
 
 # -- validation --------------------------------------------------------------------------
+
 
 def _number(value: Any, key: str) -> float:
     return check_number(f"spec key '{key}'", value, error=SpecError)
@@ -195,8 +196,7 @@ def _body(data: Any, name: str, cls: type[BoltSpec] | type[NutSpec]) -> Any:
 
 
 def _length(spec: ThreadSpec, key: str, value: Any, zero_ok: bool = False) -> float:
-    return check_length(f"spec key '{key}'", value, spec.units, zero_ok=zero_ok,
-                        error=SpecError)
+    return check_length(f"spec key '{key}'", value, spec.units, zero_ok=zero_ok, error=SpecError)
 
 
 def _validate(spec: ThreadSpec) -> None:
@@ -204,10 +204,14 @@ def _validate(spec: ThreadSpec) -> None:
         raise SpecError(f"spec key 'units' must be one of {', '.join(UNITS)}; got {spec.units!r}")
     if spec.hand not in ("right", "left"):
         raise SpecError(f"spec key 'hand' must be 'right' or 'left'; got {spec.hand!r}")
-    if isinstance(spec.starts, bool) or not isinstance(spec.starts, int) \
-            or not 1 <= spec.starts <= MAX_STARTS:
-        raise SpecError(f"spec key 'starts' must be a whole number from 1 to {MAX_STARTS}; "
-                        f"got {spec.starts!r}")
+    if (
+        isinstance(spec.starts, bool)
+        or not isinstance(spec.starts, int)
+        or not 1 <= spec.starts <= MAX_STARTS
+    ):
+        raise SpecError(
+            f"spec key 'starts' must be a whole number from 1 to {MAX_STARTS}; got {spec.starts!r}"
+        )
     # Every length within [MIN_LENGTH, MAX_LENGTH] of the spec's units (see _validate for
     # why that covers every real thread); a fillet may also be 0 (a sharp corner).
     _length(spec, "pitch", spec.pitch)
@@ -287,6 +291,7 @@ def _validate_extents(spec: ThreadSpec) -> None:
 
 
 # -- files -------------------------------------------------------------------------------
+
 
 def load_spec(path: str | Path) -> ThreadSpec:
     """Load a spec from a ``.json`` or ``.toml`` file.

@@ -48,8 +48,9 @@ def _span(text: str, option: str) -> list[float]:
     """``START:STOP:STEP`` by integer step counting (STOP kept when it falls on the grid)."""
     parts = text.split(":")
     if len(parts) != 3:
-        raise InputError(f"--{option}: {text!r} is not START:STOP:STEP (nor a number or a "
-                         "comma list)")
+        raise InputError(
+            f"--{option}: {text!r} is not START:STOP:STEP (nor a number or a comma list)"
+        )
     start, stop, step = (_number(p, option) for p in parts)
     if step <= 0:
         raise InputError(f"--{option}: step {step:g} in {text!r} must be positive")
@@ -110,15 +111,18 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
         if not raw:
             raise InputError(f"--{option}: no values given")
     else:
-        raise InputError(f"--{option}: expected START:STOP:STEP, a number or a list, got "
-                         f"{type(values).__name__}")
+        raise InputError(
+            f"--{option}: expected START:STOP:STEP, a number or a list, got {type(values).__name__}"
+        )
     if option == "phase":
         raw = [v % 360.0 for v in raw]
     else:
         worst = max(raw, key=abs)
         if abs(worst) > MAX_TILT + ANGLE_TOLERANCE:
-            raise InputError(f"--{option}: {worst:g} deg is out of range: roll and pitch "
-                             f"must lie within +/-{MAX_TILT:g} deg")
+            raise InputError(
+                f"--{option}: {worst:g} deg is out of range: roll and pitch "
+                f"must lie within +/-{MAX_TILT:g} deg"
+            )
     out: list[float] = []
     for v in sorted(round(v, _DECIMALS) + 0.0 for v in raw):  # + 0.0 turns -0.0 into 0.0
         if not out or v - out[-1] > ANGLE_TOLERANCE:
@@ -154,9 +158,11 @@ class Grid:
         """A grid from text, numbers or sequences; None takes the thesis's values
         (roll and pitch -4..4 by 1, phase 0..355 by 5)."""
         # The constructor takes any Values: __post_init__ parses them into the tuples.
-        given = (DEFAULT_RANGES["roll"] if roll is None else roll,
-                 DEFAULT_RANGES["pitch"] if pitch is None else pitch,
-                 DEFAULT_RANGES["phase"] if phase is None else phase)
+        given = (
+            DEFAULT_RANGES["roll"] if roll is None else roll,
+            DEFAULT_RANGES["pitch"] if pitch is None else pitch,
+            DEFAULT_RANGES["phase"] if phase is None else phase,
+        )
         return cls(*cast("tuple[tuple[float, ...], ...]", given))
 
     @property
@@ -191,16 +197,18 @@ class Grid:
     def configurations(self, config_ids: Sequence[int] | np.ndarray) -> np.ndarray:
         """``(n, 3)`` array of roll, pitch, phase for configuration numbers."""
         i, j, k = self.indices(np.asarray(config_ids, dtype=np.int64))
-        return np.column_stack([np.asarray(self.roll)[i], np.asarray(self.pitch)[j],
-                                np.asarray(self.phase)[k]])
+        return np.column_stack(
+            [np.asarray(self.roll)[i], np.asarray(self.pitch)[j], np.asarray(self.phase)[k]]
+        )
 
     def config_id(self, i_roll: int, i_pitch: int, i_phase: int) -> int:
         """The configuration number of grid indices."""
         _, n_pitch, n_phase = self.shape
         return (int(i_roll) * n_pitch + int(i_pitch)) * n_phase + int(i_phase)
 
-    def nearest(self, roll: float, pitch: float, phase: float
-                ) -> tuple[int, tuple[float, float, float]]:
+    def nearest(
+        self, roll: float, pitch: float, phase: float
+    ) -> tuple[int, tuple[float, float, float]]:
         """The grid configuration nearest an arbitrary one (phase compared modulo 360).
 
         Returns
@@ -210,8 +218,11 @@ class Grid:
             The grid values.
         """
         for name, v in (("roll", roll), ("pitch", pitch), ("phase", phase)):
-            if isinstance(v, bool) or not isinstance(v, int | float | np.integer | np.floating) \
-                    or not math.isfinite(v):
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, int | float | np.integer | np.floating)
+                or not math.isfinite(v)
+            ):
                 raise InputError(f"--{name}: {v!r} is not a finite number of degrees")
         i = int(np.argmin(np.abs(np.asarray(self.roll) - roll)))
         j = int(np.argmin(np.abs(np.asarray(self.pitch) - pitch)))
@@ -219,8 +230,9 @@ class Grid:
         k = int(np.argmin(d))
         return self.config_id(i, j, k), (self.roll[i], self.pitch[j], self.phase[k])
 
-    def locate(self, roll: float, pitch: float, phase: float, *, nearest: bool = False
-               ) -> tuple[int, tuple[float, float, float], bool]:
+    def locate(
+        self, roll: float, pitch: float, phase: float, *, nearest: bool = False
+    ) -> tuple[int, tuple[float, float, float], bool]:
         """The grid configuration of a request: ``(config_id, grid values, moved)``.
 
         A request on the grid (phase modulo 360) is itself. One off the grid is refused
@@ -228,14 +240,17 @@ class Grid:
         is taken and ``moved`` is True. The one rule of ``library query`` and ``path``.
         """
         cid, on_grid = self.nearest(roll, pitch, phase)
-        moved = not (math.isclose(on_grid[0], roll, abs_tol=ANGLE_TOLERANCE)
-                     and math.isclose(on_grid[1], pitch, abs_tol=ANGLE_TOLERANCE)
-                     and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= ANGLE_TOLERANCE)
+        moved = not (
+            math.isclose(on_grid[0], roll, abs_tol=ANGLE_TOLERANCE)
+            and math.isclose(on_grid[1], pitch, abs_tol=ANGLE_TOLERANCE)
+            and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= ANGLE_TOLERANCE
+        )
         if moved and not nearest:
             raise InputError(
                 f"roll {roll:g}, pitch {pitch:g}, phase {phase:g} is not on the library's "
                 f"grid ({self.describe()}); the nearest configuration is roll {on_grid[0]:g}, "
-                f"pitch {on_grid[1]:g}, phase {on_grid[2]:g}: ask for it, or pass --nearest")
+                f"pitch {on_grid[1]:g}, phase {on_grid[2]:g}: ask for it, or pass --nearest"
+            )
         return cid, on_grid, moved
 
     def to_dict(self) -> dict[str, Any]:
@@ -258,10 +273,14 @@ class Grid:
 
     def describe(self) -> str:
         """One line such as ``roll -4..4 (9) x pitch -4..4 (9) x phase 0..355 (72)``."""
+
         def one(name: str, v: tuple[float, ...]) -> str:
             return f"{name} {v[0]:g}..{v[-1]:g} ({len(v)})" if len(v) > 1 else f"{name} {v[0]:g}"
-        return (f"{one('roll', self.roll)} x {one('pitch', self.pitch)} x "
-                f"{one('phase', self.phase)} = {self.size} configurations")
+
+        return (
+            f"{one('roll', self.roll)} x {one('pitch', self.pitch)} x "
+            f"{one('phase', self.phase)} = {self.size} configurations"
+        )
 
 
 #: The thesis's ranges (chapter 4): roll and pitch -4..4 deg by 1, phase 0..355 by 5.

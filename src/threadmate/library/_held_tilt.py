@@ -67,26 +67,54 @@ class _Tilt:
     def add(self, state: MechanicalState, role: str, config_id: int) -> str:
         sid = state_id(self.roll, self.pitch, state.phase, self.serial)
         self.serial += 1
-        self.rows[sid] = state_row(state, config_id=config_id, state_id=sid,
-                                   held_roll=self.roll, held_pitch=self.pitch, role=role)
+        self.rows[sid] = state_row(
+            state,
+            config_id=config_id,
+            state_id=sid,
+            held_roll=self.roll,
+            held_pitch=self.pitch,
+            role=role,
+        )
         self.states[sid] = state
         return sid
 
-    def link(self, src: str, dst: str, kind: str, label: str, *, turn: float = 0.0,
-             work_friction: float = 0.0, work_potential: float = 0.0,
-             torque_peak: float = math.nan) -> None:
+    def link(
+        self,
+        src: str,
+        dst: str,
+        kind: str,
+        label: str,
+        *,
+        turn: float = 0.0,
+        work_friction: float = 0.0,
+        work_potential: float = 0.0,
+        torque_peak: float = math.nan,
+    ) -> None:
         a, b = self.states[src], self.states[dst]
         cos = float(np.clip(_axis(a) @ _axis(b), -1.0, 1.0))
         self.rows[src].update(
-            next_id=dst, transition=kind, transition_label=label, transition_turn=turn,
-            work_friction=work_friction, work_potential=work_potential,
-            torque_peak=torque_peak, drop=float(a.centre[2] - b.centre[2]),
-            tilt_change=math.degrees(math.acos(cos)))
+            next_id=dst,
+            transition=kind,
+            transition_label=label,
+            transition_turn=turn,
+            work_friction=work_friction,
+            work_potential=work_potential,
+            torque_peak=torque_peak,
+            drop=float(a.centre[2] - b.centre[2]),
+            tilt_change=math.degrees(math.acos(cos)),
+        )
 
     def link_leg(self, src: str, dst: str, leg: Leg) -> None:
-        self.link(src, dst, leg.kind, leg.label, turn=leg.turn,
-                  work_friction=leg.work_friction, work_potential=leg.work_potential,
-                  torque_peak=leg.torque_peak)
+        self.link(
+            src,
+            dst,
+            leg.kind,
+            leg.label,
+            turn=leg.turn,
+            work_friction=leg.work_friction,
+            work_potential=leg.work_potential,
+            torque_peak=leg.torque_peak,
+        )
 
     def carrying(self, s: MechanicalState) -> list[str]:
         """Regions of the contacts that carry load (as the continuation tells events)."""
@@ -118,9 +146,16 @@ class _Tilt:
         sid = state_id(self.roll, self.pitch, phase, self.serial)
         self.serial += 1
         row = blank_row(state_schema())
-        row.update(config_id=config_id, state_id=sid, held_roll=self.roll,
-                   held_pitch=self.pitch, phase=float(phase % 360.0), role=role,
-                   classification="error", error=f"{type(exc).__name__}: {exc}")
+        row.update(
+            config_id=config_id,
+            state_id=sid,
+            held_roll=self.roll,
+            held_pitch=self.pitch,
+            phase=float(phase % 360.0),
+            role=role,
+            classification="error",
+            error=f"{type(exc).__name__}: {exc}",
+        )
         self.rows[sid] = row
 
 
@@ -132,9 +167,16 @@ def _turns_between(phases: Sequence[float], sign: int) -> list[float]:
     return [(sign * (phases[(j + 1) % n] - phases[j])) % 360.0 for j in range(n)]
 
 
-def states_of_held_tilt(mech: Mechanics, roll: float, pitch: float,
-                        phases: Sequence[float], config_ids: Sequence[int], *,
-                        step: float, phase_tolerance: float) -> list[dict[str, Any]]:
+def states_of_held_tilt(
+    mech: Mechanics,
+    roll: float,
+    pitch: float,
+    phases: Sequence[float],
+    config_ids: Sequence[int],
+    *,
+    step: float,
+    phase_tolerance: float,
+) -> list[dict[str, Any]]:
     """State records of one held tilt over the grid's phases (module docstring).
 
     Parameters
@@ -172,8 +214,7 @@ def states_of_held_tilt(mech: Mechanics, roll: float, pitch: float,
             continue
         prev = None
         for s in rest.path:
-            sid = tilt.add(s, "first-contact" if s.kind == "first-contact" else "passed",
-                           ids[j])
+            sid = tilt.add(s, "first-contact" if s.kind == "first-contact" else "passed", ids[j])
             if prev is not None:
                 tilt.link(prev, sid, "settling", "unstable")
             prev = sid
@@ -190,8 +231,16 @@ def states_of_held_tilt(mech: Mechanics, roll: float, pitch: float,
     return list(tilt.rows.values())
 
 
-def _continue(tilt: _Tilt, walk: Continuation, sid: str, j: int, grid: list[float],
-              turns: list[float], config_id: int, at_phase: list[list[str]]) -> None:
+def _continue(
+    tilt: _Tilt,
+    walk: Continuation,
+    sid: str,
+    j: int,
+    grid: list[float],
+    turns: list[float],
+    config_id: int,
+    at_phase: list[list[str]],
+) -> None:
     """Follow the continuation from state ``sid`` at grid phase ``j`` until it snaps,
     joins a state already known at a grid phase, or has turned ``MAX_TURNS``."""
     n = len(grid)
@@ -210,8 +259,7 @@ def _continue(tilt: _Tilt, walk: Continuation, sid: str, j: int, grid: list[floa
             last = i == len(legs) - 1 and not snapped
             if last:
                 # The state at the next grid phase: a known one, or a new continued one.
-                known = next((o for o in at_phase[k] if tilt.same(tilt.states[o], leg.after)),
-                             None)
+                known = next((o for o in at_phase[k] if tilt.same(tilt.states[o], leg.after)), None)
                 if known is not None:
                     tilt.link_leg(sid, known, leg)
                     return
@@ -226,8 +274,9 @@ def _continue(tilt: _Tilt, walk: Continuation, sid: str, j: int, grid: list[floa
                 if known is not None:
                     tilt.link_leg(sid, known, leg)
                     return
-                dst = tilt.add(leg.after, "before-jump" if leg.kind == "turning"
-                               else "after-jump", config_id)
+                dst = tilt.add(
+                    leg.after, "before-jump" if leg.kind == "turning" else "after-jump", config_id
+                )
                 tilt.events.append(dst)
             tilt.link_leg(sid, dst, leg)
             sid = dst

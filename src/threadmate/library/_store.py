@@ -66,8 +66,7 @@ MODELS = ("mechanics", "thesis")
 _PART = re.compile(r"^part-(\d{5,})\.parquet$")
 
 
-def library_schema(metadata: dict[str, Any] | None = None, model: str | None = None
-                   ) -> pa.Schema:
+def library_schema(metadata: dict[str, Any] | None = None, model: str | None = None) -> pa.Schema:
     """The rows' schema of a library of ``model`` (default: the metadata's, else
     ``mechanics``): the state record, or ``config_id`` + the thesis record + ``error``;
     with ``metadata`` attached under the key ``threadmate``."""
@@ -75,8 +74,9 @@ def library_schema(metadata: dict[str, Any] | None = None, model: str | None = N
 
     if model is None:
         model = (metadata or {}).get("model", "mechanics")
-    attached: dict[bytes | str, bytes | str] | None = None if metadata is None else {
-        SCHEMA_KEY: json.dumps(metadata, sort_keys=True).encode()}
+    attached: dict[bytes | str, bytes | str] | None = (
+        None if metadata is None else {SCHEMA_KEY: json.dumps(metadata, sort_keys=True).encode()}
+    )
     return state_schema(attached) if model == "mechanics" else thesis_schema(attached)
 
 
@@ -85,8 +85,10 @@ def _check_dir(path: str | os.PathLike[str]) -> Path:
     if not path.exists():
         raise LibraryError(f"no library at {path}: the path does not exist")
     if not path.is_dir():
-        raise LibraryError(f"{path} is not a library: a library is a directory of Parquet "
-                           f"parts with {METADATA_FILE}")
+        raise LibraryError(
+            f"{path} is not a library: a library is a directory of Parquet "
+            f"parts with {METADATA_FILE}"
+        )
     return path
 
 
@@ -101,12 +103,13 @@ def read_metadata(path: str | os.PathLike[str]) -> dict[str, Any]:
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise LibraryError(f"{meta_file} is unreadable or not JSON: {exc}") from None
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
-        raise LibraryError(f"{meta_file} is not threadmate library metadata "
-                           f"(no format {FORMAT!r})")
+        raise LibraryError(f"{meta_file} is not threadmate library metadata (no format {FORMAT!r})")
     for key in ("model", "spec", "grid", "mesh", "units", "threadmate_version"):
         if key not in doc:
-            raise LibraryError(f"{meta_file} lacks the key {key!r} (written by an older "
-                               "threadmate? sweep it again)")
+            raise LibraryError(
+                f"{meta_file} lacks the key {key!r} (written by an older "
+                "threadmate? sweep it again)"
+            )
     if doc["model"] not in MODELS:
         raise LibraryError(f"{meta_file}: unknown model {doc['model']!r}")
     return doc
@@ -116,8 +119,9 @@ def write_metadata(path: str | os.PathLike[str], metadata: dict[str, Any]) -> Pa
     """Write the metadata file atomically (creating the directory)."""
     path = Path(path)
     path.mkdir(parents=True, exist_ok=True)
-    return atomic_write_text(path / METADATA_FILE,
-                             json.dumps(metadata, indent=2, sort_keys=True) + "\n")
+    return atomic_write_text(
+        path / METADATA_FILE, json.dumps(metadata, indent=2, sort_keys=True) + "\n"
+    )
 
 
 def part_files(path: str | os.PathLike[str]) -> list[Path]:
@@ -153,11 +157,14 @@ def write_part(path: str | os.PathLike[str], index: int, table: pa.Table) -> Pat
 def _check_parts(path: Path, meta: dict[str, Any], parts: list[Path]) -> None:
     """Refuse files that do not belong to the library: Parquet files not named as its
     parts, and parts written for another library (their schema names another id)."""
-    strays = sorted(p.name for p in path.iterdir()
-                    if p.suffix == ".parquet" and not _PART.match(p.name))
+    strays = sorted(
+        p.name for p in path.iterdir() if p.suffix == ".parquet" and not _PART.match(p.name)
+    )
     if strays:
-        raise LibraryError(f"{path / strays[0]} does not belong to the library (its parts "
-                           "are named part-NNNNN.parquet): move it out of the directory")
+        raise LibraryError(
+            f"{path / strays[0]} does not belong to the library (its parts "
+            "are named part-NNNNN.parquet): move it out of the directory"
+        )
     wanted = meta.get("library_id")
     if wanted is None:
         return
@@ -168,9 +175,11 @@ def _check_parts(path: Path, meta: dict[str, Any], parts: list[Path]) -> None:
         except (pa.ArrowInvalid, OSError, ValueError) as exc:
             raise LibraryError(f"{part} is corrupt or not Parquet: {exc}") from None
         if found != wanted:
-            raise LibraryError(f"{part} does not belong to the library: it was written for "
-                               "another one (copied in by hand?); move it out of the "
-                               "directory")
+            raise LibraryError(
+                f"{part} does not belong to the library: it was written for "
+                "another one (copied in by hand?); move it out of the "
+                "directory"
+            )
 
 
 def _dataset(path: Path) -> ds.Dataset:
@@ -178,14 +187,14 @@ def _dataset(path: Path) -> ds.Dataset:
     meta = read_metadata(path)
     _check_parts(path, meta, parts)
     try:
-        return ds.dataset([str(p) for p in parts], format="parquet",
-                          schema=library_schema(meta))
+        return ds.dataset([str(p) for p in parts], format="parquet", schema=library_schema(meta))
     except (pa.ArrowInvalid, OSError) as exc:
         raise LibraryError(f"{path} holds a corrupt or foreign part: {exc}") from None
 
 
-def _read(path: Path, columns: list[str] | None = None,
-          filter: ds.Expression | None = None) -> pa.Table:
+def _read(
+    path: Path, columns: list[str] | None = None, filter: ds.Expression | None = None
+) -> pa.Table:
     dataset = _dataset(path)
     try:
         return dataset.to_table(columns=columns, filter=filter)
@@ -256,8 +265,12 @@ def _counts(values: pd.Series | np.ndarray) -> dict[str, int]:
     return {str(k): int(v) for k, v in s.items()}
 
 
-def _starts(path: Path, meta: dict[str, Any], columns: list[str] | None = None,
-            filter: ds.Expression | None = None) -> pa.Table:
+def _starts(
+    path: Path,
+    meta: dict[str, Any],
+    columns: list[str] | None = None,
+    filter: ds.Expression | None = None,
+) -> pa.Table:
     """One row per finished configuration: the thesis's rows, or the mechanics' starts."""
     if meta["model"] == "mechanics":
         start = ds.field("role") == "start"
@@ -287,8 +300,11 @@ def info(path: str | os.PathLike[str]) -> dict[str, Any]:
         classes = _counts(table.column("classification").to_numpy(zero_copy_only=False))
         if meta["model"] == "mechanics":
             every = _read(path, ["role", "classification"]).to_pandas()
-            states = {"total": len(every), "by_role": _counts(every["role"]),
-                      "by_class": _counts(every["classification"])}
+            states = {
+                "total": len(every),
+                "by_role": _counts(every["role"]),
+                "by_class": _counts(every["classification"]),
+            }
     return {
         "path": str(path),
         "model": meta["model"],
@@ -315,18 +331,29 @@ def configurations(library: str | os.PathLike[str] | pd.DataFrame) -> pd.DataFra
     df = library if isinstance(library, pd.DataFrame) else load(library)
     if "role" in df.columns:
         meta = df.attrs.get("threadmate")
-        df = df[df["role"] == "start"].drop(columns=["roll", "pitch"], errors="ignore").rename(
-            columns={"held_roll": "roll", "held_pitch": "pitch"})
+        df = (
+            df[df["role"] == "start"]
+            .drop(columns=["roll", "pitch"], errors="ignore")
+            .rename(columns={"held_roll": "roll", "held_pitch": "pitch"})
+        )
         df.attrs["threadmate"] = meta
-    cols = ["config_id", "roll", "pitch", "phase", "classification", "n_contacts",
-            "region_combination"]
+    cols = [
+        "config_id",
+        "roll",
+        "pitch",
+        "phase",
+        "classification",
+        "n_contacts",
+        "region_combination",
+    ]
     out = df[[c for c in cols if c in df.columns]].reset_index(drop=True)
     out.attrs = dict(df.attrs)
     return out
 
 
-def query(path: str | os.PathLike[str], roll: float, pitch: float, phase: float, *,
-          nearest: bool = False) -> dict[str, Any]:
+def query(
+    path: str | os.PathLike[str], roll: float, pitch: float, phase: float, *, nearest: bool = False
+) -> dict[str, Any]:
     """The stored contact state of a configuration, without recomputing.
 
     Parameters
@@ -393,8 +420,12 @@ def _get(doc: dict[str, Any], keys: tuple[str, ...]) -> Any:
 
 
 def _same(a: Any, b: Any) -> bool:
-    if isinstance(a, float | int) and isinstance(b, float | int) \
-            and not isinstance(a, bool) and not isinstance(b, bool):
+    if (
+        isinstance(a, float | int)
+        and isinstance(b, float | int)
+        and not isinstance(a, bool)
+        and not isinstance(b, bool)
+    ):
         return math.isclose(a, b, rel_tol=1e-12, abs_tol=1e-15)
     if isinstance(a, list | tuple) and isinstance(b, list | tuple):
         return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))

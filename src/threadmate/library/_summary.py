@@ -63,8 +63,17 @@ _COLOURS = {
 _NOT_COMPUTED = "#ffffff"
 _COLUMNS = ["roll", "pitch", "phase", "classification", "n_contacts", "region_combination"]
 #: What a mechanics library's summary reads (the starts and the counts of every state).
-_STATE_COLUMNS = ["held_roll", "held_pitch", "phase", "role", "classification",
-                  "n_contacts", "region_combination", "transition", "transition_label"]
+_STATE_COLUMNS = [
+    "held_roll",
+    "held_pitch",
+    "phase",
+    "role",
+    "classification",
+    "n_contacts",
+    "region_combination",
+    "transition",
+    "transition_label",
+]
 
 Library = str | os.PathLike[str] | pd.DataFrame
 
@@ -107,16 +116,22 @@ def _frame(library: Library) -> tuple[pd.DataFrame, Grid, str, str]:
     else:
         if df.empty:
             raise InputError("an empty table without library metadata has no grid")
-        grid = Grid(tuple(sorted(df["roll"].unique())), tuple(sorted(df["pitch"].unique())),
-                    tuple(sorted(df["phase"].unique())))
+        grid = Grid(
+            tuple(sorted(df["roll"].unique())),
+            tuple(sorted(df["pitch"].unique())),
+            tuple(sorted(df["phase"].unique())),
+        )
         name = "contact-state library"
     return df, grid, name, model
 
 
 def _what(model: str) -> str:
     """What a configuration's class is, in a figure's words."""
-    return ("rest state reached by the drop" if model == "mechanics"
-            else "contact state (thesis's stages)")
+    return (
+        "rest state reached by the drop"
+        if model == "mechanics"
+        else "contact state (thesis's stages)"
+    )
 
 
 def _class_index(df: pd.DataFrame, grid: Grid) -> np.ndarray:
@@ -129,8 +144,11 @@ def _class_index(df: pd.DataFrame, grid: Grid) -> np.ndarray:
     k = np.searchsorted(np.asarray(grid.phase), df["phase"].to_numpy())
     lookup = {c: n for n, c in enumerate(CLASS_ORDER)}
     codes = df["classification"].map(lookup).fillna(lookup["error"]).to_numpy(np.int16)
-    cube[np.clip(i, 0, grid.shape[0] - 1), np.clip(j, 0, grid.shape[1] - 1),
-         np.clip(k, 0, grid.shape[2] - 1)] = codes
+    cube[
+        np.clip(i, 0, grid.shape[0] - 1),
+        np.clip(j, 0, grid.shape[1] - 1),
+        np.clip(k, 0, grid.shape[2] - 1),
+    ] = codes
     return cube
 
 
@@ -209,8 +227,9 @@ def summary(library: Library, phase: float | None = None) -> dict[str, Any]:
     per_orientation = []
     for key, group in df.groupby(["roll", "pitch"], sort=True):
         r, p = cast("tuple[float, float]", key)  # grouped by two columns
-        per_orientation.append({"roll": float(r), "pitch": float(p),
-                                "counts": _counts(group["classification"])})
+        per_orientation.append(
+            {"roll": float(r), "pitch": float(p), "counts": _counts(group["classification"])}
+        )
     meta = rows.attrs.get("threadmate") or {}
     out: dict[str, Any] = {
         "library": name,
@@ -224,16 +243,17 @@ def summary(library: Library, phase: float | None = None) -> dict[str, Any]:
         "most_common": max(ranked, key=lambda c: ranked[c]) if done else None,
         "least_common": min(ranked, key=lambda c: ranked[c]) if done else None,
         "region_combinations": {str(k): int(v) for k, v in combos.items()},
-        "n_contacts": {int(cast("int", k)): int(v) for k, v in
-                       df["n_contacts"].value_counts().sort_index().items()},
+        "n_contacts": {
+            int(cast("int", k)): int(v)
+            for k, v in df["n_contacts"].value_counts().sort_index().items()
+        },
         "orientations": per_orientation,
     }
     if "role" in rows.columns:
         out["states"] = _states(rows)
     _, on_grid = _nearest_phase(grid, phase)
     at = df.loc[np.isclose(df["phase"], on_grid, atol=1e-9), "classification"]
-    out["at_phase"] = {"phase": on_grid,
-                       "counts": {c: int((at == c).sum()) for c in classes}}
+    out["at_phase"] = {"phase": on_grid, "counts": {c: int((at == c).sum()) for c in classes}}
     return out
 
 
@@ -262,12 +282,20 @@ def _save(fig: Figure, path: str | os.PathLike[str]) -> Path:
 def _legend(ax: Any, present: set[int]) -> None:
     from matplotlib.patches import Patch
 
-    handles = [Patch(facecolor=_COLOURS[c], edgecolor="0.3", label=c)
-               for n, c in enumerate(CLASS_ORDER) if n in present]
+    handles = [
+        Patch(facecolor=_COLOURS[c], edgecolor="0.3", label=c)
+        for n, c in enumerate(CLASS_ORDER)
+        if n in present
+    ]
     if -1 in present:
         handles.append(Patch(facecolor=_NOT_COMPUTED, edgecolor="0.3", label="not computed"))
-    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False,
-              fontsize="small")
+    ax.legend(
+        handles=handles,
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        frameon=False,
+        fontsize="small",
+    )
 
 
 def _ticks(values: tuple[float, ...], most: int = 19) -> tuple[list[int], list[str]]:
@@ -282,8 +310,9 @@ def _axis_names(model: str) -> tuple[str, str]:
     return "roll (deg)", "pitch (deg)"
 
 
-def plot_stability_map(library: Library, path: str | os.PathLike[str],
-                       phase: float | None = None) -> Path:
+def plot_stability_map(
+    library: Library, path: str | os.PathLike[str], phase: float | None = None
+) -> Path:
     """Classification over roll x pitch at one phase (nearest grid phase; default the
     first): the thesis's state, or the rest state the mechanics' drop reaches. Returns the
     figure's path (format from its suffix, PNG by default)."""
@@ -293,8 +322,14 @@ def plot_stability_map(library: Library, path: str | os.PathLike[str],
     plane = cube[:, :, k].T  # rows: pitch, columns: roll
     fig = _figure(6.4, 5.2)
     ax = fig.add_subplot()
-    ax.imshow(plane + 1, cmap=_cmap(), vmin=0, vmax=len(CLASS_ORDER), origin="lower",
-              interpolation="nearest")
+    ax.imshow(
+        plane + 1,
+        cmap=_cmap(),
+        vmin=0,
+        vmax=len(CLASS_ORDER),
+        origin="lower",
+        interpolation="nearest",
+    )
     # Cell borders keep neighbouring states of one colour apart.
     ax.set_xticks(np.arange(-0.5, grid.shape[0]), minor=True)
     ax.set_yticks(np.arange(-0.5, grid.shape[1]), minor=True)
@@ -319,21 +354,28 @@ def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
     width = n_phase
     height = max(2, int(round(n_phase / 5)))
     gap = max(1, int(round(n_phase / 10)))
-    image = np.full((n_pitch * (height + gap) + gap, n_roll * (width + gap) + gap), -2,
-                    dtype=np.int16)
+    image = np.full(
+        (n_pitch * (height + gap) + gap, n_roll * (width + gap) + gap), -2, dtype=np.int16
+    )
     for i in range(n_roll):
         for j in range(n_pitch):
             row = (n_pitch - 1 - j) * (height + gap) + gap  # highest pitch on top
             col = i * (width + gap) + gap
-            image[row:row + height, col:col + width] = cube[i, j][None, :]
+            image[row : row + height, col : col + width] = cube[i, j][None, :]
     colours = ["#f4f4f4", _NOT_COMPUTED] + [_COLOURS[c] for c in CLASS_ORDER]
     aspect = image.shape[0] / image.shape[1]
     fig = _figure(11.0, max(3.0, 11.0 * aspect + 1.2))
     ax = fig.add_subplot()
     from matplotlib.colors import ListedColormap
 
-    ax.imshow(image + 2, cmap=ListedColormap(colours), vmin=0, vmax=len(colours) - 1,
-              interpolation="nearest", aspect="auto")
+    ax.imshow(
+        image + 2,
+        cmap=ListedColormap(colours),
+        vmin=0,
+        vmax=len(colours) - 1,
+        interpolation="nearest",
+        aspect="auto",
+    )
     xi, xl = _ticks(grid.roll)
     yi, yl = _ticks(grid.pitch)
     ax.set_xticks([gap + i * (width + gap) + width / 2 for i in xi], xl)
@@ -341,17 +383,18 @@ def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
     xlabel, ylabel = _axis_names(model)
     ax.set_xlabel(f"{xlabel}; within each strip, phase 0 to 360 deg left to right")
     ax.set_ylabel(ylabel)
-    ax.set_title(f"{name}: {_what(model)} over phase for each held tilt"
-                 if model == "mechanics" else
-                 f"{name}: {_what(model)} over phase for each orientation")
+    ax.set_title(
+        f"{name}: {_what(model)} over phase for each held tilt"
+        if model == "mechanics"
+        else f"{name}: {_what(model)} over phase for each orientation"
+    )
     for side in ax.spines.values():
         side.set_visible(False)
     _legend(ax, set(np.unique(cube).tolist()))
     return _save(fig, path)
 
 
-def plot_region_combinations(library: Library, path: str | os.PathLike[str],
-                             top: int = 25) -> Path:
+def plot_region_combinations(library: Library, path: str | os.PathLike[str], top: int = 25) -> Path:
     """Counts of the contact-region combinations (bolt/nut per contact) of each
     configuration (at the thesis's last stage reached, or of the rest state the mechanics'
     drop reaches), most frequent first (the ``top`` ones)."""
@@ -365,15 +408,17 @@ def plot_region_combinations(library: Library, path: str | os.PathLike[str],
     ax.invert_yaxis()
     ax.set_xlabel("starts (held tilt, phase)" if model == "mechanics" else "configurations")
     where = "rest states reached" if model == "mechanics" else "last stage reached"
-    ax.set_title(f"{name}: contact-region combinations, {where} (bolt/nut per contact)",
-                 fontsize="medium")
+    ax.set_title(
+        f"{name}: contact-region combinations, {where} (bolt/nut per contact)", fontsize="medium"
+    )
     for yy, v in zip(y, combos.to_numpy(), strict=True):
         ax.text(float(v), float(yy), f" {v}", va="center", fontsize="x-small")
     return _save(fig, path)
 
 
-def write_figures(library: Library, outdir: str | os.PathLike[str],
-                  phase: float | None = None) -> dict[str, Path]:
+def write_figures(
+    library: Library, outdir: str | os.PathLike[str], phase: float | None = None
+) -> dict[str, Path]:
     """Write the three figures into ``outdir`` (created if missing).
 
     Returns
@@ -391,5 +436,6 @@ def write_figures(library: Library, outdir: str | os.PathLike[str],
         "stability_map": plot_stability_map(configs, outdir / "stability_map.png", phase),
         "phase_strips": plot_phase_strips(configs, outdir / "phase_strips.png"),
         "region_combinations": plot_region_combinations(
-            configs, outdir / "region_combinations.png"),
+            configs, outdir / "region_combinations.png"
+        ),
     }

@@ -91,8 +91,16 @@ class Job:
 
     @property
     def key(self) -> str:
-        return repr((self.spec, self.grid, self.chord, self.model, self.compliance,
-                     _describe_analyzer(self.analyzer)))
+        return repr(
+            (
+                self.spec,
+                self.grid,
+                self.chord,
+                self.model,
+                self.compliance,
+                _describe_analyzer(self.analyzer),
+            )
+        )
 
 
 _LOCAL = threading.local()
@@ -113,8 +121,9 @@ def _worker_for(job: Job) -> Any:
                 from ..contact import ContactAnalyzer
 
                 factory = ContactAnalyzer
-            _LOCAL.worker = factory(job.spec, chord=job.chord,
-                                    compliance_z=job.compliance.compliance_z)
+            _LOCAL.worker = factory(
+                job.spec, chord=job.chord, compliance_z=job.compliance.compliance_z
+            )
         _LOCAL.key = job.key
     return _LOCAL.worker
 
@@ -126,8 +135,7 @@ def _settings(analyzer: Any) -> dict[str, Any]:
     return {
         "chord": getattr(analyzer, "chord", None),
         "max_deviation": None if deviation is None else float(deviation),
-        "tolerances": None if tolerances is None else {k: float(v)
-                                                        for k, v in tolerances.items()},
+        "tolerances": None if tolerances is None else {k: float(v) for k, v in tolerances.items()},
     }
 
 
@@ -147,9 +155,15 @@ def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]
     configs = job.grid.configurations(config_ids)
     if job.model == "mechanics":
         # One chunk is one held tilt (see _chunks).
-        rows = states_of_held_tilt(worker, float(configs[0][0]), float(configs[0][1]),
-                                   [float(c[2]) for c in configs], config_ids,
-                                   step=job.step, phase_tolerance=job.phase_tolerance)
+        rows = states_of_held_tilt(
+            worker,
+            float(configs[0][0]),
+            float(configs[0][1]),
+            [float(c[2]) for c in configs],
+            config_ids,
+            step=job.step,
+            phase_tolerance=job.phase_tolerance,
+        )
         return pa.Table.from_pylist(rows, schema=schema), _settings(worker.analyzer)
     blank = blank_row(schema)
     rows = []
@@ -158,8 +172,14 @@ def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]
             rec = worker.analyze(float(roll), float(pitch), float(phase)).to_record()
             rec["error"] = ""
         except Exception as exc:  # noqa: BLE001 - one bad configuration must not stop a sweep
-            rec = dict(blank, roll=float(roll), pitch=float(pitch), phase=float(phase),
-                       classification="error", error=f"{type(exc).__name__}: {exc}")
+            rec = dict(
+                blank,
+                roll=float(roll),
+                pitch=float(pitch),
+                phase=float(phase),
+                classification="error",
+                error=f"{type(exc).__name__}: {exc}",
+            )
         rec["config_id"] = int(cid)
         rows.append(rec)
     return pa.Table.from_pylist(rows, schema=schema), _settings(worker)
@@ -211,9 +231,12 @@ class _Pool:
         self.description = f"process pool of {workers}"
         context = multiprocessing.get_context()
         self._pids = context.SimpleQueue()
-        self.pool = cf.ProcessPoolExecutor(max_workers=workers, mp_context=context,
-                                           initializer=_watch_parent,
-                                           initargs=(self._pids,))
+        self.pool = cf.ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=context,
+            initializer=_watch_parent,
+            initargs=(self._pids,),
+        )
 
     def submit(self, job: Job, ids: list[int]) -> cf.Future:
         return self.pool.submit(run_chunk, job, ids)
@@ -251,16 +274,18 @@ class _Dask:
         try:
             import distributed
         except ImportError:
-            raise InputError(f"--scheduler {address} needs Dask distributed, which is not "
-                             f"installed: {_DASK_HINT}") from None
+            raise InputError(
+                f"--scheduler {address} needs Dask distributed, which is not "
+                f"installed: {_DASK_HINT}"
+            ) from None
         self._distributed = distributed
         self.cluster = None
         try:
             if address == "local":
                 n = workers or _cpu_count()
                 self.cluster = distributed.LocalCluster(
-                    n_workers=n, threads_per_worker=1, processes=True,
-                    dashboard_address=None)
+                    n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+                )
                 self.client = distributed.Client(self.cluster)
                 self.description = f"Dask LocalCluster of {n}"
             else:
@@ -306,12 +331,12 @@ def _scheduler_from_dask_config() -> str | None:
 
 
 def _check_execution(workers: int | None, scheduler: str | None) -> None:
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
-                                or workers < 1):
+    if workers is not None and (
+        isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
+    ):
         raise InputError(f"--workers must be a whole number >= 1, got {workers!r}")
     if scheduler is not None and not isinstance(scheduler, str):
-        raise InputError(f"--scheduler must be an address, 'local' or 'pool', got "
-                         f"{scheduler!r}")
+        raise InputError(f"--scheduler must be an address, 'local' or 'pool', got {scheduler!r}")
     if scheduler is not None and scheduler.strip():
         _check_scheduler(scheduler)
 
@@ -324,8 +349,10 @@ def _check_scheduler(scheduler: str) -> str:
     text = scheduler.strip()
     if text in ("local", "pool") or _ADDRESS.match(text):
         return text
-    raise InputError(f"--scheduler {scheduler!r} is not 'pool', 'local' or a Dask scheduler "
-                     "address such as tcp://host:8786")
+    raise InputError(
+        f"--scheduler {scheduler!r} is not 'pool', 'local' or a Dask scheduler "
+        "address such as tcp://host:8786"
+    )
 
 
 def _executor(workers: int | None, scheduler: str | None) -> Any:
@@ -342,8 +369,10 @@ def _describe_analyzer(factory: Callable[..., Any] | None) -> str:
     if factory is None:
         return "threadmate.contact.ContactAnalyzer"
     if isinstance(factory, functools.partial):
-        args = ", ".join([repr(a) for a in factory.args]
-                         + [f"{k}={v!r}" for k, v in sorted(factory.keywords.items())])
+        args = ", ".join(
+            [repr(a) for a in factory.args]
+            + [f"{k}={v!r}" for k, v in sorted(factory.keywords.items())]
+        )
         return f"{_describe_analyzer(factory.func)}({args})"
     module = getattr(factory, "__module__", "")
     name = getattr(factory, "__qualname__", repr(factory))
@@ -369,16 +398,24 @@ def _request_metadata(job: Job) -> dict[str, Any]:
     if job.model == "mechanics":
         meta["compliance"] = job.compliance.to_dict()
         meta["continuation"] = {
-            "step": job.step, "phase_tolerance": job.phase_tolerance,
-            "max_turns": MAX_TURNS, "join_tilt": JOIN_TILT,
-            "join_distance_pitches": JOIN_DISTANCE, "units": "degrees; turns; pitches"}
+            "step": job.step,
+            "phase_tolerance": job.phase_tolerance,
+            "max_turns": MAX_TURNS,
+            "join_tilt": JOIN_TILT,
+            "join_distance_pitches": JOIN_DISTANCE,
+            "units": "degrees; turns; pitches",
+        }
         meta["contact"] = {"tolerances": None}
-        meta["columns"] = ("one row per contact state: threadmate.contact.STATE_COLUMNS "
-                           "(docs/architecture.md)")
+        meta["columns"] = (
+            "one row per contact state: threadmate.contact.STATE_COLUMNS (docs/architecture.md)"
+        )
     else:
         meta["compliance"] = {"compliance_z": job.compliance.compliance_z}
-        meta["contact"] = {"compliance_z": job.compliance.compliance_z, "tolerances": None,
-                           "analyzer": _describe_analyzer(job.analyzer)}
+        meta["contact"] = {
+            "compliance_z": job.compliance.compliance_z,
+            "tolerances": None,
+            "analyzer": _describe_analyzer(job.analyzer),
+        }
         meta["columns"] = "config_id, the contact record of docs/architecture.md, error"
     return meta
 
@@ -392,21 +429,25 @@ def _open_library(out: Path, job: Job) -> dict[str, Any]:
         meta = read_metadata(out)
         diff = compare_metadata(meta, wanted)
         if diff:
-            raise LibraryError(f"{out} holds a different sweep; refusing to mix it with this "
-                               f"request. It differs in: {'; '.join(diff)}. Use another "
-                               "output directory.")
+            raise LibraryError(
+                f"{out} holds a different sweep; refusing to mix it with this "
+                f"request. It differs in: {'; '.join(diff)}. Use another "
+                "output directory."
+            )
         remove_stale_temporaries(out)
         return meta
     if out.is_dir() and any(not p.name.startswith(".") for p in out.iterdir()):
-        raise LibraryError(f"{out} exists, is not empty and is not a threadmate library: "
-                           "give a new or empty directory")
+        raise LibraryError(
+            f"{out} exists, is not empty and is not a threadmate library: "
+            "give a new or empty directory"
+        )
     write_metadata(out, wanted)
     return wanted
 
 
 def _chunks(ids: np.ndarray, size: int) -> Iterator[list[int]]:
     for start in range(0, len(ids), size):
-        yield [int(i) for i in ids[start:start + size]]
+        yield [int(i) for i in ids[start : start + size]]
 
 
 def _tilt_chunks(ids: np.ndarray, n_phase: int) -> Iterator[list[int]]:
@@ -417,14 +458,25 @@ def _tilt_chunks(ids: np.ndarray, n_phase: int) -> Iterator[list[int]]:
 
 
 # -- the sweep ----------------------------------------------------------------------------
-def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Values = None,
-          *, out: str | os.PathLike[str] | None = None, workers: int | None = None,
-          scheduler: str | None = None, chunk_size: int | None = None,
-          chord: float | None = None, model: str = "mechanics",
-          compliance: Compliance | None = None, step: float = CONTINUATION_STEP,
-          phase_tolerance: float = 0.01, progress: ProgressCallback | None = None,
-          max_chunks: int | None = None,
-          analyzer: Callable[..., Any] | None = None) -> Path | pd.DataFrame:
+def sweep(
+    spec: ThreadSpec,
+    roll: Values = None,
+    pitch: Values = None,
+    phase: Values = None,
+    *,
+    out: str | os.PathLike[str] | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    chunk_size: int | None = None,
+    chord: float | None = None,
+    model: str = "mechanics",
+    compliance: Compliance | None = None,
+    step: float = CONTINUATION_STEP,
+    phase_tolerance: float = 0.01,
+    progress: ProgressCallback | None = None,
+    max_chunks: int | None = None,
+    analyzer: Callable[..., Any] | None = None,
+) -> Path | pd.DataFrame:
     """Build (or resume) the contact-state library of a thread pair over a grid.
 
     With the ``mechanics`` model (the default) every configuration is a start: a held tilt
@@ -509,14 +561,16 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
     compliance.check_for(spec.pitch)  # here, not first in a worker after the library exists
     check_continuation(step=step, phase_tolerance=phase_tolerance)
     for name, value in (("chunk_size", chunk_size), ("max_chunks", max_chunks)):
-        if value is not None and (isinstance(value, bool) or not isinstance(value, int)
-                                  or value < 1):
+        if value is not None and (
+            isinstance(value, bool) or not isinstance(value, int) or value < 1
+        ):
             raise InputError(f"{name} must be a whole number >= 1, got {value!r}")
     _check_execution(workers, scheduler)
     if model == "mechanics" and analyzer is not None:
         raise InputError("analyzer is for the thesis's model only")
-    job = Job(spec, grid, float(chord), model, compliance, float(step),
-              float(phase_tolerance), analyzer)
+    job = Job(
+        spec, grid, float(chord), model, compliance, float(step), float(phase_tolerance), analyzer
+    )
 
     if out is None:
         tmp = Path(tempfile.mkdtemp(prefix="threadmate-sweep-"))
@@ -530,12 +584,21 @@ def sweep(spec: ThreadSpec, roll: Values = None, pitch: Values = None, phase: Va
     return out
 
 
-def write_library(records: pd.DataFrame | list[dict[str, Any]],
-                  out: str | os.PathLike[str], spec: ThreadSpec, roll: Values = None,
-                  pitch: Values = None, phase: Values = None, *, model: str = "mechanics",
-                  compliance: Compliance | None = None, chord: float | None = None,
-                  step: float = CONTINUATION_STEP, phase_tolerance: float = 0.01,
-                  rows_per_part: int = 500_000) -> Path:
+def write_library(
+    records: pd.DataFrame | list[dict[str, Any]],
+    out: str | os.PathLike[str],
+    spec: ThreadSpec,
+    roll: Values = None,
+    pitch: Values = None,
+    phase: Values = None,
+    *,
+    model: str = "mechanics",
+    compliance: Compliance | None = None,
+    chord: float | None = None,
+    step: float = CONTINUATION_STEP,
+    phase_tolerance: float = 0.01,
+    rows_per_part: int = 500_000,
+) -> Path:
     """Write a library from rows computed elsewhere (a study, a benchmark, a test).
 
     The library is what :func:`sweep` with the same arguments would write around the same
@@ -563,8 +626,15 @@ def write_library(records: pd.DataFrame | list[dict[str, Any]],
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     if model not in MODELS:
         raise InputError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
-    job = Job(spec, Grid.parse(roll, pitch, phase), check_chord(spec, chord), model,
-              compliance or Compliance(), float(step), float(phase_tolerance))
+    job = Job(
+        spec,
+        Grid.parse(roll, pitch, phase),
+        check_chord(spec, chord),
+        model,
+        compliance or Compliance(),
+        float(step),
+        float(phase_tolerance),
+    )
     schema = library_schema(model=model)
     frame = pd.DataFrame(records) if not isinstance(records, pd.DataFrame) else records
     missing = [n for n in schema.names if n not in frame.columns]
@@ -584,9 +654,15 @@ def write_library(records: pd.DataFrame | list[dict[str, Any]],
     return out
 
 
-def _run(job: Job, out: Path, workers: int | None, scheduler: str | None,
-         chunk_size: int | None, progress: ProgressCallback | None,
-         max_chunks: int | None) -> None:
+def _run(
+    job: Job,
+    out: Path,
+    workers: int | None,
+    scheduler: str | None,
+    chunk_size: int | None,
+    progress: ProgressCallback | None,
+    max_chunks: int | None,
+) -> None:
     existed = out.exists()
     meta = _open_library(out, job)
     total = job.grid.size
@@ -616,21 +692,32 @@ def _run(job: Job, out: Path, workers: int | None, scheduler: str | None,
     part = next_part_index(out)
     cancel = True
     try:
-        cancel = not _loop(job, out, executor, chunks, meta, part, n_done, total, progress,
-                           max_chunks)
+        cancel = not _loop(
+            job, out, executor, chunks, meta, part, n_done, total, progress, max_chunks
+        )
     except _lost_errors() as exc:
         n_saved = len(done_ids(out))
         raise SweepInterrupted(
             f"the sweep stopped: a worker or the cluster was lost ({type(exc).__name__}: "
             f"{exc}). {n_saved} of {total} configurations are saved in {out}; run the same "
-            "sweep again to resume.") from exc
+            "sweep again to resume."
+        ) from exc
     finally:
         executor.close(cancel=cancel)
 
 
-def _loop(job: Job, out: Path, executor: Any, chunks: Iterator[list[int]],
-          meta: dict[str, Any], part: int, n_done: int, total: int,
-          progress: ProgressCallback | None, max_chunks: int | None) -> bool:
+def _loop(
+    job: Job,
+    out: Path,
+    executor: Any,
+    chunks: Iterator[list[int]],
+    meta: dict[str, Any],
+    part: int,
+    n_done: int,
+    total: int,
+    progress: ProgressCallback | None,
+    max_chunks: int | None,
+) -> bool:
     """Keep a bounded window of chunks in flight (results stream to disk, memory stays
     flat) and write each chunk as it completes; False if stopped at ``max_chunks``."""
     in_flight: set[Any] = set()
@@ -645,8 +732,9 @@ def _loop(job: Job, out: Path, executor: Any, chunks: Iterator[list[int]],
         table, settings = fut.result()
         if meta["mesh"].get("max_deviation") is None:
             # The first result tells what the workers' analysers actually used.
-            meta["mesh"].update(chord=settings["chord"] or job.chord,
-                                max_deviation=settings["max_deviation"])
+            meta["mesh"].update(
+                chord=settings["chord"] or job.chord, max_deviation=settings["max_deviation"]
+            )
             meta["contact"]["tolerances"] = settings["tolerances"]
             write_metadata(out, meta)
         write_part(out, part, table.replace_schema_metadata(library_schema(meta).metadata))

@@ -69,25 +69,56 @@ WEIGHT_FORMULA = (
 #: points and normals stay in the library (one row per node, by ``state_id``), so that a
 #: network of 10^5 starts stays small.
 NODE_ATTRIBUTES = tuple(
-    c.name for c in STATE_COLUMNS
-    if c.name not in ("next_id", "transition", "transition_label", "transition_turn",
-                      "work_friction", "work_potential", "torque_peak", "drop",
-                      "tilt_change", "state_id", "rotation", "contact_points",
-                      "contact_normals"))
-_EDGE_COLUMNS = ("transition", "transition_label", "transition_turn", "work_friction",
-                 "work_potential", "torque_peak", "drop", "tilt_change")
+    c.name
+    for c in STATE_COLUMNS
+    if c.name
+    not in (
+        "next_id",
+        "transition",
+        "transition_label",
+        "transition_turn",
+        "work_friction",
+        "work_potential",
+        "torque_peak",
+        "drop",
+        "tilt_change",
+        "state_id",
+        "rotation",
+        "contact_points",
+        "contact_normals",
+    )
+)
+_EDGE_COLUMNS = (
+    "transition",
+    "transition_label",
+    "transition_turn",
+    "work_friction",
+    "work_potential",
+    "torque_peak",
+    "drop",
+    "tilt_change",
+)
 _REST_ROLES = ("start", "continued")
 
 
 def _finite_nonnegative(name: str, value: float) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) \
-            or not math.isfinite(value) or value < 0:
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float)
+        or not math.isfinite(value)
+        or value < 0
+    ):
         raise InputError(f"{name} must be a finite number of mJ >= 0, got {value!r}")
     return float(value)
 
 
-def build_network(rows: pd.DataFrame, *, active: bool = False, jump_penalty: float = 0.0,
-                  move_penalty: float | None = None) -> nx.DiGraph:
+def build_network(
+    rows: pd.DataFrame,
+    *,
+    active: bool = False,
+    jump_penalty: float = 0.0,
+    move_penalty: float | None = None,
+) -> nx.DiGraph:
     """The network of a mechanics library's rows (see the module docstring).
 
     Parameters
@@ -112,51 +143,67 @@ def build_network(rows: pd.DataFrame, *, active: bool = False, jump_penalty: flo
     """
     meta = rows.attrs.get("threadmate")
     if not meta:
-        raise InputError("rows without library metadata (load them with "
-                         "threadmate.library.load)")
+        raise InputError("rows without library metadata (load them with threadmate.library.load)")
     if meta.get("model") != "mechanics":
-        raise LibraryError("the network stands on the mechanics: this library holds the "
-                           "thesis's fixed-pivot rows (sweep it again with --model "
-                           "mechanics, the default)")
+        raise LibraryError(
+            "the network stands on the mechanics: this library holds the "
+            "thesis's fixed-pivot rows (sweep it again with --model "
+            "mechanics, the default)"
+        )
     jump_penalty = _finite_nonnegative("jump_penalty", jump_penalty)
     force = float(meta["compliance"]["force"])
     pitch_mj = 1e3 * force * to_metres(float(meta["spec"]["pitch"]), meta["units"])
-    move_penalty = pitch_mj if move_penalty is None else _finite_nonnegative(
-        "move_penalty", move_penalty)
+    move_penalty = (
+        pitch_mj if move_penalty is None else _finite_nonnegative("move_penalty", move_penalty)
+    )
     graph: nx.DiGraph[str] = nx.DiGraph(
-        units=meta["units"], cost_units=COST_UNITS, weight_formula=WEIGHT_FORMULA,
-        model="mechanics", spec=json.dumps(meta["spec"], sort_keys=True),
+        units=meta["units"],
+        cost_units=COST_UNITS,
+        weight_formula=WEIGHT_FORMULA,
+        model="mechanics",
+        spec=json.dumps(meta["spec"], sort_keys=True),
         grid=json.dumps(meta["grid"], sort_keys=True),
         compliance=json.dumps(meta["compliance"], sort_keys=True),
-        threadmate_version=str(meta.get("threadmate_version", "")), active=bool(active),
-        jump_penalty=jump_penalty, move_penalty=move_penalty)
+        threadmate_version=str(meta.get("threadmate_version", "")),
+        active=bool(active),
+        jump_penalty=jump_penalty,
+        move_penalty=move_penalty,
+    )
     ids = rows["state_id"].tolist()
     graph.add_nodes_from(zip(ids, _records(rows, NODE_ATTRIBUTES), strict=True))
 
     linked = rows[rows["next_id"] != ""]
     missing = sorted(set(linked["next_id"]) - set(ids))
     if missing:
-        raise LibraryError(f"the library's transitions name {len(missing)} state(s) it does "
-                           f"not hold (first: {missing[0]}): it is incomplete or mixed")
+        raise LibraryError(
+            f"the library's transitions name {len(missing)} state(s) it does "
+            f"not hold (first: {missing[0]}): it is incomplete or mixed"
+        )
     kind = linked["transition"].to_numpy()
     work = (linked["work_friction"] + linked["work_potential"]).to_numpy()
-    weight = np.where(kind == "turning", np.maximum(work, 0.0),
-                      np.where(kind == "jump", jump_penalty, 0.0))
+    weight = np.where(
+        kind == "turning", np.maximum(work, 0.0), np.where(kind == "jump", jump_penalty, 0.0)
+    )
     weight = np.where(np.isfinite(weight), weight, 0.0)
-    edge_attrs = _records(linked, _EDGE_COLUMNS, {
-        "transition": "kind", "transition_label": "label", "transition_turn": "turn"})
+    edge_attrs = _records(
+        linked,
+        _EDGE_COLUMNS,
+        {"transition": "kind", "transition_label": "label", "transition_turn": "turn"},
+    )
     for d, w in zip(edge_attrs, weight.tolist(), strict=True):
         d["weight"] = w
         d["active"] = False
-    graph.add_edges_from(zip(linked["state_id"].tolist(), linked["next_id"].tolist(),
-                             edge_attrs, strict=True))
+    graph.add_edges_from(
+        zip(linked["state_id"].tolist(), linked["next_id"].tolist(), edge_attrs, strict=True)
+    )
     if active:
         _add_tilt_steps(graph, rows, meta, force, move_penalty)
     return graph
 
 
-def _records(rows: pd.DataFrame, columns: tuple[str, ...],
-             rename: dict[str, str] | None = None) -> list[dict[str, Any]]:
+def _records(
+    rows: pd.DataFrame, columns: tuple[str, ...], rename: dict[str, str] | None = None
+) -> list[dict[str, Any]]:
     """Rows as plain dicts, column by column (much faster than ``DataFrame.to_dict``)."""
     names = [(rename or {}).get(c, c) for c in columns]
     values = [rows[c].tolist() for c in columns]
@@ -169,23 +216,39 @@ def _phase_key(phase: float) -> float:
     return round(phase, 6) % 360.0 + 0.0
 
 
-def _add_tilt_steps(graph: nx.DiGraph, rows: pd.DataFrame, meta: dict[str, Any],
-                    force: float, move_penalty: float) -> None:
+def _add_tilt_steps(
+    graph: nx.DiGraph, rows: pd.DataFrame, meta: dict[str, Any], force: float, move_penalty: float
+) -> None:
     """Active moves: from each rest state at a grid phase to the first contact of a
     neighbouring held tilt at that phase."""
     grid = Grid.from_dict(meta["grid"])
     first = rows[rows["role"] == "first-contact"]
-    arrive = {(r, p, _phase_key(ph)): (sid, z) for sid, r, p, ph, z in zip(
-        first["state_id"], first["held_roll"], first["held_pitch"], first["phase"],
-        first["centre_z"], strict=True)}
+    arrive = {
+        (r, p, _phase_key(ph)): (sid, z)
+        for sid, r, p, ph, z in zip(
+            first["state_id"],
+            first["held_roll"],
+            first["held_pitch"],
+            first["phase"],
+            first["centre_z"],
+            strict=True,
+        )
+    }
     metres = to_metres(1.0, meta["units"])
-    rest = rows[rows["role"].isin(_REST_ROLES)
-                & ~rows["classification"].isin(["in-phase", "error"])]
+    rest = rows[
+        rows["role"].isin(_REST_ROLES) & ~rows["classification"].isin(["in-phase", "error"])
+    ]
     steps = []
     for axis, values in ((0, grid.roll), (1, grid.pitch)):
         index = {v: i for i, v in enumerate(values)}
-        for sid, r, p, ph, z in zip(rest["state_id"], rest["held_roll"], rest["held_pitch"],
-                                    rest["phase"], rest["centre_z"], strict=True):
+        for sid, r, p, ph, z in zip(
+            rest["state_id"],
+            rest["held_roll"],
+            rest["held_pitch"],
+            rest["phase"],
+            rest["centre_z"],
+            strict=True,
+        ):
             i = index.get(r if axis == 0 else p)
             if i is None:
                 continue
@@ -197,20 +260,38 @@ def _add_tilt_steps(graph: nx.DiGraph, rows: pd.DataFrame, meta: dict[str, Any],
                 if target is None:
                     continue
                 lift = max(0.0, target[1] - z) * metres
-                steps.append((sid, target[0], {
-                    "kind": "tilt-step", "label": "unstable", "turn": 0.0,
-                    "work_friction": 0.0, "work_potential": 1e3 * force * lift,
-                    "torque_peak": math.nan, "drop": z - target[1], "tilt_change": math.nan,
-                    "weight": 1e3 * force * lift + move_penalty, "active": True}))
+                steps.append(
+                    (
+                        sid,
+                        target[0],
+                        {
+                            "kind": "tilt-step",
+                            "label": "unstable",
+                            "turn": 0.0,
+                            "work_friction": 0.0,
+                            "work_potential": 1e3 * force * lift,
+                            "torque_peak": math.nan,
+                            "drop": z - target[1],
+                            "tilt_change": math.nan,
+                            "weight": 1e3 * force * lift + move_penalty,
+                            "active": True,
+                        },
+                    )
+                )
     graph.add_edges_from(steps)
 
 
-def from_library(path: str | os.PathLike[str], *, active: bool = False,
-                 jump_penalty: float = 0.0, move_penalty: float | None = None
-                 ) -> nx.DiGraph:
+def from_library(
+    path: str | os.PathLike[str],
+    *,
+    active: bool = False,
+    jump_penalty: float = 0.0,
+    move_penalty: float | None = None,
+) -> nx.DiGraph:
     """The network of the mechanics library at ``path`` (:func:`build_network`)."""
-    return build_network(load(path), active=active, jump_penalty=jump_penalty,
-                         move_penalty=move_penalty)
+    return build_network(
+        load(path), active=active, jump_penalty=jump_penalty, move_penalty=move_penalty
+    )
 
 
 def starts(graph: nx.DiGraph) -> dict[tuple[float, float, float], str]:
@@ -218,14 +299,18 @@ def starts(graph: nx.DiGraph) -> dict[tuple[float, float, float], str]:
     graph under a private key that the writers skip)."""
     cached = graph.graph.get("_starts")
     if cached is None:
-        cached = {(d["held_roll"], d["held_pitch"], d["phase"]): n
-                  for n, d in graph.nodes(data=True) if d["role"] == "start"}
+        cached = {
+            (d["held_roll"], d["held_pitch"], d["phase"]): n
+            for n, d in graph.nodes(data=True)
+            if d["role"] == "start"
+        }
         graph.graph["_starts"] = cached
     return cached
 
 
-def start_node(graph: nx.DiGraph, roll: float, pitch: float, phase: float, *,
-               nearest: bool = False) -> tuple[str, bool]:
+def start_node(
+    graph: nx.DiGraph, roll: float, pitch: float, phase: float, *, nearest: bool = False
+) -> tuple[str, bool]:
     """The start state of a configuration: ``(node id, moved)``.
 
     Without ``nearest`` a configuration that is not on the library's grid is refused with
@@ -236,7 +321,9 @@ def start_node(graph: nx.DiGraph, roll: float, pitch: float, phase: float, *,
     _, on_grid, moved = grid.locate(roll, pitch, phase, nearest=nearest)
     node = starts(graph).get(on_grid)
     if node is None:
-        raise InputError(f"the library has no start at roll {on_grid[0]:g}, pitch "
-                         f"{on_grid[1]:g}, phase {on_grid[2]:g}: its sweep is unfinished or "
-                         "that configuration failed")
+        raise InputError(
+            f"the library has no start at roll {on_grid[0]:g}, pitch "
+            f"{on_grid[1]:g}, phase {on_grid[2]:g}: its sweep is unfinished or "
+            "that configuration failed"
+        )
     return node, moved

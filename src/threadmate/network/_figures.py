@@ -21,40 +21,60 @@ def _format(path: str | os.PathLike[str]) -> str:
     return Path(path).suffix.lstrip(".").lower() or "png"
 
 
-def plot_click_signature(graph: nx.DiGraph, result: PathResult,
-                         path: str | os.PathLike[str]) -> Path:
+def plot_click_signature(
+    graph: nx.DiGraph, result: PathResult, path: str | os.PathLike[str]
+) -> Path:
     """What a robot's sensors see along a passive path: the height of the compliance
     centre, the bolt's tilt and the driver torque against the phase turned, with the jumps
     and the snap marked (the states the library holds: grid phases and both sides of each
     jump)."""
     nodes = [graph.nodes[n] for n in result.path]
-    turned = np.concatenate([[0.0], np.cumsum([graph.edges[u, v]["turn"] for u, v in
-                                               zip(result.path, result.path[1:],
-                                                   strict=False)])])
+    turned = np.concatenate(
+        [
+            [0.0],
+            np.cumsum(
+                [
+                    graph.edges[u, v]["turn"]
+                    for u, v in zip(result.path, result.path[1:], strict=False)
+                ]
+            ),
+        ]
+    )
     z = np.array([d["centre_z"] for d in nodes])
-    tilt = np.degrees([math.acos(min(1.0, math.cos(math.radians(d["roll"]))
-                                     * math.cos(math.radians(d["pitch"])))) for d in nodes])
+    tilt = np.degrees(
+        [
+            math.acos(
+                min(1.0, math.cos(math.radians(d["roll"])) * math.cos(math.radians(d["pitch"])))
+            )
+            for d in nodes
+        ]
+    )
     torque = np.array([d["driver_torque"] for d in nodes])
     units = graph.graph.get("units", "in")
     fig = new_figure((7.0, 6.0))
     axes = fig.subplots(3, 1, sharex=True)
-    for ax, values, label in ((axes[0], z, f"compliance centre height ({units})"),
-                              (axes[1], tilt, "bolt tilt (deg)"),
-                              (axes[2], 1e3 * torque, "driver torque (N mm)")):
+    for ax, values, label in (
+        (axes[0], z, f"compliance centre height ({units})"),
+        (axes[1], tilt, "bolt tilt (deg)"),
+        (axes[2], 1e3 * torque, "driver torque (N mm)"),
+    ):
         ax.plot(turned, values, ".-", color="#3182bd", lw=1.2, ms=3)
         ax.set_ylabel(label, fontsize=8)
         for i, kind in enumerate(result.kinds):
             if kind in ("jump", "snap"):
-                ax.axvline(turned[i + 1], color="#d62728" if kind == "snap" else "0.6",
-                           ls="--", lw=0.8)
+                ax.axvline(
+                    turned[i + 1], color="#d62728" if kind == "snap" else "0.6", ls="--", lw=0.8
+                )
     axes[-1].set_xlabel(f"turn from the start (deg); start {result.start}")
-    axes[0].set_title(f"click signature: snap after {result.turn:.1f} deg, click "
-                      f"{result.snap['drop']:.4g} {units}", fontsize=9)
+    axes[0].set_title(
+        f"click signature: snap after {result.turn:.1f} deg, click "
+        f"{result.snap['drop']:.4g} {units}",
+        fontsize=9,
+    )
     return save_figure(fig, path, _format(path))
 
 
-def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str],
-                       units: str) -> Path:
+def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str], units: str) -> Path:
     """The click (drop at the snap) and the turn to it against the held tilt's size, one
     point per start that snaps within a turn (starts already in phase left out), with the
     mean per size."""
@@ -71,6 +91,5 @@ def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str],
     ax2.set_ylabel("turn to the snap (deg)")
     ax2.set_xlabel("held tilt size sqrt(roll^2 + pitch^2) (deg)")
     ax1.legend(fontsize=8)
-    ax1.set_title("the click against the tilt (every start that snaps within a turn)",
-                  fontsize=9)
+    ax1.set_title("the click against the tilt (every start that snaps within a turn)", fontsize=9)
     return save_figure(fig, path, _format(path))

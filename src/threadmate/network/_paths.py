@@ -95,8 +95,9 @@ class PathResult:
     @property
     def passes_unstable(self) -> bool:
         """True when a transition before the snap is labelled unstable."""
-        return any(lab == "unstable" for lab, k in zip(self.labels, self.kinds, strict=True)
-                   if k != "snap")
+        return any(
+            lab == "unstable" for lab, k in zip(self.labels, self.kinds, strict=True) if k != "snap"
+        )
 
     @property
     def moves(self) -> int:
@@ -108,11 +109,17 @@ class PathResult:
         return {
             "units": {"length": self.units, "angle": "deg", "cost": "mJ", "work": "mJ"},
             "start": {"node": self.start, **self.requested, "moved": self.moved},
-            "path": list(self.path), "kinds": list(self.kinds), "labels": list(self.labels),
-            "weights": list(self.weights), "cost": self.cost, "turn": self.turn,
+            "path": list(self.path),
+            "kinds": list(self.kinds),
+            "labels": list(self.labels),
+            "weights": list(self.weights),
+            "cost": self.cost,
+            "turn": self.turn,
             "within_one_turn": self.turn <= ONE_TURN + 1e-9,
-            "passes_unstable": self.passes_unstable, "active": self.active,
-            "active_moves": self.moves, "snap": dict(self.snap),
+            "passes_unstable": self.passes_unstable,
+            "active": self.active,
+            "active_moves": self.moves,
+            "snap": dict(self.snap),
             "alternatives": [a.to_dict() for a in self.alternatives],
         }
 
@@ -122,17 +129,32 @@ def snap_targets(graph: nx.DiGraph) -> list[str]:
     return [n for n, d in graph.nodes(data=True) if d.get("classification") == "in-phase"]
 
 
-def _result(graph: nx.DiGraph, path: list[str], start: str, requested: dict[str, float],
-            moved: bool, active: bool) -> PathResult:
+def _result(
+    graph: nx.DiGraph,
+    path: list[str],
+    start: str,
+    requested: dict[str, float],
+    moved: bool,
+    active: bool,
+) -> PathResult:
     edges = [graph.edges[u, v] for u, v in itertools.pairwise(path)]
     turn = float(sum(e["turn"] for e in edges))
     last = graph.nodes[path[-1]]
     snap_edges = [e for e in edges if e["kind"] == "snap"]
     drop = float(snap_edges[-1]["drop"]) if snap_edges else 0.0
-    return PathResult(start, requested, moved, path, [e["kind"] for e in edges],
-                      [e["label"] for e in edges], [float(e["weight"]) for e in edges],
-                      turn, {"phase": float(last["phase"]), "turn": turn, "drop": drop},
-                      active, graph.graph.get("units", "in"))
+    return PathResult(
+        start,
+        requested,
+        moved,
+        path,
+        [e["kind"] for e in edges],
+        [e["label"] for e in edges],
+        [float(e["weight"]) for e in edges],
+        turn,
+        {"phase": float(last["phase"]), "turn": turn, "drop": drop},
+        active,
+        graph.graph.get("units", "in"),
+    )
 
 
 def _no_path(graph: nx.DiGraph, start: str, active: bool) -> NoPathError:
@@ -140,12 +162,21 @@ def _no_path(graph: nx.DiGraph, start: str, active: bool) -> NoPathError:
     if d.get("classification") == "error":
         return NoPathError(f"the library failed at start {start}: {d.get('error')}")
     how = "with active moves" if active else "passively (no active moves asked)"
-    return NoPathError(f"no path from {start} reaches the snap {how}: the search from it "
-                       "never snaps within the library's horizon")
+    return NoPathError(
+        f"no path from {start} reaches the snap {how}: the search from it "
+        "never snaps within the library's horizon"
+    )
 
 
-def least_resistance_path(graph: nx.DiGraph, roll: float, pitch: float, phase: float, *,
-                          active: bool = False, nearest: bool = False) -> PathResult:
+def least_resistance_path(
+    graph: nx.DiGraph,
+    roll: float,
+    pitch: float,
+    phase: float,
+    *,
+    active: bool = False,
+    nearest: bool = False,
+) -> PathResult:
     """The least-resistance path from the start at (roll, pitch, phase) to the snap.
 
     Parameters
@@ -165,8 +196,10 @@ def least_resistance_path(graph: nx.DiGraph, roll: float, pitch: float, phase: f
         No path reaches the snap.
     """
     if active and not graph.graph.get("active"):
-        raise InputError("active moves were asked for, but the network was built without "
-                         "them (build it with active=True / --active)")
+        raise InputError(
+            "active moves were asked for, but the network was built without "
+            "them (build it with active=True / --active)"
+        )
     start, moved = start_node(graph, roll, pitch, phase, nearest=nearest)
     requested = {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)}
     if graph.nodes[start].get("classification") == "in-phase":
@@ -185,8 +218,16 @@ def least_resistance_path(graph: nx.DiGraph, roll: float, pitch: float, phase: f
     return _result(graph, path[:-1], start, requested, moved, active)
 
 
-def k_best_paths(graph: nx.DiGraph, k: int, roll: float, pitch: float, phase: float, *,
-                 active: bool = False, nearest: bool = False) -> PathResult:
+def k_best_paths(
+    graph: nx.DiGraph,
+    k: int,
+    roll: float,
+    pitch: float,
+    phase: float,
+    *,
+    active: bool = False,
+    nearest: bool = False,
+) -> PathResult:
     """The least-resistance path with up to ``k - 1`` next-best alternatives (in
     :attr:`PathResult.alternatives`); ``k`` is at most :data:`MAX_K`.
 
@@ -194,13 +235,18 @@ def k_best_paths(graph: nx.DiGraph, k: int, roll: float, pitch: float, phase: fl
     active moves.
     """
     if isinstance(k, bool) or not isinstance(k, int) or not 1 <= k <= MAX_K:
-        raise InputError(f"--k must be a whole number from 1 to {MAX_K} (the alternatives "
-                         f"are Yen's k shortest paths, whose cost grows with k), got {k!r}")
+        raise InputError(
+            f"--k must be a whole number from 1 to {MAX_K} (the alternatives "
+            f"are Yen's k shortest paths, whose cost grows with k), got {k!r}"
+        )
     best = least_resistance_path(graph, roll, pitch, phase, active=active, nearest=nearest)
     if k == 1 or len(best.path) == 1:
         return best
-    view = graph if active else nx.subgraph_view(
-        graph, filter_edge=lambda u, v: not graph.edges[u, v].get("active"))
+    view = (
+        graph
+        if active
+        else nx.subgraph_view(graph, filter_edge=lambda u, v: not graph.edges[u, v].get("active"))
+    )
     work: nx.DiGraph[Any] = nx.DiGraph(view)
     work.add_edges_from((t, _SINK, {"weight": 0.0}) for t in snap_targets(graph))
     paths = nx.shortest_simple_paths(work, best.start, _SINK, weight="weight")
@@ -208,8 +254,9 @@ def k_best_paths(graph: nx.DiGraph, k: int, roll: float, pitch: float, phase: fl
     # identity, not by rank, so that no path is listed twice.
     others = (p for p in paths if p[:-1] != best.path)
     for path in itertools.islice(others, k - 1):
-        best.alternatives.append(_result(graph, path[:-1], best.start, best.requested,
-                                         best.moved, active))
+        best.alternatives.append(
+            _result(graph, path[:-1], best.start, best.requested, best.moved, active)
+        )
     return best
 
 
@@ -259,13 +306,19 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
             if n in seen:
                 # A cycle: never snaps, and the driver meets every edge of it, whichever
                 # of its states the walk entered first.
-                ring = [e for m, e in trail[[m for m, _ in trail].index(n):]]
+                ring = [e for m, e in trail[[m for m, _ in trail].index(n) :]]
                 peak = nan
                 for e in ring:
                     peak = _larger(peak, e["torque_peak"])
-                memo[n] = (False, nan, nan, nan, nan, peak,
-                           any(e["label"] == "unstable" and e["kind"] != "snap"
-                               for e in ring))
+                memo[n] = (
+                    False,
+                    nan,
+                    nan,
+                    nan,
+                    nan,
+                    peak,
+                    any(e["label"] == "unstable" and e["kind"] != "snap" for e in ring),
+                )
                 break
             step = passive_next(n)
             if step is None:  # horizon or failure: never snaps
@@ -280,8 +333,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
                 click = float(e["drop"])
             peak = _larger(peak, e["torque_peak"])
             unstable = unstable or (e["label"] == "unstable" and e["kind"] != "snap")
-            memo[m] = (reaches, turn + e["turn"], work + e["weight"], click, ph, peak,
-                       unstable)
+            memo[m] = (reaches, turn + e["turn"], work + e["weight"], click, ph, peak, unstable)
             n = m
         return memo[node]
 
@@ -290,15 +342,42 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
         d = graph.nodes[node]
         reaches, turn, work, click, snap_phase, peak, unstable = outcome(node)
         peak = _larger(peak, d["driver_torque"])
-        rows.append({
-            "node": node, "held_roll": roll, "held_pitch": pitch, "phase": phase,
-            "classification": d["classification"],
-            "snapped": bool(reaches and turn <= ONE_TURN + 1e-9), "reaches": bool(reaches),
-            "turn": turn, "work": work, "click": click, "snap_phase": snap_phase,
-            "torque_peak": peak, "passes_unstable": bool(unstable),
-            "failed": d["classification"] == "error"})
-    table = pd.DataFrame(rows, columns=[
-        "node", "held_roll", "held_pitch", "phase", "classification", "snapped", "reaches",
-        "turn", "work", "click", "snap_phase", "torque_peak", "passes_unstable", "failed"])
+        rows.append(
+            {
+                "node": node,
+                "held_roll": roll,
+                "held_pitch": pitch,
+                "phase": phase,
+                "classification": d["classification"],
+                "snapped": bool(reaches and turn <= ONE_TURN + 1e-9),
+                "reaches": bool(reaches),
+                "turn": turn,
+                "work": work,
+                "click": click,
+                "snap_phase": snap_phase,
+                "torque_peak": peak,
+                "passes_unstable": bool(unstable),
+                "failed": d["classification"] == "error",
+            }
+        )
+    table = pd.DataFrame(
+        rows,
+        columns=[
+            "node",
+            "held_roll",
+            "held_pitch",
+            "phase",
+            "classification",
+            "snapped",
+            "reaches",
+            "turn",
+            "work",
+            "click",
+            "snap_phase",
+            "torque_peak",
+            "passes_unstable",
+            "failed",
+        ],
+    )
     graph.graph["_outcomes"] = table  # private key: the writers skip it
     return table.copy()

@@ -41,8 +41,11 @@ def _scalar(value: Any) -> Any:
     if kind is str:
         return value
     if kind is np.ndarray:
-        return json.dumps(value.tolist(), allow_nan=False) if value.dtype.kind != "f" \
-            or np.isfinite(value).all() else json.dumps([_scalar(v) for v in value])
+        return (
+            json.dumps(value.tolist(), allow_nan=False)
+            if value.dtype.kind != "f" or np.isfinite(value).all()
+            else json.dumps([_scalar(v) for v in value])
+        )
     if isinstance(value, bool | np.bool_):
         return bool(value)
     if isinstance(value, int | np.integer):
@@ -103,8 +106,9 @@ def write_graphml(graph: nx.DiGraph, path: str | Path) -> Path:
 class _GraphMLWriter(GraphMLWriter):
     """networkx's writer, with booleans spelled as the GraphML schema has them."""
 
-    def add_data(self, name: str, element_type: Any, value: Any, scope: str = "all",
-                 default: Any = None) -> Any:
+    def add_data(
+        self, name: str, element_type: Any, value: Any, scope: str = "all", default: Any = None
+    ) -> Any:
         if element_type is bool:  # networkx passes str(value): "True" or "False"
             value = str(value).lower()
         return super().add_data(name, element_type, value, scope, default)
@@ -116,17 +120,18 @@ def write_node_link(graph: nx.DiGraph, path: str | Path) -> Path:
     Missing values are ``null``; read back with ``networkx.node_link_graph(doc,
     edges="edges")``.
     """
+
     def plain(v: Any) -> Any:
-        return [plain(x) for x in v] if isinstance(v, list | tuple | np.ndarray) \
-            else _scalar(v)
+        return [plain(x) for x in v] if isinstance(v, list | tuple | np.ndarray) else _scalar(v)
 
     export: nx.DiGraph[str] = nx.DiGraph()
-    export.graph.update({k: plain(v) for k, v in graph.graph.items()
-                         if not str(k).startswith("_")})
-    export.add_nodes_from((n, {k: plain(v) for k, v in d.items()})
-                          for n, d in graph.nodes(data=True))
-    export.add_edges_from((u, v, {k: plain(x) for k, x in d.items()})
-                          for u, v, d in graph.edges(data=True))
+    export.graph.update({k: plain(v) for k, v in graph.graph.items() if not str(k).startswith("_")})
+    export.add_nodes_from(
+        (n, {k: plain(v) for k, v in d.items()}) for n, d in graph.nodes(data=True)
+    )
+    export.add_edges_from(
+        (u, v, {k: plain(x) for k, x in d.items()}) for u, v, d in graph.edges(data=True)
+    )
     doc = nx.node_link_data(export, edges="edges")
     return atomic_write_text(path, json.dumps(doc, allow_nan=False) + "\n")
 
@@ -148,8 +153,19 @@ def read_graphml(path: str | Path) -> nx.DiGraph:
         raise InputError(f"{path} is not readable GraphML: {exc}") from None
     if "grid" not in graph.graph or not isinstance(graph, nx.DiGraph):
         raise InputError(f"{path} is not a threadmate contact-state network")
-    floats = ("potential", "driver_torque", "friction_torque", "roll", "pitch", "origin_x",
-              "origin_y", "origin_z", "centre_x", "centre_y", "centre_z")
+    floats = (
+        "potential",
+        "driver_torque",
+        "friction_torque",
+        "roll",
+        "pitch",
+        "origin_x",
+        "origin_y",
+        "origin_z",
+        "centre_x",
+        "centre_y",
+        "centre_z",
+    )
     for _, d in graph.nodes(data=True):
         for key in floats:
             d.setdefault(key, math.nan)

@@ -60,8 +60,13 @@ __all__ = [
 
 #: The figures of a setting, with units.
 METRICS = {
-    "share_snap": "1", "turn_mean": "deg", "turn_worst": "deg", "work_mean": "mJ",
-    "work_worst": "mJ", "click_mean": "length", "torque_peak": "N m",
+    "share_snap": "1",
+    "turn_mean": "deg",
+    "turn_worst": "deg",
+    "work_mean": "mJ",
+    "work_worst": "mJ",
+    "click_mean": "length",
+    "torque_peak": "N m",
     "share_unstable": "1",
 }
 
@@ -78,7 +83,8 @@ def _figures(rows: pd.DataFrame) -> dict[str, Any]:
         return float(series.mean() if how == "mean" else series.max())
 
     return {
-        "starts": len(ok), "failed": int(rows["failed"].sum()),
+        "starts": len(ok),
+        "failed": int(rows["failed"].sum()),
         "share_snap": float(len(snapped) / len(ok)) if len(ok) else 0.0,
         "turn_mean": stat(snapped["turn"], "mean"),
         "turn_worst": stat(snapped["turn"], "max"),
@@ -107,8 +113,11 @@ def _equivalent(a: dict[str, Any], b: dict[str, Any]) -> bool:
 
 def _rank_key(s: dict[str, Any]) -> tuple[float, float, float]:
     inf = math.inf
-    return (-s["share_snap"], s["turn_mean"] if s["turn_mean"] is not None else inf,
-            s["work_mean"] if s["work_mean"] is not None else inf)
+    return (
+        -s["share_snap"],
+        s["turn_mean"] if s["turn_mean"] is not None else inf,
+        s["work_mean"] if s["work_mean"] is not None else inf,
+    )
 
 
 @dataclass
@@ -154,11 +163,22 @@ class Recommendation:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document (``threadmate recommend --json``)."""
         return {
-            "units": {"length": self.units, "angle": "deg", "work": "mJ", "torque": "N m",
-                      "force": "N", "stiffness": "N m/rad", "share": "1"},
-            "metrics": METRICS, "roll_spread": self.roll_spread,
-            "pitch_range": list(self.pitch_range), "recommended": self.best,
-            "margin": self.margin, "at_edge": self.at_edge, "settings": self.settings,
+            "units": {
+                "length": self.units,
+                "angle": "deg",
+                "work": "mJ",
+                "torque": "N m",
+                "force": "N",
+                "stiffness": "N m/rad",
+                "share": "1",
+            },
+            "metrics": METRICS,
+            "roll_spread": self.roll_spread,
+            "pitch_range": list(self.pitch_range),
+            "recommended": self.best,
+            "margin": self.margin,
+            "at_edge": self.at_edge,
+            "settings": self.settings,
             "azimuth_proof": self.azimuth_proof,
             "azimuth_proof_pick": self.azimuth_proof[0] if self.azimuth_proof else None,
             "notes": list(self.notes),
@@ -170,8 +190,9 @@ def _compliance(graph: nx.DiGraph) -> dict[str, Any]:
     return {"force": c["force"], "stiffness": [c["stiffness"]["roll"], c["stiffness"]["pitch"]]}
 
 
-def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None = None
-              ) -> Recommendation:
+def recommend(
+    networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None = None
+) -> Recommendation:
     """Rank the SRCC settings of one or more networks (see the module docstring).
 
     Parameters
@@ -188,11 +209,15 @@ def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None
     graphs = [networks] if isinstance(networks, nx.DiGraph) else list(networks)
     if not graphs:
         raise InputError("no network to recommend from")
-    if roll_spread is not None and (isinstance(roll_spread, bool)
-                                    or not isinstance(roll_spread, int | float)
-                                    or not math.isfinite(roll_spread) or roll_spread < 0):
-        raise InputError(f"--roll-spread must be a non-negative number of degrees, got "
-                         f"{roll_spread!r}")
+    if roll_spread is not None and (
+        isinstance(roll_spread, bool)
+        or not isinstance(roll_spread, int | float)
+        or not math.isfinite(roll_spread)
+        or roll_spread < 0
+    ):
+        raise InputError(
+            f"--roll-spread must be a non-negative number of degrees, got {roll_spread!r}"
+        )
     spread = math.inf if roll_spread is None else float(roll_spread)
     grids = {g.graph["grid"] for g in graphs}
     if len(grids) > 1 or len({g.graph["spec"] for g in graphs}) > 1:
@@ -210,8 +235,13 @@ def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None
             raise InputError(f"no start within the roll spread {roll_spread:g} deg")
         for pitch, rows in inside.groupby("held_pitch", sort=True):
             # pandas-stubs type a group key as any scalar; held pitches are floats.
-            settings.append({**comp, "held_pitch": float(pitch),  # type: ignore[arg-type]
-                             **_figures(rows)})
+            settings.append(
+                {
+                    **comp,
+                    "held_pitch": float(pitch),  # type: ignore[arg-type]
+                    **_figures(rows),
+                }
+            )
         proof += _azimuth_proof(out, spread, comp)
     settings.sort(key=_rank_key)
     proof.sort(key=_rank_key)
@@ -220,40 +250,55 @@ def recommend(networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None
     margin = None
     if len(settings) > 1:
         nxt = settings[1]
-        margin = {k: (None if best[k] is None or nxt[k] is None else
-                      (best[k] - nxt[k] if k == "share_snap" else nxt[k] - best[k]))
-                  for k in ("share_snap", "turn_mean", "work_mean")}
+        margin = {
+            k: (
+                None
+                if best[k] is None or nxt[k] is None
+                else (best[k] - nxt[k] if k == "share_snap" else nxt[k] - best[k])
+            )
+            for k in ("share_snap", "turn_mean", "work_mean")
+        }
     at_edge = len(pitches) > 1 and best["held_pitch"] in (pitches[0], pitches[-1])
     if at_edge:
-        notes.append(f"the pick, held pitch {best['held_pitch']:+g} deg, is at the edge of "
-                     f"the range searched ({pitches[0]:g}..{pitches[-1]:g} deg): a larger "
-                     "pre-tilt that way may do better; sweep a wider pitch range")
+        notes.append(
+            f"the pick, held pitch {best['held_pitch']:+g} deg, is at the edge of "
+            f"the range searched ({pitches[0]:g}..{pitches[-1]:g} deg): a larger "
+            "pre-tilt that way may do better; sweep a wider pitch range"
+        )
     equivalent = [x["held_pitch"] for x in settings[1:] if _equivalent(best, x)]
     if equivalent:
-        notes.append("within this grid's resolution the pick is no better than held pitch "
-                     + ", ".join(f"{p:+g}" for p in equivalent) + " deg (same snap share, "
-                     f"mean turn and work within {EQUIVALENT:.0%}): prefer the one nearest "
-                     "upright, or refine the grid")
+        notes.append(
+            "within this grid's resolution the pick is no better than held pitch "
+            + ", ".join(f"{p:+g}" for p in equivalent)
+            + " deg (same snap share, "
+            f"mean turn and work within {EQUIVALENT:.0%}): prefer the one nearest "
+            "upright, or refine the grid"
+        )
     if best["share_snap"] < 1.0:
-        notes.append(f"even the pick leaves {1 - best['share_snap']:.0%} of starts without "
-                     "a snap within one turn")
+        notes.append(
+            f"even the pick leaves {1 - best['share_snap']:.0%} of starts without "
+            "a snap within one turn"
+        )
     if not proof:
-        notes.append("no pre-tilt size lies in all four quarter-turn directions of this "
-                     "grid: no azimuth-proof pick (sweep a square roll x pitch grid)")
+        notes.append(
+            "no pre-tilt size lies in all four quarter-turn directions of this "
+            "grid: no azimuth-proof pick (sweep a square roll x pitch grid)"
+        )
     units = graphs[0].graph["units"]
     # Without a spread every held roll of the grid counts: say how far they reach.
     spread_out = spread if math.isfinite(spread) else float(max(rolls))
-    return Recommendation(settings, margin, at_edge, proof, spread_out, units,
-                          (pitches[0], pitches[-1]), notes)
+    return Recommendation(
+        settings, margin, at_edge, proof, spread_out, units, (pitches[0], pitches[-1]), notes
+    )
 
 
-def _azimuth_proof(out: pd.DataFrame, spread: float, comp: dict[str, Any]
-                   ) -> list[dict[str, Any]]:
+def _azimuth_proof(out: pd.DataFrame, spread: float, comp: dict[str, Any]) -> list[dict[str, Any]]:
     """Per pre-tilt size held in all four quarter-turn directions, its worst direction."""
     rolls = set(out["held_roll"])
     pitches = set(out["held_pitch"])
-    sizes = sorted({abs(p) for p in pitches if p in pitches and -p in pitches
-                    and p in rolls and -p in rolls})
+    sizes = sorted(
+        {abs(p) for p in pitches if p in pitches and -p in pitches and p in rolls and -p in rolls}
+    )
     found = []
     for s in sizes:
         directions = {
@@ -263,14 +308,14 @@ def _azimuth_proof(out: pd.DataFrame, spread: float, comp: dict[str, Any]
             "-roll": out[(out["held_roll"] == -s) & (out["held_pitch"].abs() <= spread)],
         }
         if s == 0:
-            directions = {"upright": out[(out["held_pitch"] == 0)
-                                         & (out["held_roll"].abs() <= spread)]}
+            directions = {
+                "upright": out[(out["held_pitch"] == 0) & (out["held_roll"].abs() <= spread)]
+            }
         figures = {k: _figures(v) for k, v in directions.items() if len(v)}
         if not figures:
             continue
         worst = max(figures.items(), key=lambda kv: _rank_key(kv[1]))
-        found.append({**comp, "tilt_size": float(s), "worst_direction": worst[0],
-                      **worst[1]})
+        found.append({**comp, "tilt_size": float(s), "worst_direction": worst[0], **worst[1]})
     return found
 
 
@@ -281,9 +326,12 @@ def _fmt(v: Any, spec: str) -> str:
 def format_recommendation(rec: Recommendation) -> str:
     """The ranking as a Markdown table, the pick and its notes."""
     many = len({(s["force"], tuple(s["stiffness"])) for s in rec.settings}) > 1
-    head = ("| " + ("force N | stiffness N m/rad | " if many else "")
-            + "held pitch deg | share snap | turn mean deg | turn worst deg | work mean mJ | "
-            f"work worst mJ | click mean {rec.units} | torque peak N m | share unstable |")
+    head = (
+        "| "
+        + ("force N | stiffness N m/rad | " if many else "")
+        + "held pitch deg | share snap | turn mean deg | turn worst deg | work mean mJ | "
+        f"work worst mJ | click mean {rec.units} | torque peak N m | share unstable |"
+    )
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for s in rec.settings:
         comp = f"{s['force']:g} | {s['stiffness'][0]:g}/{s['stiffness'][1]:g} | " if many else ""
@@ -292,7 +340,8 @@ def format_recommendation(rec: Recommendation) -> str:
             f"{_fmt(s['turn_mean'], '.0f')} | {_fmt(s['turn_worst'], '.0f')} | "
             f"{_fmt(s['work_mean'], '.3g')} | {_fmt(s['work_worst'], '.3g')} | "
             f"{_fmt(s['click_mean'], '.2e')} | {_fmt(s['torque_peak'], '.3g')} | "
-            f"{s['share_unstable']:.0%} |")
+            f"{s['share_unstable']:.0%} |"
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -314,16 +363,21 @@ def plot_recommendation(rec: Recommendation, path: str | os.PathLike[str]) -> Pa
         x = [s["held_pitch"] for s in rows]
         label = f"F {force:g} N, k {stiff[0]:g}/{stiff[1]:g} N m/rad"
         ax1.plot(x, [100 * s["share_snap"] for s in rows], "o-", label=label)
-        ax2.plot(x, [np.nan if s["turn_mean"] is None else s["turn_mean"] for s in rows],
-                 "o-", label=label)
+        ax2.plot(
+            x,
+            [np.nan if s["turn_mean"] is None else s["turn_mean"] for s in rows],
+            "o-",
+            label=label,
+        )
     best = rec.best
     ax1.axvline(best["held_pitch"], color="0.5", ls=":", lw=1)
     ax2.axvline(best["held_pitch"], color="0.5", ls=":", lw=1)
     ax1.set_ylabel("snap within one turn (%)")
     ax2.set_ylabel("mean turn to the snap (deg)")
     ax2.set_xlabel("held pitch: the SRCC pre-tilt about the nut's Y axis (deg)")
-    ax1.set_title(f"starts with |roll| <= {rec.roll_spread:g} deg, every start phase; "
-                  f"pick {best['held_pitch']:+g} deg" + (" (at the edge)" if rec.at_edge
-                                                          else ""))
+    ax1.set_title(
+        f"starts with |roll| <= {rec.roll_spread:g} deg, every start phase; "
+        f"pick {best['held_pitch']:+g} deg" + (" (at the edge)" if rec.at_edge else "")
+    )
     ax1.legend(fontsize=7)
     return save_figure(fig, path, Path(path).suffix.lstrip(".").lower() or "png")

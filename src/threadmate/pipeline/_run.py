@@ -74,14 +74,25 @@ class RunResult:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready mapping of paths and figures (``threadmate run --json``)."""
         return {
-            "units": {"length": self.recommended.get("units", ""), "angle": "deg",
-                      "work": "mJ", "torque": "N m", "force": "N", "stiffness": "N m/rad"},
-            "out": str(self.out), "libraries": [str(p) for p in self.libraries],
-            "graphml": str(self.graphml), "node_link": str(self.node_link),
-            "starts": str(self.starts), "recommendation": str(self.recommendation),
+            "units": {
+                "length": self.recommended.get("units", ""),
+                "angle": "deg",
+                "work": "mJ",
+                "torque": "N m",
+                "force": "N",
+                "stiffness": "N m/rad",
+            },
+            "out": str(self.out),
+            "libraries": [str(p) for p in self.libraries],
+            "graphml": str(self.graphml),
+            "node_link": str(self.node_link),
+            "starts": str(self.starts),
+            "recommendation": str(self.recommendation),
             "report": str(self.report),
             "figures": {k: str(v) for k, v in self.figures.items()},
-            "counts": self.counts, "recommended": self.recommended, "notes": self.notes,
+            "counts": self.counts,
+            "recommended": self.recommended,
+            "notes": self.notes,
         }
 
 
@@ -117,15 +128,27 @@ def run_pipeline(
     out = Path(out)
     for folder in (out, out / "figures"):
         remove_stale_temporaries(folder)  # left by a run killed while writing
-    grid = {"roll": RUN_GRID["roll"] if roll is None else roll,
-            "pitch": RUN_GRID["pitch"] if pitch is None else pitch,
-            "phase": RUN_GRID["phase"] if phase is None else phase}
+    grid = {
+        "roll": RUN_GRID["roll"] if roll is None else roll,
+        "pitch": RUN_GRID["pitch"] if pitch is None else pitch,
+        "phase": RUN_GRID["phase"] if phase is None else phase,
+    }
     compliances = list(compliances or [Compliance()])
     libs = [_library_dir(out, c, len(compliances) > 1) for c in compliances]
     for comp, lib in zip(compliances, libs, strict=True):
-        sweep(spec, grid["roll"], grid["pitch"], grid["phase"], out=lib, workers=workers,
-              scheduler=scheduler, chord=chord, compliance=comp, step=step,
-              progress=progress)
+        sweep(
+            spec,
+            grid["roll"],
+            grid["pitch"],
+            grid["phase"],
+            out=lib,
+            workers=workers,
+            scheduler=scheduler,
+            chord=chord,
+            compliance=comp,
+            step=step,
+            progress=progress,
+        )
     graphs = [from_library(lib) for lib in libs]
     graph = graphs[0]
     rec = recommend(graphs, roll_spread)
@@ -141,10 +164,12 @@ def run_pipeline(
     signature = _signature_start(outcomes, rec)
     if signature is not None:
         path = least_resistance_path(graph, *signature)
-        figures["click_signature"] = plot_click_signature(graph, path,
-                                                          figdir / "click-signature.png")
-    figures["click_vs_tilt"] = plot_click_vs_tilt(outcomes, figdir / "click-vs-tilt.png",
-                                                  spec.units)
+        figures["click_signature"] = plot_click_signature(
+            graph, path, figdir / "click-signature.png"
+        )
+    figures["click_vs_tilt"] = plot_click_vs_tilt(
+        outcomes, figdir / "click-vs-tilt.png", spec.units
+    )
     figures.update({f"library_{k}": Path(v) for k, v in write_figures(libs[0], figdir).items()})
     figures["region_disk"] = plot_region_disk(spec, figdir / "planar-region-disk.png")
     figures["pivot_axes"] = plot_pivot_axes(spec, figdir / "planar-pivot-axes.png")
@@ -152,20 +177,44 @@ def run_pipeline(
     lib_info = info(libs[0])
     counts = {f"starts {k}": v for k, v in lib_info["classifications"].items()}
     counts.update({f"states {k}": v for k, v in lib_info["states"].get("by_class", {}).items()})
-    report = _report(spec, compliances, Grid.from_dict(lib_info["metadata"]["grid"]), step,
-                     rec, outcomes, counts, signature, figures, out)
+    report = _report(
+        spec,
+        compliances,
+        Grid.from_dict(lib_info["metadata"]["grid"]),
+        step,
+        rec,
+        outcomes,
+        counts,
+        signature,
+        figures,
+        out,
+    )
     report_path = atomic_write_text(out / "report.md", report)
     recommended = dict(rec.best, units=spec.units)
-    return RunResult(out, libs, graphml, node_link, starts_csv, rec_path, report_path,
-                     figures, counts, recommended, rec.notes)
+    return RunResult(
+        out,
+        libs,
+        graphml,
+        node_link,
+        starts_csv,
+        rec_path,
+        report_path,
+        figures,
+        counts,
+        recommended,
+        rec.notes,
+    )
 
 
 def _signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, float, float] | None:
     """A start of the recommended setting whose search snaps, with the median turn (the
     figure then shows a typical search); the smallest held roll preferred."""
     best = rec.best
-    rows = outcomes[(outcomes["held_pitch"] == best["held_pitch"]) & outcomes["snapped"]
-                    & (outcomes["turn"] > 0)]
+    rows = outcomes[
+        (outcomes["held_pitch"] == best["held_pitch"])
+        & outcomes["snapped"]
+        & (outcomes["turn"] > 0)
+    ]
     if rows.empty:
         return None
     rows = rows[rows["held_roll"].abs() == rows["held_roll"].abs().min()]
@@ -178,8 +227,10 @@ def _lean(pitch: float) -> str:
     if pitch == 0:
         return "upright about Y (no pre-tilt)"
     side = "+X" if pitch > 0 else "-X"
-    return (f"{abs(pitch):g} deg about the nut's Y axis, right-handed sign {pitch:+g}: the "
-            f"bolt's head leans toward {side} of the nut's frame")
+    return (
+        f"{abs(pitch):g} deg about the nut's Y axis, right-handed sign {pitch:+g}: the "
+        f"bolt's head leans toward {side} of the nut's frame"
+    )
 
 
 def _lead(value: float | None, scale: float, ahead: str, behind: str) -> str:
@@ -195,10 +246,18 @@ def _num(v: float | None, fmt: str) -> str:
     return "-" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, fmt)
 
 
-def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: float,
-            rec: Recommendation, outcomes: Any, counts: dict[str, int],
-            signature: tuple[float, float, float] | None, figures: dict[str, Path],
-            out: Path) -> str:
+def _report(
+    spec: ThreadSpec,
+    compliances: list[Compliance],
+    grid: Grid,
+    step: float,
+    rec: Recommendation,
+    outcomes: Any,
+    counts: dict[str, int],
+    signature: tuple[float, float, float] | None,
+    figures: dict[str, Path],
+    out: Path,
+) -> str:
     name = spec.designation or "custom spec"
     u = spec.units
     best = rec.best
@@ -227,11 +286,19 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
         m, nxt = rec.margin, rec.settings[1]
         lines.append(
             f"- Margin over the next setting (held pitch {nxt['held_pitch']:+g} deg"
-            + (f", {nxt['force']:g} N, {nxt['stiffness'][0]:g} N m/rad" if len(compliances) > 1
-               else "") + "): "
-            + _lead(m["share_snap"], 100, "percentage points more starts snap", "") + "; "
-            + _lead(m["turn_mean"], 1, "deg less mean turn", "deg more mean turn") + "; "
-            + _lead(m["work_mean"], 1, "mJ less mean work", "mJ more mean work") + ".")
+            + (
+                f", {nxt['force']:g} N, {nxt['stiffness'][0]:g} N m/rad"
+                if len(compliances) > 1
+                else ""
+            )
+            + "): "
+            + _lead(m["share_snap"], 100, "percentage points more starts snap", "")
+            + "; "
+            + _lead(m["turn_mean"], 1, "deg less mean turn", "deg more mean turn")
+            + "; "
+            + _lead(m["work_mean"], 1, "mJ less mean work", "mJ more mean work")
+            + "."
+        )
     if rec.azimuth_proof:
         p = rec.azimuth_proof[0]
         lines.append(
@@ -240,7 +307,8 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
             f"{p['worst_direction']}, {p['share_snap']:.0%} snap within one turn, mean turn "
             f"{_num(p['turn_mean'], '.0f')} deg. Use this when the robot does not know "
             "where the nut's thread starts; the pick above assumes it does (the pre-tilt "
-            "about the nut's Y axis as the conventions fix it).")
+            "about the nut's Y axis as the conventions fix it)."
+        )
     lines += [f"- Note: {note}." for note in rec.notes]
     lines += [
         "",
@@ -248,14 +316,22 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
         "",
         f"- Thread: {name}; pitch {spec.pitch:g} {u}, handedness "
         f"{'right' if spec.handedness > 0 else 'left'}.",
-        "- Compliance" + (f" ({len(compliances)} settings compared)" if len(compliances) > 1
-                          else "") + ": "
-        + "; ".join(f"axial force {c.force:g} N, rotational stiffness "
-                    f"{c.roll_stiffness:g}/{c.pitch_stiffness:g} N m/rad (roll/pitch), "
-                    + ("held laterally" if c.held_laterally else
-                       f"lateral stiffness {c.lateral_stiffness:g} N/m")
-                    + f", friction {c.friction:g}, compliance centre {c.compliance_z:g} "
-                    f"{u} above the tip" for c in compliances) + ".",
+        "- Compliance"
+        + (f" ({len(compliances)} settings compared)" if len(compliances) > 1 else "")
+        + ": "
+        + "; ".join(
+            f"axial force {c.force:g} N, rotational stiffness "
+            f"{c.roll_stiffness:g}/{c.pitch_stiffness:g} N m/rad (roll/pitch), "
+            + (
+                "held laterally"
+                if c.held_laterally
+                else f"lateral stiffness {c.lateral_stiffness:g} N/m"
+            )
+            + f", friction {c.friction:g}, compliance centre {c.compliance_z:g} "
+            f"{u} above the tip"
+            for c in compliances
+        )
+        + ".",
         f"- Grid: {grid.describe()}. Every configuration is a start: the bolt is dropped "
         "there, settles to a rest state, and is turned counter-clockwise (the unscrewing "
         f"sense) in quasi-static continuation (steps of {step:g} deg, events located to "
@@ -287,7 +363,8 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
         f"turn: {int(ok['snapped'].sum())}; never within one turn: "
         f"{int((~ok['snapped']).sum())}; search passes an unstable transition: "
         f"{int(ok['passes_unstable'].sum())}. States by class: "
-        + ", ".join(f"{k} {v}" for k, v in counts.items()) + ".",
+        + ", ".join(f"{k} {v}" for k, v in counts.items())
+        + ".",
         "",
         "## Figures",
         "",
@@ -297,11 +374,16 @@ def _report(spec: ThreadSpec, compliances: list[Compliance], grid: Grid, step: f
         "click_signature": (
             "The click signature a force/torque sensor would see: height of the "
             "compliance centre, tilt and driver torque along the search from "
-            + (f"held roll {signature[0]:g}, pitch {signature[1]:g}, phase "
-               f"{signature[2]:g} deg" if signature else "a start") + "; the snap dashed red."),
+            + (
+                f"held roll {signature[0]:g}, pitch {signature[1]:g}, phase {signature[2]:g} deg"
+                if signature
+                else "a start"
+            )
+            + "; the snap dashed red."
+        ),
         "click_vs_tilt": "The click and the turn to the snap against the tilt's size.",
         "library_stability_map": "Class of the rest state each start reaches, over the held "
-                                 "tilts, at the first grid phase.",
+        "tilts, at the first grid phase.",
         "library_phase_strips": "The same over every start phase.",
         "library_region_combinations": "Which regions touch at rest.",
         "region_disk": "The planar analysis: regions in contact against phase (upright).",

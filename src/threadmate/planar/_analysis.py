@@ -180,11 +180,16 @@ class CriticalPhase:
         def pair(p: tuple[str, str] | None) -> dict[str, str] | None:
             return None if p is None else {"bolt_region": p[0], "nut_region": p[1]}
 
-        return {"phase": self.phase, "contact": self.contact, "before": pair(self.before),
-                "after": pair(self.after)}
+        return {
+            "phase": self.phase,
+            "contact": self.contact,
+            "before": pair(self.before),
+            "after": pair(self.after),
+        }
 
 
 # -- public functions --------------------------------------------------------------------
+
 
 def planar_state(spec: ThreadSpec, phase: float) -> PlanarState:
     """The contact points, contact angle and pivot axis of the flush bolt at ``phase``.
@@ -252,6 +257,7 @@ def critical_phases(spec: ThreadSpec) -> list[CriticalPhase]:
 
 # -- implementation ----------------------------------------------------------------------
 
+
 def _normalise(phase: float) -> float:
     value = check_number("phase (degrees)", phase) % 360.0
     return 0.0 if value >= 360.0 else value
@@ -266,8 +272,7 @@ def _outline_normal(theta: float, r: float, dr: float) -> tuple[float, float]:
     return (nx / n, ny / n)
 
 
-def _contact(pair: OutlinePair, sigma: float, tau: float, side: int,
-             theta: float) -> PlanarContact:
+def _contact(pair: OutlinePair, sigma: float, tau: float, side: int, theta: float) -> PlanarContact:
     """The contact at ``tau`` (seen at F-angle ``theta``), its regions and slopes read on
     ``side`` (+1 / -1: toward larger / smaller ``tau``; 0: at the point)."""
     step = side * SIDE_STEP * pair.pitch
@@ -288,8 +293,9 @@ def _contact(pair: OutlinePair, sigma: float, tau: float, side: int,
     )
 
 
-def _arcs(pair: OutlinePair, sigma: float,
-          stretches: list[Stretch]) -> list[tuple[PlanarContact, PlanarContact]]:
+def _arcs(
+    pair: OutlinePair, sigma: float, stretches: list[Stretch]
+) -> list[tuple[PlanarContact, PlanarContact]]:
     """Contacts 1 and 2 of each arc, sorted by the angle of contact 1."""
     arcs = []
     for st in stretches:
@@ -300,14 +306,23 @@ def _arcs(pair: OutlinePair, sigma: float,
         else:
             first, second = (st.start, +1), (st.end, -1)
         for th1, th2 in zip(pair.thetas(first[0]), pair.thetas(second[0]), strict=True):
-            arcs.append((_contact(pair, sigma, first[0], first[1], th1),
-                         _contact(pair, sigma, second[0], second[1], th2)))
+            arcs.append(
+                (
+                    _contact(pair, sigma, first[0], first[1], th1),
+                    _contact(pair, sigma, second[0], second[1], th2),
+                )
+            )
     arcs.sort(key=lambda a: a[0].theta)
     return arcs
 
 
-def _build(phase: float, in_phase: bool, arcs: list[tuple[PlanarContact, PlanarContact]],
-           angle: float, line: bool) -> PlanarState:
+def _build(
+    phase: float,
+    in_phase: bool,
+    arcs: list[tuple[PlanarContact, PlanarContact]],
+    angle: float,
+    line: bool,
+) -> PlanarState:
     if not arcs:
         return PlanarState(phase, in_phase, (), angle, 0.0, None, line)
     c1, c2 = arcs[0]
@@ -329,8 +344,10 @@ def _state(pair: OutlinePair, phase: float) -> PlanarState:
         if stretches:
             angle = sum(s.end - s.start for s in stretches) * deg_per_tau
             return _build(phase, True, _arcs(pair, sigma, stretches), angle, True)
-        arcs = [(_contact(pair, sigma, where, 0, th), _contact(pair, sigma, where, 0, th))
-                for th in pair.thetas(where)]
+        arcs = [
+            (_contact(pair, sigma, where, 0, th), _contact(pair, sigma, where, 0, th))
+            for th in pair.thetas(where)
+        ]
         arcs.sort(key=lambda a: a[0].theta)
         return _build(phase, True, arcs, 0.0, False)
     stretches = pair.overlap(sigma)

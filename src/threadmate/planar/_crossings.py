@@ -151,8 +151,9 @@ class OutlinePair:
         """The F-angles (radians, in ``[0, 2 pi)``) at which the nut's ``t`` is ``tau``:
         one per start."""
         base = -2.0 * math.pi * tau / (self.hand * self.lead)
-        out = [(base + 2.0 * math.pi * j / self.starts) % (2.0 * math.pi)
-               for j in range(self.starts)]
+        out = [
+            (base + 2.0 * math.pi * j / self.starts) % (2.0 * math.pi) for j in range(self.starts)
+        ]
         return [0.0 if th >= 2.0 * math.pi else th for th in out]
 
     # -- the difference and its slope ---------------------------------------------------
@@ -184,8 +185,9 @@ class OutlinePair:
         if hit is not None:
             return hit
         h = self.pitch / 2
-        pts = np.unique(np.concatenate([self.nut_edges,
-                                        wrap_t(self.bolt_edges - sigma, self.pitch), [-h, h]]))
+        pts = np.unique(
+            np.concatenate([self.nut_edges, wrap_t(self.bolt_edges - sigma, self.pitch), [-h, h]])
+        )
         keep = np.concatenate([np.diff(pts) > 1e-15 * self.pitch, [True]])
         keep[0] = True
         pts = pts[keep]
@@ -211,8 +213,9 @@ class OutlinePair:
         ga, gb = self.d_slope(a, sigma), self.d_slope(b, sigma)
         if ga == 0.0 or gb == 0.0 or (ga > 0) == (gb > 0):
             return None
-        return brentq(self.d_slope, a, b, args=(sigma,), xtol=1e-15 * self.pitch,
-                      rtol=4 * np.finfo(float).eps)
+        return brentq(
+            self.d_slope, a, b, args=(sigma,), xtol=1e-15 * self.pitch, rtol=4 * np.finfo(float).eps
+        )
 
     def roots(self, sigma: float) -> list[float]:
         """Every ``tau`` in ``[-p/2, p/2)`` where the outlines cross or touch."""
@@ -234,8 +237,16 @@ class OutlinePair:
                     found.append(m)
             for (a, da), (b, db) in zip(cuts[:-1], cuts[1:], strict=True):
                 if da * db < 0.0:
-                    found.append(brentq(self.d, a, b, args=(sigma,), xtol=1e-15 * self.pitch,
-                                        rtol=4 * np.finfo(float).eps))
+                    found.append(
+                        brentq(
+                            self.d,
+                            a,
+                            b,
+                            args=(sigma,),
+                            xtol=1e-15 * self.pitch,
+                            rtol=4 * np.finfo(float).eps,
+                        )
+                    )
         h = self.pitch / 2
         found = sorted(float(wrap_t(r, self.pitch)) for r in found)
         out: list[float] = []
@@ -264,8 +275,9 @@ class OutlinePair:
         if not roots:
             return []
         ends = [*roots, roots[0] + self.pitch]
-        positive = [self.d(0.5 * (a + b), sigma) > 0.0
-                    for a, b in zip(ends[:-1], ends[1:], strict=True)]
+        positive = [
+            self.d(0.5 * (a + b), sigma) > 0.0 for a, b in zip(ends[:-1], ends[1:], strict=True)
+        ]
         if all(positive):
             return []
         # Start the walk at a negative segment so that no stretch is cut at the seam.
@@ -319,5 +331,6 @@ class OutlinePair:
 @lru_cache(maxsize=64)
 def outline_pair(spec: ThreadSpec) -> OutlinePair:
     """The (cached) outline pair of a spec."""
-    return OutlinePair(bolt_profile(spec), nut_profile(spec), spec.lead, spec.handedness,
-                       spec.starts)
+    return OutlinePair(
+        bolt_profile(spec), nut_profile(spec), spec.lead, spec.handedness, spec.starts
+    )

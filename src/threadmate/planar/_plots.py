@@ -64,8 +64,10 @@ def _spec_name(spec: ThreadSpec) -> str:
         return spec.designation
     hand = "" if spec.hand == "right" else ", left hand"
     starts = "" if spec.starts == 1 else f", {spec.starts} starts"
-    return (f"pitch {spec.pitch:g} {spec.units}, bolt PD {spec.bolt.pitch_diameter:g}, "
-            f"nut PD {spec.nut.pitch_diameter:g} {spec.units}{hand}{starts}")
+    return (
+        f"pitch {spec.pitch:g} {spec.units}, bolt PD {spec.bolt.pitch_diameter:g}, "
+        f"nut PD {spec.nut.pitch_diameter:g} {spec.units}{hand}{starts}"
+    )
 
 
 def _runs(spec: ThreadSpec, step: float) -> list[tuple[float, float, tuple]]:
@@ -123,52 +125,102 @@ def plot_region_disk(spec: ThreadSpec, path: str | os.PathLike[str], step: float
     fig = new_figure((10.0, 7.0))
     ax = fig.add_subplot()
     # ring (outer radius, width) per (body, contact): nut outside, bolt inside.
-    rings = {("nut", 0): (1.00, 0.15), ("nut", 1): (0.85, 0.15),
-             ("bolt", 0): (0.64, 0.15), ("bolt", 1): (0.49, 0.15)}
+    rings = {
+        ("nut", 0): (1.00, 0.15),
+        ("nut", 1): (0.85, 0.15),
+        ("bolt", 0): (0.64, 0.15),
+        ("bolt", 1): (0.49, 0.15),
+    }
     for a, b, labels in runs:
         for (body, k), (r, w) in rings.items():
             if labels[k] is None:
                 colour = IN_PHASE_COLOUR
             else:
                 colour = REGION_COLOURS[labels[k][0 if body == "bolt" else 1]]
-            ax.add_patch(Wedge((0.0, 0.0), r, a, b, width=w, facecolor=colour,
-                               edgecolor=colour, linewidth=0.3))
+            ax.add_patch(
+                Wedge(
+                    (0.0, 0.0), r, a, b, width=w, facecolor=colour, edgecolor=colour, linewidth=0.3
+                )
+            )
     for crit in critical_phases(spec):
         th = math.radians(crit.phase)
-        ax.plot([0.34 * math.cos(th), 1.0 * math.cos(th)],
-                [0.34 * math.sin(th), 1.0 * math.sin(th)], color="white", lw=0.6)
+        ax.plot(
+            [0.34 * math.cos(th), 1.0 * math.cos(th)],
+            [0.34 * math.sin(th), 1.0 * math.sin(th)],
+            color="white",
+            lw=0.6,
+        )
     for deg in range(0, 360, 30):
         th = math.radians(deg)
-        ax.plot([1.0 * math.cos(th), 1.04 * math.cos(th)],
-                [1.0 * math.sin(th), 1.04 * math.sin(th)], color="black", lw=0.8)
-        ax.text(1.11 * math.cos(th), 1.11 * math.sin(th), f"{deg}°", ha="center",
-                va="center", fontsize=9)
-    ax.annotate("", xy=(1.2 * math.cos(0.35), 1.2 * math.sin(0.35)),
-                xytext=(1.2 * math.cos(0.08), 1.2 * math.sin(0.08)),
-                arrowprops={"arrowstyle": "->", "connectionstyle": "arc3,rad=0.17"})
-    ax.text(1.22 * math.cos(0.2), 1.22 * math.sin(0.2), " phase", fontsize=8, ha="left",
-            va="center", rotation=78)
-    ax.text(0.0, 0.0, "outer: nut\ninner: bolt\n(contact 1 outside,\ncontact 2 inside)",
-            ha="center", va="center", fontsize=7.5)
+        ax.plot(
+            [1.0 * math.cos(th), 1.04 * math.cos(th)],
+            [1.0 * math.sin(th), 1.04 * math.sin(th)],
+            color="black",
+            lw=0.8,
+        )
+        ax.text(
+            1.11 * math.cos(th),
+            1.11 * math.sin(th),
+            f"{deg}°",
+            ha="center",
+            va="center",
+            fontsize=9,
+        )
+    ax.annotate(
+        "",
+        xy=(1.2 * math.cos(0.35), 1.2 * math.sin(0.35)),
+        xytext=(1.2 * math.cos(0.08), 1.2 * math.sin(0.08)),
+        arrowprops={"arrowstyle": "->", "connectionstyle": "arc3,rad=0.17"},
+    )
+    ax.text(
+        1.22 * math.cos(0.2),
+        1.22 * math.sin(0.2),
+        " phase",
+        fontsize=8,
+        ha="left",
+        va="center",
+        rotation=78,
+    )
+    ax.text(
+        0.0,
+        0.0,
+        "outer: nut\ninner: bolt\n(contact 1 outside,\ncontact 2 inside)",
+        ha="center",
+        va="center",
+        fontsize=7.5,
+    )
     ax.set_xlim(-1.3, 1.3)
     ax.set_ylim(-1.3, 1.3)
     ax.set_aspect("equal")
     ax.axis("off")
     names = list(dict.fromkeys(BOLT_REGIONS[:-1] + NUT_REGIONS[:-1]))
     handles = [Patch(facecolor=REGION_COLOURS[n], label=n) for n in names]
-    handles.append(Patch(facecolor=REGION_COLOURS["base"],
-                         label=f"{BOLT_REGIONS[-1]} (bolt) / {NUT_REGIONS[-1]} (nut)"))
+    handles.append(
+        Patch(
+            facecolor=REGION_COLOURS["base"],
+            label=f"{BOLT_REGIONS[-1]} (bolt) / {NUT_REGIONS[-1]} (nut)",
+        )
+    )
     handles.append(Patch(facecolor=IN_PHASE_COLOUR, label="in phase (no contact)"))
-    fig.legend(handles=handles, title="region in contact", loc="outside right center",
-               frameon=False, fontsize=9)
+    fig.legend(
+        handles=handles,
+        title="region in contact",
+        loc="outside right center",
+        frameon=False,
+        fontsize=9,
+    )
     fig.suptitle(f"Contact-region combination disk: {_spec_name(spec)}", fontsize=11)
-    ax.set_title(f"bolt flush on nut; phase in degrees from +X, counter-clockwise seen from "
-                 f"+Z (lengths in {spec.units})", fontsize=8.5)
+    ax.set_title(
+        f"bolt flush on nut; phase in degrees from +X, counter-clockwise seen from "
+        f"+Z (lengths in {spec.units})",
+        fontsize=8.5,
+    )
     return save_figure(fig, path, fmt)
 
 
-def plot_pivot_axes(spec: ThreadSpec, path: str | os.PathLike[str],
-                    phases: Iterable[float] = range(0, 360, 15)) -> Path:
+def plot_pivot_axes(
+    spec: ThreadSpec, path: str | os.PathLike[str], phases: Iterable[float] = range(0, 360, 15)
+) -> Path:
     """Draw the pivot axis against phase (the thesis's Figure 2.9).
 
     The nut's top outline in F and, for each phase that is not in phase, the pivot-axis
@@ -233,15 +285,23 @@ def plot_pivot_axes(spec: ThreadSpec, path: str | os.PathLike[str],
     ax.grid(True, lw=0.3)
     ax.set_xlabel(f"x ({spec.units})")
     ax.set_ylabel(f"y ({spec.units})")
-    handles = [Line2D([], [], color="0.35", label="nut top outline (z = 0)"),
-               Line2D([], [], color=cmap(0.3), marker="o", ms=3,
-                      label="pivot axis (contact 1 to contact 2), labelled with phase")]
+    handles = [
+        Line2D([], [], color="0.35", label="nut top outline (z = 0)"),
+        Line2D(
+            [],
+            [],
+            color=cmap(0.3),
+            marker="o",
+            ms=3,
+            label="pivot axis (contact 1 to contact 2), labelled with phase",
+        ),
+    ]
     if skipped:
         shown = ", ".join(f"{p:g}°" for p in skipped[:8]) + (" ..." if len(skipped) > 8 else "")
         handles.append(Line2D([], [], color="none", label=f"in phase, no axis: {shown}"))
     ax.legend(handles=handles, loc="upper right", fontsize=8)
     fig.suptitle(f"Pivot axis vs phase: {_spec_name(spec)}", fontsize=11)
-    ax.set_title("bolt flush on nut, frame F; angles from +X counter-clockwise seen from +Z",
-                 fontsize=8.5)
+    ax.set_title(
+        "bolt flush on nut, frame F; angles from +X counter-clockwise seen from +Z", fontsize=8.5
+    )
     return save_figure(fig, path, fmt)
-
