@@ -14,7 +14,7 @@ from typing import Any
 import click
 
 from .._errors import InputError
-from ..contact import CONTINUATION_STEP, ROLES
+from ..contact import CONTINUATION_STEP, ROLES, Compliance
 from ..library import (
     CLASS_ORDER,
     METADATA_FILE,
@@ -402,21 +402,7 @@ def _with_units(doc: dict[str, Any]) -> dict[str, Any]:
 
 
 def _compliance_line(c: dict[str, Any], units: str) -> str:
-    k = c["stiffness"]
-    stiff = (
-        f"{k['roll']:g} N m/rad"
-        if k["roll"] == k["pitch"]
-        else f"{k['roll']:g} (roll), {k['pitch']:g} (pitch) N m/rad"
-    )
-    lateral = (
-        "held at x = y = 0"
-        if c.get("lateral_stiffness") is None
-        else f"{c['lateral_stiffness']:g} N/m"
-    )
-    return (
-        f"force {c['force']:g} N, stiffness {stiff}, lateral {lateral}, centre z "
-        f"{c['compliance_z']:g} {units}, friction {c['friction']:g}"
-    )
+    return Compliance.from_dict(c).describe(units)
 
 
 @library_group.command("info")

@@ -129,22 +129,7 @@ def _num(v: float | None, fmt: str = ".6f") -> str:
 
 
 def _parameters(p: dict[str, Any], units: str) -> list[str]:
-    k = p["stiffness"]
-    stiff = (
-        f"{k['roll']:g} N m/rad"
-        if k["roll"] == k["pitch"]
-        else f"{k['roll']:g} (roll), {k['pitch']:g} (pitch) N m/rad"
-    )
-    lateral = (
-        "held at x = y = 0"
-        if p.get("lateral_stiffness") is None
-        else f"{p['lateral_stiffness']:g} N/m"
-    )
-    return [
-        f"Parameters: force {p['force']:g} N, stiffness {stiff}, lateral {lateral},",
-        f"            compliance centre z = {p['compliance_z']:g} {units} (bolt frame), "
-        f"friction {p['friction']:g}",
-    ]
+    return [f"Parameters: {Compliance.from_dict(p).describe(units)}"]
 
 
 def _settle_text(spec: ThreadSpec, rest: RestState) -> str:

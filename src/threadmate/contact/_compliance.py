@@ -151,3 +151,30 @@ class Compliance:
             "friction": "1",
         }
         return d
+
+    @classmethod
+    def from_dict(cls, doc: dict[str, Any]) -> Compliance:
+        """The compliance of a :meth:`to_dict` mapping (a result's or a library's)."""
+        k = doc["stiffness"]
+        return cls(
+            force=doc["force"],
+            stiffness=(k["roll"], k["pitch"]),
+            lateral_stiffness=doc.get("lateral_stiffness"),
+            compliance_z=doc["compliance_z"],
+            friction=doc["friction"],
+        )
+
+    def describe(self, units: str) -> str:
+        """One line with units, for reports: force, stiffness, lateral, centre, friction."""
+        k_r, k_p = self.roll_stiffness, self.pitch_stiffness
+        stiff = f"{k_r:g} N m/rad" if k_r == k_p else f"{k_r:g} (roll), {k_p:g} (pitch) N m/rad"
+        lateral = (
+            "held at x = y = 0"
+            if self.lateral_stiffness is None
+            else f"{self.lateral_stiffness:g} N/m"
+        )
+        return (
+            f"force {self.force:g} N, stiffness {stiff}, lateral {lateral}, compliance "
+            f"centre z = {self.compliance_z:g} {units} (bolt frame), friction "
+            f"{self.friction:g}"
+        )

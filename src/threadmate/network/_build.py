@@ -64,30 +64,6 @@ WEIGHT_FORMULA = (
     "move_penalty (the lift against the load, and a stated price per robot move, default "
     "F x one thread pitch)"
 )
-#: Node attributes kept from the state record. The transition columns go to the edges;
-#: the rotation is ``Rx(roll) Ry(pitch) Rz(phase)`` of the attributes kept, and the contact
-#: points and normals stay in the library (one row per node, by ``state_id``), so that a
-#: network of 10^5 starts stays small.
-NODE_ATTRIBUTES = tuple(
-    c.name
-    for c in STATE_COLUMNS
-    if c.name
-    not in (
-        "next_id",
-        "transition",
-        "transition_label",
-        "transition_turn",
-        "work_friction",
-        "work_potential",
-        "torque_peak",
-        "drop",
-        "tilt_change",
-        "state_id",
-        "rotation",
-        "contact_points",
-        "contact_normals",
-    )
-)
 _EDGE_COLUMNS = (
     "transition",
     "transition_label",
@@ -97,6 +73,16 @@ _EDGE_COLUMNS = (
     "torque_peak",
     "drop",
     "tilt_change",
+)
+#: Node attributes kept from the state record. The transition columns go to the edges;
+#: the rotation is ``Rx(roll) Ry(pitch) Rz(phase)`` of the attributes kept, and the contact
+#: points and normals stay in the library (one row per node, by ``state_id``), so that a
+#: network of 10^5 starts stays small.
+NODE_ATTRIBUTES = tuple(
+    c.name
+    for c in STATE_COLUMNS
+    if c.name
+    not in (*_EDGE_COLUMNS, "next_id", "state_id", "rotation", "contact_points", "contact_normals")
 )
 _REST_ROLES = ("start", "continued")
 

@@ -319,18 +319,7 @@ def _report(
         "- Compliance"
         + (f" ({len(compliances)} settings compared)" if len(compliances) > 1 else "")
         + ": "
-        + "; ".join(
-            f"axial force {c.force:g} N, rotational stiffness "
-            f"{c.roll_stiffness:g}/{c.pitch_stiffness:g} N m/rad (roll/pitch), "
-            + (
-                "held laterally"
-                if c.held_laterally
-                else f"lateral stiffness {c.lateral_stiffness:g} N/m"
-            )
-            + f", friction {c.friction:g}, compliance centre {c.compliance_z:g} "
-            f"{u} above the tip"
-            for c in compliances
-        )
+        + "; ".join(c.describe(u) for c in compliances)
         + ".",
         f"- Grid: {grid.describe()}. Every configuration is a start: the bolt is dropped "
         "there, settles to a rest state, and is turned counter-clockwise (the unscrewing "
