@@ -492,10 +492,7 @@ def test_bad_settings_are_refused(quarter_20):
 def test_user_mesh_off_its_frame_is_refused(quarter_20):
     import trimesh
 
-    try:
-        from threadmate.geometry import thread_meshes
-    except ImportError:  # before geometry exports the meshes
-        from threadmate.geometry._mesh import thread_meshes
+    from threadmate.geometry import thread_meshes
 
     bolt, nut = thread_meshes(quarter_20)
     lifted = bolt.mesh.copy()

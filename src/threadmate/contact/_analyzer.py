@@ -19,7 +19,17 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from .._errors import InputError
 from .._units import MM_PER_UNIT
-from ..geometry import Pose, ThreadSpec, bolt_body, bolt_rotation, nut_body
+from ..geometry import (
+    DEFAULT_CHORD,
+    Pose,
+    ThreadSpec,
+    bolt_body,
+    bolt_rotation,
+    load_mesh,
+    mesh_deviation,
+    nut_body,
+    thread_meshes,
+)
 from ._collision import CollisionPair
 from ._exact import contact_normal, region_at, turn_axis_tangent
 from ._result import Contact, ContactResult, StageResult, _vec
@@ -55,15 +65,6 @@ def _positive(name: str, value: float | None) -> float | None:
     return float(value)
 
 
-def _mesh_api() -> tuple[Any, Any, Any]:
-    """``DEFAULT_CHORD``, ``mesh_deviation`` and ``thread_meshes`` of threadmate.geometry."""
-    try:
-        from ..geometry import DEFAULT_CHORD, mesh_deviation, thread_meshes
-    except ImportError:  # the meshes' module before geometry exports it
-        from ..geometry._mesh import DEFAULT_CHORD, mesh_deviation, thread_meshes
-    return DEFAULT_CHORD, mesh_deviation, thread_meshes
-
-
 def check_configuration(roll: float, pitch: float, phase: float) -> tuple[float, float, float]:
     """Refuse non-finite angles and roll or pitch beyond +/-:data:`MAX_TILT` degrees."""
     out = []
@@ -86,11 +87,6 @@ def _user_mesh(mesh: Any, kind: Literal["bolt", "nut"], spec: ThreadSpec) -> tri
     """A user mesh from a path (validated by :func:`threadmate.geometry.load_mesh`) or a
     Trimesh (checked to sit in its frame)."""
     if isinstance(mesh, str | Path):
-        try:
-            from ..geometry import load_mesh
-        except ImportError:  # the mesh-file module before geometry exports it
-            from ..geometry._meshio import load_mesh
-
         return load_mesh(mesh, kind, spec=spec)
     if not isinstance(mesh, trimesh.Trimesh):
         raise InputError(
@@ -224,8 +220,6 @@ class ContactAnalyzer:
         self.compliance_z = float(compliance_z)
         self.bolt = bolt_body(spec)
         self.nut = nut_body(spec)
-
-        DEFAULT_CHORD, mesh_deviation, thread_meshes = _mesh_api()
 
         if bolt_mesh is None or nut_mesh is None:
             gen_bolt, gen_nut = thread_meshes(spec, chord)

@@ -133,14 +133,14 @@ class Continuation:
         phase_tolerance: float = 0.01,
     ) -> None:
         self.mech = mech
-        self.roll, self.pitch = float(roll), float(pitch)
+        self.held_roll, self.held_pitch = float(roll), float(pitch)
         self.step, self.phase_tolerance = float(step), float(phase_tolerance)
         self.sign = mech.spec.handedness  # +1: counter-clockwise (increasing phase)
         self.drop_limit = mech.spec.pitch / 40
         self.floor = 1e-4 * mech.compliance.force
 
     def _settle(self, phase: float, before: MechanicalState) -> MechanicalState:
-        return self.mech.settle(self.roll, self.pitch, phase, start=before).state
+        return self.mech.settle(self.held_roll, self.held_pitch, phase, start=before).state
 
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
         if b.classification == "in-phase" and a.classification != "in-phase":

@@ -688,11 +688,15 @@ class Mechanics:
         comp = self.compliance
         f = comp.force
         k = self._stiffness()
-        pitch_m = self.spec.pitch * self.metres
+        thread_pitch_m = self.spec.pitch * self.metres
         arm_m = self.radius * self.metres
         prox0 = np.array(
-            [f / (pitch_m / 20), f * arm_m / math.radians(8.0), f * arm_m / math.radians(8.0)]
-            + [f / (pitch_m / 20)] * 2
+            [
+                f / (thread_pitch_m / 20),
+                f * arm_m / math.radians(8.0),
+                f * arm_m / math.radians(8.0),
+            ]
+            + [f / (thread_pitch_m / 20)] * 2
         )
         prox = prox0[: len(k)].copy()
         curvature = np.zeros((2, 2))
@@ -733,7 +737,7 @@ class Mechanics:
             # (The balance asks for tilts far finer than the travel tolerance: 1e-6 F times
             # the radius against a 1 N m/rad spring is 3e-8 rad, against 1e4 N m/rad
             # 3e-12 rad. Steps that small are still Newton steps of the same model.)
-            if moved <= 1e-6 * self.tolerance and promised <= 1e-12 * f * pitch_m:
+            if moved <= 1e-6 * self.tolerance and promised <= 1e-12 * f * thread_pitch_m:
                 # Nothing left to gain at this tolerance: a rest state if it balances.
                 converged = f_res <= BALANCE and m_res <= BALANCE
                 break

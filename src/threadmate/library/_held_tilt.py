@@ -56,7 +56,7 @@ class _Tilt:
     """The growing set of states of one held tilt, and the rows that describe them."""
 
     def __init__(self, mech: Mechanics, roll: float, pitch: float) -> None:
-        self.mech, self.roll, self.pitch = mech, roll, pitch
+        self.mech, self.held_roll, self.held_pitch = mech, roll, pitch
         self.rows: dict[str, dict[str, Any]] = {}
         self.states: dict[str, MechanicalState] = {}
         self.serial = 0
@@ -65,14 +65,14 @@ class _Tilt:
         self.events: list[str] = []  # states either side of a jump between grid phases
 
     def add(self, state: MechanicalState, role: str, config_id: int) -> str:
-        sid = state_id(self.roll, self.pitch, state.phase, self.serial)
+        sid = state_id(self.held_roll, self.held_pitch, state.phase, self.serial)
         self.serial += 1
         self.rows[sid] = state_row(
             state,
             config_id=config_id,
             state_id=sid,
-            held_roll=self.roll,
-            held_pitch=self.pitch,
+            held_roll=self.held_roll,
+            held_pitch=self.held_pitch,
             role=role,
         )
         self.states[sid] = state
@@ -143,14 +143,14 @@ class _Tilt:
         return None
 
     def fail(self, config_id: int, phase: float, role: str, exc: BaseException) -> None:
-        sid = state_id(self.roll, self.pitch, phase, self.serial)
+        sid = state_id(self.held_roll, self.held_pitch, phase, self.serial)
         self.serial += 1
         row = blank_row(state_schema())
         row.update(
             config_id=config_id,
             state_id=sid,
-            held_roll=self.roll,
-            held_pitch=self.pitch,
+            held_roll=self.held_roll,
+            held_pitch=self.held_pitch,
             phase=float(phase % 360.0),
             role=role,
             classification="error",
