@@ -201,3 +201,27 @@ def test_every_command_takes_the_same_condition_spellings(capsys):
     _, a, _ = run_cli(capsys, "thread", DESIGNATION, "--condition", "mmc", "--json")
     _, b, _ = run_cli(capsys, "thread", DESIGNATION, "--condition", "max", "--json")
     assert a == b
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc (Linux)")
+def test_unwritable_library_and_figure_folders_are_refused(small_library, capsys, quarter_20):
+    with pytest.raises(LibraryError, match="cannot create the library"):
+        library.sweep(quarter_20, "0", "0", "0", out="/proc/threadmate-x/lib", model="thesis")
+    for args in (
+        [
+            "sweep",
+            DESIGNATION,
+            "--roll",
+            "0",
+            "--pitch",
+            "0",
+            "--phase",
+            "0",
+            "-o",
+            "/proc/threadmate-x/lib",
+        ],
+        ["library", "summary", str(small_library), "-o", "/proc/threadmate-x/figs"],
+    ):
+        code, out, err = run_cli(capsys, *args)
+        assert code == 2, args
+        assert err.startswith("threadmate: error: -o /proc/threadmate-x") and "Traceback" not in err

@@ -60,6 +60,28 @@ def check_range(
     return value
 
 
+def check_whole(name: str, value: Any, lo: int = 1, hi: int | None = None, *, why: str = "") -> int:
+    """``value`` as an int if it is a whole number (not a bool) within ``[lo, hi]``."""
+    whole = (
+        int(value)
+        if isinstance(value, numbers.Integral) and not isinstance(value, bool | np.bool_)
+        else None
+    )
+    if whole is None or whole < lo or (hi is not None and whole > hi):
+        span = f"from {lo} to {hi}" if hi is not None else f">= {lo}"
+        raise InputError(f"{name} must be a whole number {span}{why}, got {value!r}")
+    return whole
+
+
+def check_open_range(name: str, value: Any, lo: float, hi: float, *, units: str = "") -> float:
+    """``value`` as a float if it is a finite number within ``(lo, hi]``."""
+    value = check_number(name, value)
+    if not lo < value <= hi:
+        unit = f" {units}" if units else ""
+        raise InputError(f"{name} must be within ({lo:g}, {hi:g}]{unit}, got {value!r}")
+    return value
+
+
 def check_length(
     name: str,
     value: Any,

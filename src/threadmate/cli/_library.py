@@ -26,7 +26,7 @@ from ..library import (
     sweep,
     write_figures,
 )
-from ._common import SPEC_HELP, emit_json, resolve_spec
+from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
@@ -304,6 +304,7 @@ def sweep_command(
         force, stiffness_text, lateral_stiffness, friction, compliance_z
     )
     spec = resolve_spec(spec_text, condition)
+    writable_directory(out, "-o")
     existed = (out / METADATA_FILE).is_file()
     resumed: dict[str, int] = {}
     start = time.perf_counter()
@@ -594,6 +595,8 @@ def summary_command(library: Path, phase: float | None, figdir: Path | None, as_
     each drop reaches, and of all states by role), region combinations, figures."""
     if phase is not None and not math.isfinite(phase):
         raise InputError(f"--phase {phase:g} is not a finite angle")
+    if figdir is not None:
+        writable_directory(figdir, "-o")
     doc = summary(library, phase=phase)
     if figdir is not None:
         doc["figures"] = {k: str(v) for k, v in write_figures(library, figdir, phase).items()}

@@ -220,11 +220,6 @@ def path_command(
     check_angle("roll", roll, MAX_TILT)
     check_angle("pitch", pitch, MAX_TILT)
     check_angle("phase", phase, 1e6)
-    if isinstance(k, bool) or not 1 <= k <= MAX_K:
-        raise InputError(
-            f"--k {k}: give a whole number from 1 to {MAX_K} (the cost of "
-            "finding alternatives grows with k)"
-        )
     graph = from_library(
         library, active=active, jump_penalty=jump_penalty, move_penalty=move_penalty
     )

@@ -19,6 +19,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from .._errors import InputError
 from .._units import MM_PER_UNIT
+from .._validate import check_number, check_open_range
 from ..geometry import (
     DEFAULT_CHORD,
     Pose,
@@ -55,25 +56,14 @@ TRAVEL_TOLERANCE = {u: 1e-7 * MM_PER_UNIT["in"] / MM_PER_UNIT[u] for u in ("in",
 def _positive(name: str, value: float | None) -> float | None:
     if value is None:
         return None
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int | float)
-        or not math.isfinite(value)
-        or value <= 0
-    ):
-        raise InputError(f"{name} must be a positive length, got {value!r}")
-    return float(value)
+    return check_open_range(name, value, 0.0, math.inf)
 
 
 def check_configuration(roll: float, pitch: float, phase: float) -> tuple[float, float, float]:
     """Refuse non-finite angles and roll or pitch beyond +/-:data:`MAX_TILT` degrees."""
     out = []
     for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
-        if isinstance(value, bool) or not isinstance(value, int | float | np.floating):
-            raise InputError(f"{name} must be a number of degrees, got {value!r}")
-        value = float(value)
-        if not math.isfinite(value):
-            raise InputError(f"{name} must be finite, got {value!r}")
+        value = check_number(f"{name} (degrees)", value)
         if name != "phase" and abs(value) > MAX_TILT:
             raise InputError(
                 f"{name} {value:g} deg is out of range: the contact stages take "
@@ -207,12 +197,7 @@ class ContactAnalyzer:
         if not isinstance(spec, ThreadSpec):
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
         chord = _positive("chord", chord)
-        if (
-            isinstance(compliance_z, bool)
-            or not isinstance(compliance_z, int | float)
-            or not math.isfinite(compliance_z)
-        ):
-            raise InputError(f"compliance_z must be a finite length, got {compliance_z!r}")
+        compliance_z = check_number("compliance_z", compliance_z)
         if not (isinstance(max_turn, int | float) and 0 < max_turn <= 90):
             raise InputError(f"max_turn must be within (0, 90] degrees, got {max_turn!r}")
         self.spec = spec

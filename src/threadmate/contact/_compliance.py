@@ -27,11 +27,11 @@ Defaults, and where they come from:
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass
 from typing import Any, cast
 
 from .._errors import InputError
+from .._validate import check_number
 
 __all__ = ["Compliance", "LIMITS"]
 
@@ -45,17 +45,8 @@ LIMITS: dict[str, tuple[float, float, str]] = {
 }
 
 
-def _number(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise InputError(f"{name} must be a number, got {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise InputError(f"{name} must be finite, got {value!r}")
-    return value
-
-
 def _in_range(name: str, value: Any, key: str | None = None) -> float:
-    value = _number(name, value)
+    value = check_number(name, value)
     lo, hi, unit = LIMITS[key or name]
     if not lo <= value <= hi:
         raise InputError(
@@ -112,7 +103,7 @@ class Compliance:
         set_(self, "stiffness", pair)
         if self.lateral_stiffness is not None:
             set_(self, "lateral_stiffness", _in_range("lateral_stiffness", self.lateral_stiffness))
-        set_(self, "compliance_z", _number("compliance_z", self.compliance_z))
+        set_(self, "compliance_z", check_number("compliance_z", self.compliance_z))
         set_(self, "friction", _in_range("friction", self.friction))
 
     @property

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._errors import InputError
+from .._validate import check_open_range
 from ..geometry import ThreadSpec
 from ._compliance import Compliance
 from ._rest_state import MechanicalState, SearchEvent, SearchResult
@@ -370,10 +370,4 @@ def check_continuation(
         ("step", step, 0.0, 10.0),
         ("phase_tolerance", phase_tolerance, 0.0, step),
     ):
-        if (
-            isinstance(value, bool)
-            or not isinstance(value, int | float)
-            or not math.isfinite(value)
-            or not lo < value <= hi
-        ):
-            raise InputError(f"{name} must be within ({lo:g}, {hi:g}], got {value!r}")
+        check_open_range(name, value, lo, hi)

@@ -61,6 +61,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from .._errors import InputError
 from .._units import METRES_PER_UNIT
+from .._validate import check_open_range
 from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
 from ..geometry._spec import filled
 from ._analyzer import ContactAnalyzer, check_configuration
@@ -165,17 +166,9 @@ class Mechanics:
         self.metres = METRES_PER_UNIT[spec.units]
         travel = analyzer.search.travel
         if tolerance is not None:
-            if (
-                isinstance(tolerance, bool)
-                or not isinstance(tolerance, int | float)
-                or not math.isfinite(tolerance)
-                or not 0 < tolerance <= spec.pitch / 100
-            ):
-                raise InputError(
-                    f"tolerance must be a length within (0, {spec.pitch / 100:g}]"
-                    f" {spec.units}, got {tolerance!r}"
-                )
-            travel = float(tolerance)
+            travel = check_open_range(
+                "tolerance", tolerance, 0.0, spec.pitch / 100, units=spec.units
+            )
         self.tolerance = travel
         #: Depth below the touching pose within which contacts are known to the descent.
         self.near = spec.pitch / 5000

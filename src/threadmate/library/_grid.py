@@ -12,6 +12,7 @@ configuration never changes for a given grid.
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any, cast
@@ -19,6 +20,7 @@ from typing import Any, cast
 import numpy as np
 
 from .._errors import InputError
+from .._validate import check_number
 from ..contact import MAX_TILT as _CONTACT_MAX_TILT
 
 __all__ = ["Grid", "parse_range", "DEFAULT_GRID", "MAX_TILT"]
@@ -99,17 +101,13 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
             if not item:
                 raise InputError(f"--{option}: empty item in {values!r}")
             raw += _span(item, option) if ":" in item else [_number(item, option)]
-    elif isinstance(values, bool):
-        raise InputError(f"--{option}: {values!r} is not a number of degrees")
-    elif isinstance(values, int | float | np.integer | np.floating):
-        raw = [_number(str(float(values)), option)]
     elif isinstance(values, Iterable):
         for v in values:
-            if isinstance(v, bool) or not isinstance(v, int | float | np.integer | np.floating):
-                raise InputError(f"--{option}: {v!r} is not a number of degrees")
-            raw.append(_number(str(float(v)), option))
+            raw.append(check_number(f"--{option} (degrees)", v))
         if not raw:
             raise InputError(f"--{option}: no values given")
+    elif isinstance(values, numbers.Real):
+        raw = [check_number(f"--{option} (degrees)", values)]
     else:
         raise InputError(
             f"--{option}: expected START:STOP:STEP, a number or a list, got {type(values).__name__}"
@@ -218,12 +216,7 @@ class Grid:
             The grid values.
         """
         for name, v in (("roll", roll), ("pitch", pitch), ("phase", phase)):
-            if (
-                isinstance(v, bool)
-                or not isinstance(v, int | float | np.integer | np.floating)
-                or not math.isfinite(v)
-            ):
-                raise InputError(f"--{name}: {v!r} is not a finite number of degrees")
+            check_number(f"--{name} (degrees)", v)
         i = int(np.argmin(np.abs(np.asarray(self.roll) - roll)))
         j = int(np.argmin(np.abs(np.asarray(self.pitch) - pitch)))
         d = np.abs((np.asarray(self.phase) - phase + 180.0) % 360.0 - 180.0)

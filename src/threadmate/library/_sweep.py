@@ -39,6 +39,7 @@ import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
 from .._io import remove_stale_temporaries
+from .._validate import check_whole
 from .._version import __version__
 from ..contact import CONTINUATION_STEP, Compliance, blank_row, check_continuation
 from ..geometry import ThreadSpec, check_chord
@@ -331,10 +332,8 @@ def _scheduler_from_dask_config() -> str | None:
 
 
 def _check_execution(workers: int | None, scheduler: str | None) -> None:
-    if workers is not None and (
-        isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
-    ):
-        raise InputError(f"--workers must be a whole number >= 1, got {workers!r}")
+    if workers is not None:
+        check_whole("--workers", workers)
     if scheduler is not None and not isinstance(scheduler, str):
         raise InputError(f"--scheduler must be an address, 'local' or 'pool', got {scheduler!r}")
     if scheduler is not None and scheduler.strip():
@@ -441,7 +440,10 @@ def _open_library(out: Path, job: Job) -> dict[str, Any]:
             f"{out} exists, is not empty and is not a threadmate library: "
             "give a new or empty directory"
         )
-    write_metadata(out, wanted)
+    try:
+        write_metadata(out, wanted)
+    except OSError as exc:
+        raise LibraryError(f"cannot create the library at {out}: {exc.strerror or exc}") from None
     return wanted
 
 
@@ -561,10 +563,8 @@ def sweep(
     compliance.check_for(spec.pitch)  # here, not first in a worker after the library exists
     check_continuation(step=step, phase_tolerance=phase_tolerance)
     for name, value in (("chunk_size", chunk_size), ("max_chunks", max_chunks)):
-        if value is not None and (
-            isinstance(value, bool) or not isinstance(value, int) or value < 1
-        ):
-            raise InputError(f"{name} must be a whole number >= 1, got {value!r}")
+        if value is not None:
+            check_whole(name, value)
     _check_execution(workers, scheduler)
     if model == "mechanics" and analyzer is not None:
         raise InputError("analyzer is for the thesis's model only")

@@ -35,6 +35,7 @@ import pandas as pd
 
 from .._errors import InputError, LibraryError
 from .._units import to_metres
+from .._validate import check_range
 from ..contact import STATE_COLUMNS, TRANSITIONS
 from ..library import Grid, load
 
@@ -88,14 +89,7 @@ _REST_ROLES = ("start", "continued")
 
 
 def _finite_nonnegative(name: str, value: float) -> float:
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int | float)
-        or not math.isfinite(value)
-        or value < 0
-    ):
-        raise InputError(f"{name} must be a finite number of mJ >= 0, got {value!r}")
-    return float(value)
+    return check_range(f"{name} (mJ)", value, 0.0, math.inf)
 
 
 def build_network(

@@ -20,6 +20,7 @@ import networkx as nx
 import pandas as pd
 
 from .._errors import InputError, NoPathError
+from .._validate import check_whole
 from ._build import start_node, starts
 
 __all__ = [
@@ -234,11 +235,13 @@ def k_best_paths(
     Passively there is one path (the dynamics are deterministic); alternatives come from
     active moves.
     """
-    if isinstance(k, bool) or not isinstance(k, int) or not 1 <= k <= MAX_K:
-        raise InputError(
-            f"--k must be a whole number from 1 to {MAX_K} (the alternatives "
-            f"are Yen's k shortest paths, whose cost grows with k), got {k!r}"
-        )
+    check_whole(
+        "--k",
+        k,
+        1,
+        MAX_K,
+        why=" (the alternatives are Yen's k shortest paths, whose cost grows with k)",
+    )
     best = least_resistance_path(graph, roll, pitch, phase, active=active, nearest=nearest)
     if k == 1 or len(best.path) == 1:
         return best

@@ -47,6 +47,7 @@ from .._errors import InputError
 from .._figures import new_figure, save_figure
 from .._io import atomic_write_text
 from .._json import json_text
+from .._validate import check_range
 from ._paths import start_outcomes
 
 __all__ = [
@@ -209,15 +210,8 @@ def recommend(
     graphs = [networks] if isinstance(networks, nx.DiGraph) else list(networks)
     if not graphs:
         raise InputError("no network to recommend from")
-    if roll_spread is not None and (
-        isinstance(roll_spread, bool)
-        or not isinstance(roll_spread, int | float)
-        or not math.isfinite(roll_spread)
-        or roll_spread < 0
-    ):
-        raise InputError(
-            f"--roll-spread must be a non-negative number of degrees, got {roll_spread!r}"
-        )
+    if roll_spread is not None:
+        check_range("--roll-spread (degrees)", roll_spread, 0.0, 90.0)
     spread = math.inf if roll_spread is None else float(roll_spread)
     grids = {g.graph["grid"] for g in graphs}
     if len(grids) > 1 or len({g.graph["spec"] for g in graphs}) > 1:
