@@ -35,7 +35,10 @@ def check_number(name: str, value: Any, *, error: type[InputError] = InputError)
     # numbers.Real covers int, float and the numpy scalars; bool is a number only to Python.
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
         raise error(f"{name} must be a number, got {value!r}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:  # an integer beyond the float range (JSON/TOML allow any size)
+        raise error(f"{name} must be a finite number, got an integer too large for one") from None
     if not math.isfinite(value):
         raise error(f"{name} must be a finite number, got {value!r}")
     return value

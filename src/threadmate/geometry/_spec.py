@@ -202,6 +202,8 @@ def _length(spec: ThreadSpec, key: str, value: Any, zero_ok: bool = False) -> fl
 def _validate(spec: ThreadSpec) -> None:
     if spec.units not in UNITS:
         raise SpecError(f"spec key 'units' must be one of {', '.join(UNITS)}; got {spec.units!r}")
+    if spec.designation is not None and not isinstance(spec.designation, str):
+        raise SpecError(f"spec key 'designation' must be text; got {spec.designation!r}")
     if spec.hand not in ("right", "left"):
         raise SpecError(f"spec key 'hand' must be 'right' or 'left'; got {spec.hand!r}")
     if (
@@ -320,8 +322,11 @@ def load_spec(path: str | Path) -> ThreadSpec:
             data = json.loads(text)
         else:
             raise SpecError(f"spec file {path} must end in .json or .toml")
-    except (json.JSONDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise SpecError(f"spec file {path} is not valid {suffix[1:].upper()}: {exc}") from None
+    except (ValueError, RecursionError) as exc:
+        # ValueError: the decode errors, and a number of over 4300 digits; RecursionError:
+        # thousands of nested brackets.
+        why = str(exc) if isinstance(exc, ValueError) else "nested too deeply"
+        raise SpecError(f"spec file {path} is not valid {suffix[1:].upper()}: {why}") from None
     try:
         return ThreadSpec.from_dict(data)
     except SpecError as exc:
