@@ -15,7 +15,15 @@ import numpy as np
 
 from ._errors import InputError
 
-__all__ = ["MIN_LENGTH", "MAX_LENGTH", "check_number", "check_range", "check_length"]
+__all__ = [
+    "MIN_LENGTH",
+    "MAX_LENGTH",
+    "MAX_WORKERS",
+    "check_number",
+    "check_range",
+    "check_length",
+    "check_workers",
+]
 
 # The range of a length, in the spec's own units (in or mm). Real screw threads lie far
 # inside it in either unit: the smallest standard threads (watch and instrument screws,
@@ -28,6 +36,9 @@ __all__ = ["MIN_LENGTH", "MAX_LENGTH", "check_number", "check_range", "check_len
 MIN_LENGTH = 1e-4
 #: Largest length, spec units.
 MAX_LENGTH = 1e3
+#: Most worker processes a sweep starts (far above any one machine's cores; beyond it the
+#: number is a typo, and past the C int range the process pool fails with a traceback).
+MAX_WORKERS = 1024
 
 
 def check_number(name: str, value: Any, *, error: type[InputError] = InputError) -> float:
@@ -74,6 +85,18 @@ def check_whole(name: str, value: Any, lo: int = 1, hi: int | None = None, *, wh
         span = f"from {lo} to {hi}" if hi is not None else f">= {lo}"
         raise InputError(f"{name} must be a whole number {span}{why}, got {value!r}")
     return whole
+
+
+def check_workers(workers: int | None) -> int | None:
+    """``--workers``: ``None`` (the default) or a whole number from 1 to ``MAX_WORKERS``."""
+    if workers is None:
+        return None
+    if isinstance(workers, numbers.Integral) and not isinstance(workers, bool | np.bool_):
+        if 1 <= workers <= MAX_WORKERS:
+            return int(workers)
+        if workers < 1:
+            raise InputError(f"--workers {workers} must be at least 1")
+    raise InputError(f"--workers must be a whole number from 1 to {MAX_WORKERS}, got {workers!r}")
 
 
 def check_open_range(name: str, value: Any, lo: float, hi: float, *, units: str = "") -> float:

@@ -14,6 +14,7 @@ from typing import Any
 import click
 
 from .._errors import InputError
+from .._validate import check_workers
 from ..contact import CONTINUATION_STEP, ROLES, Compliance
 from ..library import (
     CLASS_ORDER,
@@ -143,8 +144,7 @@ def _check_sweep_options(
     phase_tolerance: float,
 ) -> None:
     """Refuse bad or misplaced sweep options (one message, before anything is built)."""
-    if workers is not None and workers < 1:
-        raise InputError(f"--workers {workers} must be at least 1")
+    check_workers(workers)
     if chunk_size is not None and chunk_size < 1:
         raise InputError(f"--chunk-size {chunk_size} must be at least 1")
     if model == "thesis":

@@ -29,7 +29,13 @@ from ..contact import (
     settle,
 )
 from ..geometry import ThreadSpec, check_chord
-from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
+from ._common import (
+    SPEC_HELP,
+    check_configuration_options,
+    emit_json,
+    resolve_spec,
+    writable_output,
+)
 from ._library import _progress_bar
 from ._main import cli
 from ._options import (
@@ -235,7 +241,7 @@ def _figure_path(plot: Path | None) -> Path | None:
         )
     if plot.is_dir():
         raise InputError(f"--plot {plot}: is a folder; give a file name")
-    return plot
+    return writable_output(plot, "--plot")
 
 
 def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:

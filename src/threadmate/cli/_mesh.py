@@ -9,7 +9,14 @@ import click
 
 from .._io import atomic_path
 from ..geometry import stl_header, thread_meshes, write_stl
-from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory, write_failed
+from ._common import (
+    SPEC_HELP,
+    emit_json,
+    resolve_spec,
+    writable_directory,
+    writable_output,
+    write_failed,
+)
 from ._main import cli
 from ._options import chord_option, condition_option
 
@@ -25,9 +32,11 @@ def mesh_document(
     complete, so a failure leaves neither half-written. Returns the ``--json`` document.
     """
     out = writable_directory(out_dir)
+    paths = {"bolt": out / "bolt.stl", "nut": out / "nut.stl"}
+    for path in paths.values():  # a folder in the way of a file (the other would land)
+        writable_output(path)
     spec = resolve_spec(text, condition)
     bolt, nut = thread_meshes(spec, chord)
-    paths = {"bolt": out / "bolt.stl", "nut": out / "nut.stl"}
     try:
         # Both land under temporary names first; the renames happen only after both writes.
         with atomic_path(paths["bolt"]) as tmp_bolt, atomic_path(paths["nut"]) as tmp_nut:

@@ -9,6 +9,7 @@ from pathlib import Path
 import click
 
 from .._errors import InputError
+from .._validate import check_workers
 from ..contact import CONTINUATION_STEP, MAX_TILT
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID, run_pipeline
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
@@ -28,7 +29,8 @@ def _values(text: str | None, option: str) -> list[float]:
     if text is None:
         return []
     try:
-        return [float(v) for v in text.split(",") if v.strip()]
+        # An empty item ('1,,2', ',', '') is a slip, not "nothing to compare".
+        return [float(v) if v.strip() else float("") for v in text.split(",")]
     except ValueError:
         raise InputError(
             f"{option} {text!r}: give numbers separated by commas, e.g. 0.5,1,2"
@@ -118,8 +120,7 @@ def run_command(
     as_json: bool,
 ) -> None:
     """The main job (help text above)."""
-    if workers is not None and workers < 1:
-        raise InputError(f"--workers {workers} must be at least 1")
+    check_workers(workers)
     if roll_spread is not None and not (0 <= roll_spread <= MAX_TILT):
         raise InputError(f"--roll-spread {roll_spread:g} must be within 0..{MAX_TILT:g} degrees")
     writable_directory(out, "-o")

@@ -33,7 +33,7 @@ import pyarrow as pa
 import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 
-from .._errors import LibraryError
+from .._errors import InputError, LibraryError
 from .._io import atomic_path, atomic_write_text
 from ._grid import Grid
 
@@ -112,6 +112,30 @@ def read_metadata(path: str | os.PathLike[str]) -> dict[str, Any]:
             )
     if doc["model"] not in MODELS:
         raise LibraryError(f"{meta_file}: unknown model {doc['model']!r}")
+    version = doc.get("format_version")
+    if not isinstance(version, int) or isinstance(version, bool) or version > FORMAT_VERSION:
+        raise LibraryError(
+            f"{meta_file}: format version {version!r} is not one this threadmate reads "
+            f"(up to {FORMAT_VERSION}; written by a newer threadmate?)"
+        )
+    # The spec and grid every command reads: refuse a hand-edited one here, once.
+    from ..contact import Compliance
+    from ..geometry import ThreadSpec
+
+    try:
+        spec = ThreadSpec.from_dict(doc["spec"])
+        Grid.from_dict(doc["grid"])
+        mesh = doc["mesh"]
+        if not isinstance(mesh, dict) or not isinstance(mesh.get("chord"), int | float):
+            raise InputError("key 'mesh' must be a table with the chord")
+        if doc["units"] != spec.units:
+            raise InputError(f"key 'units' {doc['units']!r} is not the spec's {spec.units!r}")
+        if doc["model"] == "mechanics" and "compliance" in doc:
+            Compliance.from_dict(doc["compliance"])
+    except InputError as exc:
+        raise LibraryError(f"{meta_file}: {exc}") from None
+    except (KeyError, TypeError, AttributeError, ValueError) as exc:
+        raise LibraryError(f"{meta_file}: key 'compliance' is not a compliance ({exc})") from None
     return doc
 
 

@@ -39,7 +39,7 @@ import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
 from .._io import remove_stale_temporaries
-from .._validate import check_whole
+from .._validate import check_whole, check_workers
 from .._version import __version__
 from ..contact import CONTINUATION_STEP, Compliance, blank_row, check_continuation
 from ..geometry import ThreadSpec, check_chord
@@ -333,7 +333,7 @@ def _scheduler_from_dask_config() -> str | None:
 
 def _check_execution(workers: int | None, scheduler: str | None) -> None:
     if workers is not None:
-        check_whole("--workers", workers)
+        check_workers(workers)
     if scheduler is not None and not isinstance(scheduler, str):
         raise InputError(f"--scheduler must be an address, 'local' or 'pool', got {scheduler!r}")
     if scheduler is not None and scheduler.strip():
