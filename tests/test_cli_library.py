@@ -244,7 +244,7 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     assert doc["states"]["by_role"] == rows["role"].value_counts().to_dict()
 
     rc, out, _ = run(capsys, "library", "info", str(swept))
-    assert rc == 0 and "mechanics model" in out and "compliance: force 10 N" in out
+    assert rc == 0 and "mechanics model" in out and "compliance: axial force 10 N" in out
 
     rc, _, err = run(
         capsys,
@@ -379,7 +379,7 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
         (["--step", "2", "--phase-tolerance", "3"], "--phase-tolerance 3 is out of range"),
         (["--force", "-1"], "force -1 N is out of range"),
         (["--stiffness", "1,2,3"], "--stiffness '1,2,3'"),
-        (["--friction", "nan"], "friction must be finite"),
+        (["--friction", "nan"], "friction must be a finite number"),
         (["--compliance-z", "100"], "compliance_z 100 is out of range"),
         (["--model", "thesis", "--force", "20"], "--force applies to --model mechanics only"),
         (["--model", "thesis", "--step", "1"], "--step applies to --model mechanics only"),

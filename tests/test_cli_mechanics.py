@@ -113,7 +113,7 @@ def test_settle_text_on_a_spec_file(spec_file, capsys):
         "held at roll 4, pitch 0 deg",
         "phase 170 deg",
         "force 10 N",
-        "1 (roll), 2 (pitch) N m/rad",
+        "rotational stiffness 1/2 N m/rad (roll/pitch)",
         "friction 0.1",
         "Class: ",
         "Rest pose:",

@@ -157,15 +157,13 @@ class Compliance:
 
     def describe(self, units: str) -> str:
         """One line with units, for reports: force, stiffness, lateral, centre, friction."""
-        k_r, k_p = self.roll_stiffness, self.pitch_stiffness
-        stiff = f"{k_r:g} N m/rad" if k_r == k_p else f"{k_r:g} (roll), {k_p:g} (pitch) N m/rad"
         lateral = (
-            "held at x = y = 0"
+            "held laterally at x = y = 0"
             if self.lateral_stiffness is None
-            else f"{self.lateral_stiffness:g} N/m"
+            else f"lateral stiffness {self.lateral_stiffness:g} N/m"
         )
         return (
-            f"force {self.force:g} N, stiffness {stiff}, lateral {lateral}, compliance "
-            f"centre z = {self.compliance_z:g} {units} (bolt frame), friction "
-            f"{self.friction:g}"
+            f"axial force {self.force:g} N, rotational stiffness {self.roll_stiffness:g}/"
+            f"{self.pitch_stiffness:g} N m/rad (roll/pitch), {lateral}, compliance centre "
+            f"z = {self.compliance_z:g} {units} (bolt frame), friction {self.friction:g}"
         )
