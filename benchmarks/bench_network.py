@@ -86,38 +86,29 @@ def synthetic_rows(grid: Grid) -> pd.DataFrame:
                     contact_points=[0.1, 0, 0, -0.1, 0, 0],
                     contact_normals=[0, 0, 1.0, 0, 0, 1.0],
                 )
-                rows.append(
-                    dict(
-                        common,
-                        state_id=first,
-                        role="first-contact",
-                        classification="unstable",
-                        centre_z=z + 1e-3,
-                        next_id=passed,
-                        transition="settling",
-                        transition_label="unstable",
-                        transition_turn=0.0,
-                        work_friction=0.0,
-                        work_potential=0.0,
-                        drop=5e-4,
-                    )
+                settling = dict(
+                    classification="unstable",
+                    transition="settling",
+                    transition_label="unstable",
+                    transition_turn=0.0,
+                    work_friction=0.0,
+                    work_potential=0.0,
+                    drop=5e-4,
                 )
-                rows.append(
-                    dict(
-                        common,
-                        state_id=passed,
-                        role="passed",
-                        classification="unstable",
-                        centre_z=z + 5e-4,
-                        next_id=start,
-                        transition="settling",
-                        transition_label="unstable",
-                        transition_turn=0.0,
-                        work_friction=0.0,
-                        work_potential=0.0,
-                        drop=5e-4,
+                for sid, role, nxt, lift in (
+                    (first, "first-contact", passed, 1e-3),
+                    (passed, "passed", start, 5e-4),
+                ):
+                    rows.append(
+                        dict(
+                            common,
+                            **settling,
+                            state_id=sid,
+                            role=role,
+                            centre_z=z + lift,
+                            next_id=nxt,
+                        )
                     )
-                )
                 rows.append(
                     dict(
                         common,
