@@ -25,8 +25,11 @@ def new_figure(size: tuple[float, float]) -> Figure:
     return fig
 
 
-def save_figure(fig: Figure, path: str | os.PathLike[str], fmt: str) -> Path:
-    """Write ``fig`` to ``path`` in format ``fmt`` atomically (temp file + rename)."""
+def save_figure(fig: Figure, path: str | os.PathLike[str], fmt: str | None = None) -> Path:
+    """Write ``fig`` to ``path`` in format ``fmt`` (default: the path's suffix, PNG without
+    one) atomically (temp file + rename)."""
+    if fmt is None:
+        fmt = Path(path).suffix.lstrip(".").lower() or "png"
     try:
         with atomic_path(path) as tmp:
             fig.savefig(tmp, format=fmt, dpi=DPI)

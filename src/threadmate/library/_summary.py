@@ -22,6 +22,7 @@ import numpy as np
 import pandas as pd
 
 from .._errors import InputError
+from .._figures import new_figure, save_figure
 from ._grid import Grid
 from ._store import configurations, load
 
@@ -266,17 +267,7 @@ def _cmap() -> ListedColormap:
 
 
 def _figure(width: float, height: float) -> Figure:
-    from .._figures import new_figure
-
     return new_figure((width, height))
-
-
-def _save(fig: Figure, path: str | os.PathLike[str]) -> Path:
-    """Write ``fig`` atomically in the format of the path's suffix (PNG without one)."""
-    from .._figures import save_figure
-
-    fmt = Path(path).suffix.lstrip(".").lower() or "png"
-    return save_figure(fig, path, fmt)
 
 
 def _legend(ax: Any, present: set[int]) -> None:
@@ -342,7 +333,7 @@ def plot_stability_map(
     ax.set_ylabel(ylabel)
     ax.set_title(f"{name}: {_what(model)} at phase {on_grid:g} deg", fontsize="medium")
     _legend(ax, set(np.unique(plane).tolist()))
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
@@ -391,7 +382,7 @@ def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
     for side in ax.spines.values():
         side.set_visible(False)
     _legend(ax, set(np.unique(cube).tolist()))
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_region_combinations(library: Library, path: str | os.PathLike[str], top: int = 25) -> Path:
@@ -413,7 +404,7 @@ def plot_region_combinations(library: Library, path: str | os.PathLike[str], top
     )
     for yy, v in zip(y, combos.to_numpy(), strict=True):
         ax.text(float(v), float(yy), f" {v}", va="center", fontsize="x-small")
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def write_figures(

@@ -17,10 +17,6 @@ from ._paths import PathResult
 __all__ = ["plot_click_signature", "plot_click_vs_tilt"]
 
 
-def _format(path: str | os.PathLike[str]) -> str:
-    return Path(path).suffix.lstrip(".").lower() or "png"
-
-
 def plot_click_signature(
     graph: nx.DiGraph, result: PathResult, path: str | os.PathLike[str]
 ) -> Path:
@@ -71,7 +67,7 @@ def plot_click_signature(
         f"{result.snap['drop']:.4g} {units}",
         fontsize=9,
     )
-    return save_figure(fig, path, _format(path))
+    return save_figure(fig, path)
 
 
 def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str], units: str) -> Path:
@@ -92,4 +88,4 @@ def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str], uni
     ax2.set_xlabel("held tilt size sqrt(roll^2 + pitch^2) (deg)")
     ax1.legend(fontsize=8)
     ax1.set_title("the click against the tilt (every start that snaps within a turn)", fontsize=9)
-    return save_figure(fig, path, _format(path))
+    return save_figure(fig, path)

@@ -374,4 +374,4 @@ def plot_recommendation(rec: Recommendation, path: str | os.PathLike[str]) -> Pa
         f"pick {best['held_pitch']:+g} deg" + (" (at the edge)" if rec.at_edge else "")
     )
     ax1.legend(fontsize=7)
-    return save_figure(fig, path, Path(path).suffix.lstrip(".").lower() or "png")
+    return save_figure(fig, path)
