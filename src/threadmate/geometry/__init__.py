@@ -14,6 +14,7 @@ from ._designation import (
     spec_from_designation,
     thread_limits,
 )
+from ._ends import POINT_FORMS, BoltPoint, Countersink, Envelope
 from ._frames import Pose, axis_angle_rotation, bolt_rotation, rot_x, rot_y, rot_z
 from ._mesh import (
     DEFAULT_CHORD,
@@ -26,15 +27,19 @@ from ._mesh import (
 )
 from ._meshio import load_mesh, read_stl, stl_header, stl_units, write_stl
 from ._profile import BOLT_REGIONS, NUT_REGIONS, Profile, bolt_profile, nut_profile, wrap_t
-from ._spec import UNITS, BoltSpec, NutSpec, ThreadSpec, load_spec, save_spec
+from ._spec import UNITS, BoltSpec, NutSpec, ThreadSpec, load_spec, parse_length, save_spec
 
 __all__ = [
     "BOLT_REGIONS",
     "DEFAULT_CHORD",
+    "Envelope",
     "MATERIAL_CONDITIONS",
     "NUT_REGIONS",
+    "POINT_FORMS",
     "UNITS",
+    "BoltPoint",
     "BoltSpec",
+    "Countersink",
     "Designation",
     "NutSpec",
     "Pose",
@@ -55,6 +60,7 @@ __all__ = [
     "nut_body",
     "nut_mesh",
     "nut_profile",
+    "parse_length",
     "material_condition",
     "parse_designation",
     "rot_x",

@@ -5,6 +5,11 @@ height ``z`` of the body's frame sits at profile coordinate
 ``t = wrap(z - hand * lead * theta / (2 pi))``. The bolt is material where
 ``r <= R_b(t)`` and ``0 <= z <= length``; the nut where ``R_n(t) <= r <= outer_radius``
 and ``-height <= z <= 0``.
+
+A bolt's point and a nut's countersink (:mod:`._ends`) trim the thread by a surface of
+revolution ``r = envelope(z)``: the bolt is material where also ``r <= envelope(z)``,
+the nut where also ``r >= envelope(z)``. Their regions are ``chamfer`` or ``round``
+(bolt) and ``countersink`` (nut).
 """
 
 from __future__ import annotations
@@ -16,6 +21,7 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._ends import Envelope, countersink_envelope, point_envelope
 from ._profile import Profile, bolt_profile, nut_profile, wrap_t
 from ._spec import filled
 
@@ -43,6 +49,8 @@ class ThreadBody:
         Axial extent in the body's frame (bolt ``[0, length]``, nut ``[-height, 0]``).
     outer_radius : float or None
         The nut's outer radius (None for the bolt).
+    envelope : Envelope or None
+        The bolt's point or the nut's countersink (None: the thesis's flat end).
     """
 
     profile: Profile
@@ -51,6 +59,7 @@ class ThreadBody:
     z_min: float
     z_max: float
     outer_radius: float | None = None
+    envelope: Envelope | None = None
 
     @property
     def kind(self) -> Literal["bolt", "nut"]:
@@ -66,6 +75,29 @@ class ThreadBody:
     def cap_z(self) -> float:
         """Height of that end face in the body's frame (0 for both bodies)."""
         return 0.0
+
+    @property
+    def end_regions(self) -> tuple[str, ...]:
+        """Regions of the end that meets the other body: the end face, and the point's or
+        countersink's surface when there is one."""
+        return (self.cap_region,) + ((self.envelope.region,) if self.envelope else ())
+
+    def lateral_radius(self, theta: ArrayLike, z: ArrayLike) -> NDArray[np.float64]:
+        """Radius of the lateral surface (thread trimmed by the envelope) at ``theta``
+        (radians) and height ``z``."""
+        R = self.profile.radius(self.t_of(theta, z))
+        if self.envelope is None:
+            return R
+        e = self.envelope.radius(z)
+        return np.minimum(R, e) if self.kind == "bolt" else np.maximum(R, e)
+
+    def _on_envelope(self, R: NDArray[np.float64], z: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Where the envelope, not the thread, bounds the material (radius ``R`` of the
+        thread at the same angle and height)."""
+        if self.envelope is None:
+            return np.zeros(np.shape(R), dtype=bool)
+        e = self.envelope.radius(z)
+        return e < R if self.kind == "bolt" else e > R
 
     def t_of(self, theta: ArrayLike, z: ArrayLike) -> NDArray[np.float64]:
         """Profile coordinate of the helix point at angle ``theta`` (radians) and height z."""
@@ -94,8 +126,10 @@ class ThreadBody:
 
         A point within ``face_tol`` of the end face at ``z = 0`` (default: 1e-6 of a pitch)
         and not farther out on the thread surface than it is on the face is on the
-        ``base`` (bolt) or ``surface`` (nut); otherwise its thread region comes from the
-        exact profile.
+        ``base`` (bolt) or ``surface`` (nut); a point nearer the point's or countersink's
+        surface than the thread (and not on the face) has its region (``chamfer``,
+        ``round``, ``countersink``); otherwise its thread region comes from the exact
+        profile.
         """
         p = np.asarray(points, dtype=float)
         r = np.hypot(p[..., 0], p[..., 1])
@@ -105,18 +139,26 @@ class ThreadBody:
         tol = face_tol if face_tol is not None else 1e-6 * self.profile.pitch
         d_face = np.abs(p[..., 2] - self.cap_z)
         d_thread = self.profile.distance(t, r)
+        outline = self.lateral_radius(theta, self.cap_z)
+        if self.envelope is not None:
+            d_env = np.abs(self.envelope.signed_distance(r, p[..., 2]))
+            env = self._on_envelope(self.profile.radius(t), p[..., 2]) | (d_env < d_thread)
+            env &= np.isfinite(self.envelope.radius(p[..., 2]))
+            helical = np.where(env, self.envelope.region, helical)
+            d_thread = np.where(env, d_env, d_thread)
         on_face = (d_face <= tol) & (d_face <= d_thread)
         if self.kind == "bolt":
-            on_face &= r <= self.profile.radius(t) + tol
+            on_face &= r <= outline + tol
         else:
-            on_face &= r >= self.profile.radius(t) - tol
+            on_face &= r >= outline - tol
         return np.where(on_face, self.cap_region, helical)
 
     def surface_distance(self, points: ArrayLike) -> NDArray[np.float64]:
         """Upper bound on the distance from points (body frame) to the body's surface.
 
-        The smaller of the axial-section distance to the thread profile and the distance
-        to the end faces' planes (where the point lies over the face).
+        The smaller of the axial-section distance to the lateral surface (the thread
+        profile, or the point's or countersink's envelope where that bounds the material)
+        and the distance to the end faces' planes (where the point lies over the face).
         """
         p = np.asarray(points, dtype=float)
         r = np.hypot(p[..., 0], p[..., 1])
@@ -124,6 +166,18 @@ class ThreadBody:
         t = self.t_of(theta, p[..., 2])
         d = self.profile.distance(t, r)
         R = self.profile.radius(t)
+        if self.envelope is not None:
+            # The lateral surface is the thread or the envelope, whichever bounds the
+            # material at this angle and height; from inside the material both distances
+            # are upper bounds (the segment to either surface crosses the boundary first).
+            z = p[..., 2]
+            s_env = self.envelope.signed_distance(r, z)
+            on_env = self._on_envelope(R, z)
+            thread_in = r <= R if self.kind == "bolt" else r >= R
+            inside = thread_in & (s_env <= 0) & np.isfinite(self.envelope.radius(z))
+            d_env = np.abs(s_env)
+            d = np.where(inside, np.minimum(d, d_env), np.where(on_env, d_env, d))
+            R = self.lateral_radius(theta, p[..., 2])
         for zf in (self.z_min, self.z_max):
             over = r <= R if self.kind == "bolt" else (r >= R) & (r <= (self.outer_radius or 0))
             d = np.where(over, np.minimum(d, np.abs(p[..., 2] - zf)), d)
@@ -143,7 +197,7 @@ class ThreadBody:
         p = np.asarray(points, dtype=float)
         r = np.hypot(p[..., 0], p[..., 1])
         theta = np.arctan2(p[..., 1], p[..., 0])
-        R = self.profile.radius(self.t_of(theta, p[..., 2]))
+        R = self.lateral_radius(theta, p[..., 2])
         inside_z = (p[..., 2] >= self.z_min) & (p[..., 2] <= self.z_max)
         if self.kind == "bolt":
             return inside_z & (r <= R)
@@ -157,12 +211,22 @@ class ThreadBody:
 
 
 def bolt_body(spec: ThreadSpec) -> ThreadBody:
-    """The exact bolt of ``spec`` in its frame: ``0 <= z <= bolt.length``."""
-    return ThreadBody(bolt_profile(spec), spec.lead, spec.handedness, 0.0, filled(spec.bolt.length))
+    """The exact bolt of ``spec`` in its frame: ``0 <= z <= bolt.length``, with its point."""
+    envelope = point_envelope(spec.bolt.point, spec.bolt.major / 2.0, spec.bolt.minor / 2.0)
+    return ThreadBody(
+        bolt_profile(spec),
+        spec.lead,
+        spec.handedness,
+        0.0,
+        filled(spec.bolt.length),
+        envelope=envelope,
+    )
 
 
 def nut_body(spec: ThreadSpec) -> ThreadBody:
-    """The exact nut of ``spec`` in the fixed frame: ``-nut.height <= z <= 0``."""
+    """The exact nut of ``spec`` in the fixed frame: ``-nut.height <= z <= 0``, with its
+    countersink."""
+    sink = spec.nut.countersink
     return ThreadBody(
         nut_profile(spec),
         spec.lead,
@@ -170,4 +234,5 @@ def nut_body(spec: ThreadSpec) -> ThreadBody:
         -filled(spec.nut.height),
         0.0,
         filled(spec.nut.outer_radius),
+        envelope=countersink_envelope(sink, spec.nut.minor / 2.0) if sink else None,
     )

@@ -18,8 +18,24 @@ import tomli_w
 from .._errors import SpecError
 from .._io import atomic_write_text
 from .._validate import check_length, check_number, check_range
+from ._ends import (
+    BoltPoint,
+    Countersink,
+    check_countersink,
+    countersink_envelope,
+    fill_point,
+    point_envelope,
+)
 
-__all__ = ["BoltSpec", "NutSpec", "ThreadSpec", "load_spec", "save_spec", "UNITS"]
+__all__ = [
+    "BoltSpec",
+    "NutSpec",
+    "ThreadSpec",
+    "load_spec",
+    "save_spec",
+    "parse_length",
+    "UNITS",
+]
 
 
 def filled(value: float | None) -> float:
@@ -54,7 +70,8 @@ class BoltSpec:
     minor: float
     crest_fillet: float = 0.0
     root_fillet: float = 0.0
-    length: float | None = None  # None: one pitch, as in the thesis
+    length: float | None = None  # None: the point's height and one pitch (thesis: one pitch)
+    point: BoltPoint = field(default_factory=BoltPoint)
 
 
 @dataclass(frozen=True)
@@ -66,8 +83,9 @@ class NutSpec:
     minor: float
     crest_fillet: float = 0.0
     root_fillet: float = 0.0
-    height: float | None = None  # None: one pitch, as in the thesis
+    height: float | None = None  # None: the countersink's depth and one pitch
     outer_radius: float | None = None  # None: 1.6 x major / 2
+    countersink: Countersink | None = None  # None: a flat, sharp-edged bore (the thesis's)
 
 
 @dataclass(frozen=True)
@@ -77,8 +95,10 @@ class ThreadSpec:
     Construct directly, from a mapping (:meth:`from_dict`), from a file
     (:func:`load_spec`) or from a designation
     (:func:`threadmate.geometry.spec_from_designation`). The constructor validates and
-    fills the defaults (bolt length and nut height one pitch, nut outer radius
-    1.6 x major / 2), so every attribute of a constructed spec is a number.
+    fills the defaults (the point's defaults; bolt length one pitch above the point and
+    nut height one pitch below the countersink, so one pitch each for the thesis's flat
+    ends; nut outer radius 1.6 x major / 2), so every attribute of a constructed spec is
+    a number.
     """
 
     units: str
@@ -93,12 +113,19 @@ class ThreadSpec:
         _validate(self)
         bolt = self.bolt
         nut = self.nut
-        if bolt.length is None:
-            bolt = replace(bolt, length=self.pitch)
-        if nut.height is None:
-            nut = replace(nut, height=self.pitch)
+        bolt = replace(bolt, point=fill_point(bolt.point, self.pitch, bolt.major, bolt.minor))
         if nut.outer_radius is None:
             nut = replace(nut, outer_radius=1.6 * nut.major / 2.0)
+        if nut.countersink is not None:
+            nut = replace(
+                nut, countersink=check_countersink(nut.countersink, nut.major, nut.outer_radius)
+            )
+        object.__setattr__(self, "bolt", bolt)
+        object.__setattr__(self, "nut", nut)
+        if bolt.length is None:
+            bolt = replace(bolt, length=self.point_height + self.pitch)
+        if nut.height is None:
+            nut = replace(nut, height=self.countersink_depth + self.pitch)
         object.__setattr__(self, "bolt", bolt)
         object.__setattr__(self, "nut", nut)
         _validate_extents(self)
@@ -115,6 +142,19 @@ class ThreadSpec:
         return 1 if self.hand == "right" else -1
 
     @property
+    def point_height(self) -> float:
+        """Axial height of the bolt's point (chamfer or round) above its tip face; 0 flat."""
+        env = point_envelope(self.bolt.point, self.bolt.major / 2.0, self.bolt.minor / 2.0)
+        return env.depth if env is not None else 0.0
+
+    @property
+    def countersink_depth(self) -> float:
+        """Axial depth of the nut's countersink below its entry face; 0 without one."""
+        if self.nut.countersink is None:
+            return 0.0
+        return countersink_envelope(self.nut.countersink, self.nut.minor / 2.0).depth
+
+    @property
     def axial_clearance(self) -> float:
         """Flank-to-flank axial play of the pair: (nut PD - bolt PD) / sqrt(3)."""
         return (self.nut.pitch_diameter - self.bolt.pitch_diameter) / _SQRT3
@@ -127,8 +167,8 @@ class ThreadSpec:
             "pitch": self.pitch,
             "hand": self.hand,
             "starts": self.starts,
-            "bolt": asdict(self.bolt),
-            "nut": asdict(self.nut),
+            "bolt": _table(self.bolt),
+            "nut": _table(self.nut),
         }
         if self.designation:
             out["designation"] = self.designation
@@ -146,12 +186,22 @@ class ThreadSpec:
                 raise SpecError(f"spec key '{key}' is missing")
         bolt = _body(data["bolt"], "bolt", BoltSpec)
         nut = _body(data["nut"], "nut", NutSpec)
+        pitch = _number(data["pitch"], "pitch")
+        units = data["units"]
+        if isinstance(bolt.length, str):
+            bolt = replace(
+                bolt, length=parse_length(bolt.length, pitch, "spec key 'bolt.length'", units)
+            )
+        if isinstance(nut.height, str):
+            nut = replace(
+                nut, height=parse_length(nut.height, pitch, "spec key 'nut.height'", units)
+            )
         starts = data.get("starts", 1)
         if check_range("spec key 'starts'", starts, 1, MAX_STARTS, error=SpecError) != int(starts):
             raise SpecError(f"spec key 'starts' must be a whole number, got {starts!r}")
         return cls(
             units=data["units"],
-            pitch=_number(data["pitch"], "pitch"),
+            pitch=pitch,
             bolt=bolt,
             nut=nut,
             hand=data.get("hand", "right"),
@@ -166,6 +216,44 @@ class ThreadSpec:
     def to_toml(self) -> str:
         """The spec as a TOML document."""
         return tomli_w.dumps(self.to_dict())
+
+
+def _table(body: BoltSpec | NutSpec) -> dict[str, Any]:
+    """A body's spec table: its numbers, then its point or countersink (omitted when flat
+    or absent, so that the thesis's specs read as they always have)."""
+    out = {k: v for k, v in asdict(body).items() if k not in ("point", "countersink")}
+    if isinstance(body, BoltSpec) and body.point.form != "flat":
+        out["point"] = body.point.to_dict()
+    if isinstance(body, NutSpec) and body.countersink is not None:
+        out["countersink"] = body.countersink.to_dict()
+    return out
+
+
+def parse_length(value: Any, pitch: float, name: str, units: str) -> float:
+    """A length given in the spec's units (a number) or in pitches (text such as ``"3p"``
+    or ``"3 pitches"``), in the spec's units.
+
+    Raises
+    ------
+    SpecError
+        Naming ``name`` when ``value`` is neither.
+    """
+    if isinstance(value, str):
+        text = value.strip().lower()
+        for suffix in ("pitches", "pitch", "p"):
+            if text.endswith(suffix):
+                head = text[: -len(suffix)].strip()
+                try:
+                    count = float(head)
+                except ValueError:
+                    break
+                if not math.isfinite(count) or count <= 0:
+                    break
+                return count * pitch
+        raise SpecError(
+            f"{name} must be a length in {units} or a number of pitches such as '3p'; got {value!r}"
+        )
+    return check_number(name, value, error=SpecError)
 
 
 # -- validation --------------------------------------------------------------------------
@@ -186,12 +274,37 @@ def _body(data: Any, name: str, cls: type[BoltSpec] | type[NutSpec]) -> Any:
         raise SpecError(f"spec key '{name}' must be a table of diameters")
     fields = set(cls.__dataclass_fields__)
     _no_unknown(data, fields, f"{name}.")
-    values: dict[str, float] = {}
+    values: dict[str, Any] = {}
     for key in fields:
-        if key in data and data[key] is not None:
-            values[key] = _number(data[key], f"{name}.{key}")
+        if key in ("point", "countersink"):
+            if data.get(key) is not None:
+                values[key] = _end(data[key], f"{name}.{key}")
+        elif key in data and data[key] is not None:
+            if key in ("length", "height") and isinstance(data[key], str):
+                values[key] = data[key]  # pitches: resolved once the pitch is known
+            else:
+                values[key] = _number(data[key], f"{name}.{key}")
         elif key in ("major", "pitch_diameter", "minor"):
             raise SpecError(f"spec key '{name}.{key}' is missing")
+    return cls(**values)
+
+
+def _end(data: Any, name: str) -> BoltPoint | Countersink:
+    """A ``bolt.point`` or ``nut.countersink`` table (angles in degrees)."""
+    cls: type[BoltPoint] | type[Countersink] = BoltPoint if name.endswith("point") else Countersink
+    if cls is BoltPoint and isinstance(data, str):
+        data = {"form": data}  # point = "chamfer": the form with its defaults
+    if not isinstance(data, dict):
+        raise SpecError(f"spec key '{name}' must be a table")
+    _no_unknown(data, set(cls.__dataclass_fields__), f"{name}.")
+    values: dict[str, Any] = {}
+    for key, value in data.items():
+        if key == "form":
+            if not isinstance(value, str):
+                raise SpecError(f"spec key '{name}.form' must be text; got {value!r}")
+            values[key] = value
+        elif value is not None:
+            values[key] = _number(value, f"{name}.{key}")
     return cls(**values)
 
 
@@ -219,8 +332,15 @@ def _validate(spec: ThreadSpec) -> None:
     _length(spec, "pitch", spec.pitch)
     for name, body in (("bolt", spec.bolt), ("nut", spec.nut)):
         for key, value in asdict(body).items():
-            if value is not None:
+            if value is not None and key not in ("point", "countersink"):
                 _length(spec, f"{name}.{key}", value, zero_ok=key.endswith("fillet"))
+        for key in ("diameter", "radius"):
+            value = getattr(spec.bolt.point, key) if name == "bolt" else None
+            if value is not None:
+                _length(spec, f"bolt.point.{key}", value)
+        sink = spec.nut.countersink if name == "nut" else None
+        if sink is not None and sink.diameter is not None:
+            _length(spec, "nut.countersink.diameter", sink.diameter)
         if not body.minor < body.pitch_diameter:
             raise SpecError(
                 f"spec key '{name}.minor' ({body.minor:g}) must be less than "
@@ -286,6 +406,16 @@ def _validate_extents(spec: ThreadSpec) -> None:
             f"spec key 'nut.outer_radius' ({spec.nut.outer_radius:g}) must exceed half the "
             f"nut major diameter ({spec.nut.major / 2:g})"
         )
+    for key, value, end, what in (
+        ("bolt.length", spec.bolt.length, spec.point_height, "the point's height"),
+        ("nut.height", spec.nut.height, spec.countersink_depth, "the countersink's depth"),
+    ):
+        assert value is not None
+        if end > 0 and value <= end + 1e-9 * spec.pitch:
+            raise SpecError(
+                f"spec key '{key}' ({value:g} {spec.units}) must exceed {what} "
+                f"({end:g} {spec.units})"
+            )
     # Fillets must fit their corners; the profile module knows the corner geometry.
     from ._profile import check_fillets
 
