@@ -250,6 +250,9 @@ class ContactAnalyzer:
         bound = max(deviation, 1e-9 * spec.pitch)
         #: Distance within which a contact point is taken to lie on a face or edge.
         self.feature_tolerance = 2.0 * bound + 10.0 * travel
+        #: Distance from the exact surface beyond which a contact on a CAD mesh lies where
+        #: the mesh does not follow the spec (None: generated meshes, which always do).
+        self.off_spec_tolerance: float | None = None
         self.quasi_tolerance = _positive("quasi_tolerance", quasi_tolerance) or spec.pitch / 10
         self.interference_tolerance = (
             _positive("interference_tolerance", interference_tolerance) or 4.0 * bound
@@ -280,8 +283,8 @@ class ContactAnalyzer:
                     _vec(c.point),
                     _vec(n),
                     c.pairs,
-                    region_at(self.bolt, pose.to_bolt(c.point), fb),
-                    region_at(self.nut, c.point, fn),
+                    region_at(self.bolt, pose.to_bolt(c.point), fb, self.off_spec_tolerance),
+                    region_at(self.nut, c.point, fn, self.off_spec_tolerance),
                     fb.kind,
                     fn.kind,
                 )

@@ -46,6 +46,8 @@ __all__ = [
     "feature_at",
     "contact_normal",
     "region_at",
+    "off_spec_region",
+    "OFF_SPEC_REGIONS",
     "turn_axis_tangent",
     "refine_on_edge",
     "refined_contact",
@@ -253,14 +255,46 @@ def _common_normal(fn: Feature, fb: Feature, pose: Pose) -> NDArray[np.float64]:
     return n
 
 
-def region_at(body: ThreadBody, point: NDArray[np.float64], feature: Feature) -> str:
+def region_at(
+    body: ThreadBody,
+    point: NDArray[np.float64],
+    feature: Feature,
+    off_spec: float | None = None,
+) -> str:
     """Region of ``body`` at ``point`` (body frame) from the exact profile: the end face's
-    name (``base`` / ``surface``) on the cap and its rim, else the profile region at the
-    point's helix coordinate ``t``."""
+    name (``base`` / ``surface``) on the cap and its rim, the point's or countersink's
+    (``chamfer``, ``round``, ``countersink``) on its surface and on the edge where it meets
+    the thread, else the profile region at the point's helix coordinate ``t``.
+
+    ``off_spec``: with a mesh from CAD, a point farther than this from the exact surface
+    lies where the mesh does not follow the spec; it is labelled by where it lies
+    (:func:`off_spec_region`).
+    """
+    p = np.asarray(point, dtype=float)
+    if off_spec is not None and float(body.surface_distance(p)) > off_spec:
+        return off_spec_region(body, p)
     if feature.kind in ("cap", "rim"):
         return body.cap_region
-    p = np.asarray(point, dtype=float)
+    if feature.kind in ("bevel", "kink"):
+        assert body.envelope is not None
+        return body.envelope.region
     return str(body.profile.region(body.t_of(math.atan2(p[1], p[0]), p[2])))
+
+
+#: Labels of contacts on a CAD mesh where it does not follow the spec's exact surfaces.
+OFF_SPEC_REGIONS = ("point", "countersink", "other")
+
+
+def off_spec_region(body: ThreadBody, point: NDArray[np.float64]) -> str:
+    """Where a point of a CAD mesh off the spec's exact surfaces lies: ``point`` on the
+    bolt's end (within its point, or one pitch of the tip for a flat one), ``countersink``
+    on the nut's entry (within its countersink, or one pitch of the top face), else
+    ``other`` (a head, the nut's flats, a thread run-out the spec does not have)."""
+    reach = max(body.envelope.depth if body.envelope else 0.0, body.profile.pitch)
+    z = float(np.asarray(point, dtype=float)[2]) - body.cap_z
+    if body.kind == "bolt":
+        return "point" if z <= reach else "other"
+    return "countersink" if z >= -reach else "other"
 
 
 def turn_axis_tangent(

@@ -350,8 +350,8 @@ class Mechanics:
             point,
             n,
             gap,
-            str(region_at(an.bolt, pose.to_bolt(point), fb)),
-            str(region_at(an.nut, point, fn)),
+            str(region_at(an.bolt, pose.to_bolt(point), fb, an.off_spec_tolerance)),
+            str(region_at(an.nut, point, fn, an.off_spec_tolerance)),
             fb.kind,
             fn.kind,
         )
