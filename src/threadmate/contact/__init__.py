@@ -47,6 +47,7 @@ Example
 from ._analyzer import MAX_TILT, TRAVEL_TOLERANCE, ContactAnalyzer, analyze
 from ._compliance import LIMITS as COMPLIANCE_LIMITS
 from ._compliance import Compliance
+from ._exact import OFF_SPEC_REGIONS, off_spec_region, region_at
 from ._records import (
     ROLES,
     STATE_COLUMNS,
@@ -72,6 +73,9 @@ from ._search import CONTINUATION_STEP, Continuation, Leg, check_continuation, s
 from ._settle import Mechanics, settle
 
 __all__ = [
+    "OFF_SPEC_REGIONS",
+    "off_spec_region",
+    "region_at",
     "CLASSIFICATIONS",
     "COMPLIANCE_LIMITS",
     "Compliance",

@@ -8,10 +8,14 @@ Features. A point (in a body's own frame) within ``tol`` of a body's surface lie
 - ``rim``: the edge where the end face (bolt ``base``, nut ``surface``) meets the thread;
 - ``cap``: the end face itself;
 - ``corner``: a sharp (unfilleted) corner of the profile swept along the helix;
-- ``thread``: the smooth helical thread surface.
+- ``thread``: the smooth helical thread surface;
+- ``bevel``: the surface of the bolt's point (chamfer cone, round) or the nut's countersink;
+- ``kink``: the edge where the bevel meets the thread.
 
-Rims and corners are edges, the others faces. ``tol`` is a few chord tolerances: the
-contact point sits within the meshes' deviation of both exact surfaces.
+With a point or countersink the end face's outline is a circle (the rim), inside the
+thread's band. Rims, corners and kinks are edges, the others faces. ``tol`` is a few
+chord tolerances: the contact point sits within the meshes' deviation of both exact
+surfaces.
 
 Regions come from the exact profile with the rule of :meth:`ThreadBody.region_of`: a
 point on the end face or its rim has the end face's region (``base`` / ``surface``; the
@@ -65,7 +69,7 @@ class Feature:
 
     Attributes
     ----------
-    kind : {"rim", "cap", "corner", "thread"}
+    kind : {"rim", "cap", "corner", "thread", "bevel", "kink"}
     normal : (3,) array or None
         Outward unit normal for a face (None for an edge).
     tangent : (3,) array or None
@@ -83,7 +87,7 @@ class Feature:
     @property
     def is_edge(self) -> bool:
         """Whether the feature is an edge (rim or sharp corner)."""
-        return self.kind in ("rim", "corner")
+        return self.kind in ("rim", "corner", "kink")
 
     @property
     def face_normal(self) -> NDArray[np.float64]:
@@ -165,6 +169,8 @@ def _helical_normal(body: ThreadBody, p: NDArray[np.float64], t: float) -> NDArr
 
 def _rim_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
     theta = math.atan2(p[1], p[0])
+    if body.envelope is not None:  # the end face's outline is a circle
+        return np.array([-math.sin(theta), math.cos(theta), 0.0])
     t = _t_of(body, theta, body.cap_z)
     radius = float(body.profile.radius(t))
     d_radius = float(body.profile.slope(t)) * (-body.hand * body.lead / TWO_PI)
@@ -192,6 +198,52 @@ def _sharp_corners(body: ThreadBody) -> list[float]:
     return out
 
 
+def _bevel_normal(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Outward unit normal of the body's point or countersink surface at ``p``."""
+    assert body.envelope is not None
+    r = max(math.hypot(p[0], p[1]), 1e-300)
+    n_r, n_z = body.envelope.normal(r, float(p[2]))
+    return np.array([n_r * p[0] / r, n_r * p[1] / r, n_z])
+
+
+def _bevel_feature(
+    body: ThreadBody,
+    p: NDArray[np.float64],
+    tol: float,
+    t: float,
+    R: float,
+    d_thread: float,
+    d_cap: float,
+) -> Feature | None:
+    """The feature at ``p`` of a body with a point or countersink, or None where the thread
+    alone bounds it (then the thread's features apply)."""
+    env = body.envelope
+    assert env is not None
+    r = math.hypot(p[0], p[1])
+    z = float(p[2])
+    e = float(env.radius(z))
+    s_env = float(env.signed_distance(r, z)) if math.isfinite(e) else math.inf
+    d_env = abs(s_env)
+    face = env.face_radius
+    over_cap = r <= face + tol if body.kind == "bolt" else r >= face - tol
+    cap_normal = np.array([0.0, 0.0, -1.0 if body.kind == "bolt" else 1.0])
+    near_cap = d_cap <= tol and over_cap
+    near_env = d_env <= tol
+    if near_cap and near_env:
+        side = cap_normal + _bevel_normal(body, p)
+        return Feature("rim", None, _rim_tangent(body, p), _unit(side))
+    if near_cap or (over_cap and d_cap < min(d_thread, d_env)):
+        return Feature("cap", cap_normal, None, cap_normal)
+    bounds = math.isfinite(e) and (e < R if body.kind == "bolt" else e > R)
+    if near_env and d_thread <= tol:
+        n_env, n_thr = _bevel_normal(body, p), _helical_normal(body, p, t)
+        return Feature("kink", None, _unit(np.cross(n_env, n_thr)), _unit(n_env + n_thr))
+    if near_env or (bounds and d_env < d_thread):
+        n = _bevel_normal(body, p)
+        return Feature("bevel", n, None, n)
+    return None
+
+
 def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feature:
     """The feature of ``body`` at ``point`` (body frame); see the module docstring."""
     p = np.asarray(point, dtype=float)
@@ -204,6 +256,10 @@ def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feat
     # profile's normal (exact on flats and flanks; contact points lie within ``tol``).
     d_thread = abs(r - R) / math.hypot(1.0, float(prof.slope(t)))
     d_cap = abs(p[2] - body.cap_z)
+    if body.envelope is not None:
+        found = _bevel_feature(body, p, tol, t, R, d_thread, d_cap)
+        if found is not None:
+            return found
     over_cap = r <= R + tol if body.kind == "bolt" else r >= R - tol
     cap_normal = np.array([0.0, 0.0, -1.0 if body.kind == "bolt" else 1.0])
     near_cap = d_cap <= tol and over_cap
@@ -324,7 +380,7 @@ def turn_axis_tangent(
         t = t - (t @ fn.face_normal) * fn.face_normal
         if np.linalg.norm(t) > 1e-9:
             return _unit(t)
-    if fn.kind == "cap":
+    if fn.kind in ("cap", "bevel"):  # faces of revolution: the circumferential direction
         theta = math.atan2(p[1], p[0])
         return np.array([-math.sin(theta), math.cos(theta), 0.0])
     return _helix_tangent(nut, p)
@@ -346,11 +402,18 @@ def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray
     thread = radial if body.kind == "bolt" else -radial
     off = p[:, 2] - body.cap_z
     d = np.maximum(thread, off if body.kind == "nut" else -off)
+    env = body.envelope
+    if env is not None:  # the point or countersink trims the thread where it spans
+        bevel = env.signed_distance(r, p[:, 2])
+        d = np.maximum(d, np.where(np.isfinite(env.radius(p[:, 2])), bevel, -np.inf))
     beyond = off > 0 if body.kind == "nut" else off < 0
     if beyond.any():
         q = p[beyond]
         r = np.hypot(q[:, 0], q[:, 1])
-        outline = _radius(body, _t_array(body, np.arctan2(q[:, 1], q[:, 0]), body.cap_z))
+        if env is not None:
+            outline = np.full(len(q), env.face_radius)
+        else:
+            outline = _radius(body, _t_array(body, np.arctan2(q[:, 1], q[:, 0]), body.cap_z))
         radial = (
             np.maximum(outline - r, 0.0) if body.kind == "nut" else np.maximum(r - outline, 0.0)
         )
@@ -363,10 +426,18 @@ def _edge_points(
 ) -> NDArray[np.float64]:
     """Points of the exact edge through ``anchor`` (body frame) at polar ``angles``."""
     if feature.kind == "rim":
-        r_rim = _radius(body, _t_array(body, angles, body.cap_z))
+        if body.envelope is not None:
+            r_rim = np.full_like(angles, body.envelope.face_radius)
+        else:
+            r_rim = _radius(body, _t_array(body, angles, body.cap_z))
         return np.column_stack(
             [r_rim * np.cos(angles), r_rim * np.sin(angles), np.full_like(angles, body.cap_z)]
         )
+    if feature.kind == "kink":
+        assert body.envelope is not None  # only a point or countersink has a kink
+        z = _kink_heights(body, angles, np.full_like(angles, float(anchor[2])))
+        r_k = body.envelope.radius(z)
+        return np.column_stack([r_k * np.cos(angles), r_k * np.sin(angles), z])
     theta0 = math.atan2(anchor[1], anchor[0])
     r = math.hypot(anchor[0], anchor[1])
     prof = body.profile
@@ -378,6 +449,28 @@ def _edge_points(
         r = float(prof.radius(uc))
     z = anchor[2] + body.hand * body.lead * (angles - theta0) / TWO_PI
     return np.column_stack([r * np.cos(angles), r * np.sin(angles), z])
+
+
+def _kink_heights(
+    body: ThreadBody, angles: NDArray[np.float64], z: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Heights where the thread meets the point or countersink at ``angles``: Newton on
+    ``R(t(theta, z)) - envelope(z)`` from ``z`` (``dt/dz = 1``), kept within the span."""
+    env = body.envelope
+    assert env is not None
+    z = np.array(z, dtype=float)
+    for _ in range(12):
+        t = _t_array(body, angles, z)
+        f = _radius(body, t) - env.radius(z)
+        df = _slope(body, t) - env.slope(z)
+        step = np.where(np.abs(df) > 1e-12, f / np.where(df == 0, 1.0, df), 0.0)
+        # A step of more than a tenth of a pitch would leave the piece of profile the
+        # kink lies on.
+        step = np.clip(step, -0.1 * body.profile.pitch, 0.1 * body.profile.pitch)
+        z = np.clip(z - step, env.z_lo, env.z_hi)
+        if float(np.max(np.abs(step))) < 1e-13 * body.profile.pitch:
+            break
+    return z
 
 
 def refine_on_edge(
@@ -487,6 +580,13 @@ def _edge_curve(
     """:func:`_edge_points` at one polar angle, in plain floats: the point of the exact
     edge through ``anchor`` (body frame) at that angle."""
     prof = body.profile
+    if feature.kind == "kink" or (feature.kind == "rim" and body.envelope is not None):
+
+        def on_edge(angle: float) -> tuple[float, float, float]:
+            x, y, z = _edge_points(body, feature, anchor, np.array([angle]))[0]
+            return float(x), float(y), float(z)
+
+        return on_edge
     if feature.kind == "rim":
         z_cap = body.cap_z
 

@@ -179,12 +179,18 @@ class Mechanics:
         self.separation = spec.pitch / 4
         self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
         self._floor = -filled(spec.nut.height) - 2 * filled(spec.bolt.length) - spec.pitch
-        self._tip = analyzer._tip  # the bolt mesh's tip-face vertices (bolt frame)
+        # The outline where the bolt's full thread begins (its tip face's for a flat tip),
+        # and the plane where the nut's does (its top face's without a countersink): the
+        # bolt is in phase when the one has passed below the other (:meth:`in_phase`).
+        bolt_body_ = analyzer.bolt
+        self._tip = bolt_body_.thread_outline(bolt_body_.thread_start)
+        self._nut_thread_start = analyzer.nut.thread_start
         # Vertices that can pass whole into the other body: the nut's in its top pitch,
-        # the bolt's in its first (the thread's run-outs on the end faces are wedges).
+        # the bolt's in its first (the thread's run-outs on the end faces are wedges),
+        # counted from where the full thread begins.
         nv, bv = self.engine.nut_vertices, self.engine.bolt_vertices
-        self._nut_top = nv[nv[:, 2] >= -spec.pitch]
-        self._bolt_tip = bv[bv[:, 2] <= spec.pitch]
+        self._nut_top = nv[nv[:, 2] >= -spec.pitch - spec.countersink_depth]
+        self._bolt_tip = bv[bv[:, 2] <= spec.pitch + spec.point_height]
         #: The last descent's contact curvature (warm start of a continuation).
         self._warm: NDArray[np.float64] | None = None
 
@@ -327,11 +333,13 @@ class Mechanics:
         return False
 
     def in_phase(self, d: _Drop) -> bool:
-        """Whether the whole tip face is below the nut's top face (the snap)."""
+        """Whether the bolt has dropped into the nut's thread (the snap): the whole outline
+        where its full thread begins is below the plane where the nut's does. For the
+        thesis's flat ends: the whole tip face below the nut's top face."""
         pose = self._pose(d.rotation, d.xy, d.zc)
         return bool(
             pose.origin[2] + float((self._tip @ d.rotation[2]).max())
-            < -self.analyzer.feature_tolerance
+            < self._nut_thread_start - self.analyzer.feature_tolerance
         )
 
     # -- contacts -------------------------------------------------------------------------
@@ -368,7 +376,7 @@ class Mechanics:
             return [c]
         an = self.analyzer
         theta = math.atan2(c.point[1], c.point[0])
-        edge = float(an.nut.section_radius(theta, 0.0))
+        edge = float(an.nut.lateral_radius(theta, 0.0))
         if abs(math.hypot(c.point[0], c.point[1]) - edge) > self.separation / 8:
             return [c]
         pose = self._pose(d.rotation, d.xy, d.zc)
@@ -383,7 +391,7 @@ class Mechanics:
         else:
             point = lowest_on_rim(an.bolt, pose, c.point, window)
             r = math.hypot(point[0], point[1])
-            if r < float(an.nut.section_radius(math.atan2(point[1], point[0]), 0.0)):
+            if r < float(an.nut.lateral_radius(math.atan2(point[1], point[0]), 0.0)):
                 return [c]  # the lowest point is over the bore: the edge alone holds
             other = _Near(
                 np.array([point[0], point[1], 0.0]),

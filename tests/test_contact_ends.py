@@ -1,0 +1,178 @@
+"""Exact features of a chamfered, rounded or countersunk end, against closed forms.
+
+The bodies' surfaces of revolution are written out here from their definitions (a cone at
+the chamfer angle from the tip circle, a sphere through it, a cone of the countersink's
+included angle from the face circle) and the thread profile from conventions.md, not
+taken from threadmate.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from threadmate.contact import off_spec_region, region_at
+from threadmate.contact._exact import Feature, feature_at, lowest_on_rim
+from threadmate.geometry import (
+    BoltPoint,
+    BoltSpec,
+    Countersink,
+    NutSpec,
+    Pose,
+    ThreadSpec,
+    bolt_body,
+    nut_body,
+)
+
+PITCH = 0.05
+BOLT = dict(major=0.24485, pitch_diameter=0.21455, minor=0.1887)
+NUT = dict(major=0.2500, pitch_diameter=0.21995, minor=0.2015)
+TIP = 0.17  # tip diameter, inside the bolt's minor diameter
+SINK = 0.27  # countersink diameter at the face, outside the nut's major diameter
+TOL = 1e-6
+
+
+def _spec(point: BoltPoint, sink: Countersink | None) -> ThreadSpec:
+    return ThreadSpec(
+        units="in",
+        pitch=PITCH,
+        bolt=BoltSpec(**BOLT, point=point),
+        nut=NutSpec(**NUT, countersink=sink),
+    )
+
+
+def _sharp_radius(t: float, body: str) -> float:
+    """conventions.md's sharp profile, clamped; t wrapped into [-p/2, p/2)."""
+    d = BOLT if body == "bolt" else NUT
+    t = t - PITCH * math.floor(t / PITCH + 0.5)
+    r = d["pitch_diameter"] / 2 + math.sqrt(3) * (PITCH / 4 - abs(t))
+    return min(max(r, d["minor"] / 2), d["major"] / 2)
+
+
+@pytest.fixture(scope="module")
+def chamfered() -> ThreadSpec:
+    return _spec(BoltPoint("chamfer", angle=45.0, diameter=TIP), Countersink(90.0, SINK))
+
+
+def test_chamfer_face_normal_and_region(chamfered):
+    bolt = bolt_body(chamfered)
+    # A point on the cone r = TIP/2 + z tan 45, well inside the chamfer (z small).
+    z = 0.004
+    theta = 0.7
+    r = TIP / 2 + z
+    p = np.array([r * math.cos(theta), r * math.sin(theta), z])
+    f = feature_at(bolt, p, TOL)
+    assert f.kind == "bevel"
+    expected = np.array([math.cos(theta), math.sin(theta), -1.0]) / math.sqrt(2)
+    np.testing.assert_allclose(f.face_normal, expected, atol=1e-12)
+    assert region_at(bolt, p, f) == "chamfer"
+
+
+def test_chamfer_rim_is_the_tip_circle(chamfered):
+    bolt = bolt_body(chamfered)
+    theta = 2.1
+    p = np.array([TIP / 2 * math.cos(theta), TIP / 2 * math.sin(theta), 0.0])
+    f = feature_at(bolt, p, TOL)
+    assert f.kind == "rim"
+    np.testing.assert_allclose(f.edge_tangent, [-math.sin(theta), math.cos(theta), 0.0], atol=1e-12)
+    assert region_at(bolt, p, f) == "base"
+    # Inside the circle: the tip face.
+    q = 0.5 * p
+    assert feature_at(bolt, q, TOL).kind == "cap"
+
+
+def test_chamfer_kink_lies_on_cone_and_thread(chamfered):
+    """The edge where the cone meets the thread: at each angle the height solving
+    R(t(theta, z)) = TIP/2 + z (found here by brentq on the closed forms)."""
+    bolt = bolt_body(chamfered)
+    lead = PITCH
+
+    def gap(z: float, theta: float) -> float:
+        return _sharp_radius(z - lead * theta / (2 * math.pi), "bolt") - (TIP / 2 + z)
+
+    for theta in (0.3, 1.9, 4.0):
+        # The lowest crossing: the cone leaves the thread's band (r < minor/2) below it.
+        z_lo = BOLT["minor"] / 2 - TIP / 2
+        z_hi = BOLT["major"] / 2 - TIP / 2
+        zs = np.linspace(z_lo, z_hi, 400)
+        g = [gap(z, theta) for z in zs]
+        k = next(i for i in range(len(g) - 1) if g[i] > 0 >= g[i + 1])
+        z = brentq(gap, zs[k], zs[k + 1], args=(theta,), xtol=1e-14)
+        r = TIP / 2 + z
+        p = np.array([r * math.cos(theta), r * math.sin(theta), z])
+        f = feature_at(bolt, p, TOL)
+        assert f.kind == "kink"
+        assert region_at(bolt, p, f) == "chamfer"
+        # Its tangent is perpendicular to both surfaces' normals.
+        n_cone = np.array([math.cos(theta), math.sin(theta), -1.0]) / math.sqrt(2)
+        assert abs(f.edge_tangent @ n_cone) < 1e-9
+
+
+def test_round_point_normal_is_radial_from_the_sphere_centre():
+    radius = 0.35
+    spec = _spec(BoltPoint("round", diameter=TIP, radius=radius), None)
+    bolt = bolt_body(spec)
+    z0 = math.sqrt(radius**2 - (TIP / 2) ** 2)  # the centre: the sphere passes the tip circle
+    z = 0.002
+    r = math.sqrt(radius**2 - (z - z0) ** 2)
+    theta = -1.2
+    p = np.array([r * math.cos(theta), r * math.sin(theta), z])
+    f = feature_at(bolt, p, TOL)
+    assert f.kind == "bevel"
+    expected = (p - np.array([0.0, 0.0, z0])) / radius
+    np.testing.assert_allclose(f.face_normal, expected, atol=1e-12)
+    assert region_at(bolt, p, f) == "round"
+
+
+def test_countersink_face_normal_region_and_top_rim(chamfered):
+    nut = nut_body(chamfered)
+    half = math.radians(45.0)  # 90 degrees included
+    z = -0.005
+    r = SINK / 2 + z * math.tan(half)
+    theta = 0.4
+    p = np.array([r * math.cos(theta), r * math.sin(theta), z])
+    f = feature_at(nut, p, TOL)
+    assert f.kind == "bevel"
+    # Outward from the nut's material: toward the axis and up.
+    expected = np.array([-math.cos(theta), -math.sin(theta), 1.0]) * math.cos(half)
+    expected[2] = math.sin(half)
+    np.testing.assert_allclose(f.face_normal, expected, atol=1e-12)
+    assert region_at(nut, p, f) == "countersink"
+    top = np.array([SINK / 2 * math.cos(theta), SINK / 2 * math.sin(theta), 0.0])
+    assert feature_at(nut, top, TOL).kind == "rim"
+    beyond = np.array([0.15 * math.cos(theta), 0.15 * math.sin(theta), 0.0])
+    assert feature_at(nut, beyond, TOL).kind == "cap"
+
+
+def test_lowest_point_of_a_tilted_chamfered_tip_is_on_its_circle(chamfered):
+    """The tip rim of a chamfered bolt is the circle of the tip diameter: tilted by 5
+    degrees about X, its lowest point is at angle -90 degrees (closed form)."""
+    bolt = bolt_body(chamfered)
+    tilt = math.radians(5.0)
+    rot = np.array(
+        [[1, 0, 0], [0, math.cos(tilt), -math.sin(tilt)], [0, math.sin(tilt), math.cos(tilt)]]
+    )
+    pose = Pose(rot, np.array([0.0, 0.0, 0.01]))
+    guess = pose.to_fixed(np.array([TIP / 2 * math.cos(-1.4), TIP / 2 * math.sin(-1.4), 0.0]))
+    low = lowest_on_rim(bolt, pose, guess, 0.02)
+    expected = pose.to_fixed(np.array([0.0, -TIP / 2, 0.0]))
+    # The height at the minimum is exact to second order in the angle the search leaves.
+    assert abs(low[2] - expected[2]) < 1e-9
+    on_circle = pose.to_bolt(low)
+    assert abs(math.hypot(on_circle[0], on_circle[1]) - TIP / 2) < 1e-12
+    assert abs(on_circle[2]) < 1e-12
+
+
+def test_off_spec_labels(chamfered):
+    bolt, nut = bolt_body(chamfered), nut_body(chamfered)
+    far_low = np.array([0.3, 0.0, 0.01])  # far off the bolt, near its end
+    far_high = np.array([0.3, 0.0, 0.5])
+    assert off_spec_region(bolt, far_low) == "point"
+    assert off_spec_region(bolt, far_high) == "other"
+    assert off_spec_region(nut, np.array([0.0, 0.0, -0.01])) == "countersink"
+    assert off_spec_region(nut, np.array([0.0, 0.0, -0.5])) == "other"
+    f = Feature("thread", np.zeros(3), None, np.zeros(3))
+    assert region_at(bolt, far_low, f, off_spec=1e-4) == "point"
