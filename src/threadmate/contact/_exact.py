@@ -222,8 +222,9 @@ def _bevel_feature(
     r = math.hypot(p[0], p[1])
     z = float(p[2])
     e = float(env.radius(z))
-    s_env = float(env.signed_distance(r, z)) if math.isfinite(e) else math.inf
-    d_env = abs(s_env)
+    # The distance to the whole cone or sphere, also just beyond the span where it trims
+    # the thread: the kink where a countersink meets the nut's crest lies on the span's end.
+    d_env = abs(float(env.signed_distance(r, z)))
     face = env.face_radius
     over_cap = r <= face + tol if body.kind == "bolt" else r >= face - tol
     cap_normal = np.array([0.0, 0.0, -1.0 if body.kind == "bolt" else 1.0])

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import nnls
+from scipy.optimize import brentq, nnls
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError, cKDTree
@@ -62,7 +62,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 from .._errors import InputError
 from .._units import METRES_PER_UNIT
 from .._validate import check_open_range
-from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
+from ..geometry import Pose, ThreadBody, ThreadSpec, bolt_rotation, rot_x
 from ..geometry._spec import filled
 from ._analyzer import ContactAnalyzer, check_configuration
 from ._compliance import Compliance
@@ -104,6 +104,26 @@ class _Near:
     nut_region: str
     bolt_feature: str
     nut_feature: str
+
+
+def engagement_outline(bolt: ThreadBody, nut: ThreadBody) -> NDArray[np.float64]:
+    """The bolt's outline (bolt frame) at the height where its teeth begin to engage.
+
+    With the thesis's flat tip, the tip face's outline. With a point, the point passes
+    into the bore and a countersink takes it long before the threads engage; the teeth
+    engage where the bolt's material reaches beyond the nut's minor radius. The outline is
+    taken where the point's radius reaches a quarter of the way from the nut's minor
+    radius to the bolt's major radius: below the nut's first full tooth (the plane where
+    its full thread begins) the bolt's teeth are then in the nut's groove, whereas a point
+    resting on the edge of the bore, or in the countersink, keeps that outline above it.
+    """
+    env = bolt.envelope
+    if env is None:
+        return bolt.thread_outline(bolt.cap_z)
+    r_nut, r_bolt = nut.profile.r_lo, bolt.profile.r_hi
+    reach = r_nut + 0.25 * (r_bolt - r_nut)
+    z = brentq(lambda h: float(env.radius(h)) - reach, env.z_lo, env.z_hi, xtol=1e-15)
+    return bolt.thread_outline(z)
 
 
 class Mechanics:
@@ -179,11 +199,9 @@ class Mechanics:
         self.separation = spec.pitch / 4
         self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
         self._floor = -filled(spec.nut.height) - 2 * filled(spec.bolt.length) - spec.pitch
-        # The outline where the bolt's full thread begins (its tip face's for a flat tip),
-        # and the plane where the nut's does (its top face's without a countersink): the
-        # bolt is in phase when the one has passed below the other (:meth:`in_phase`).
-        bolt_body_ = analyzer.bolt
-        self._tip = bolt_body_.thread_outline(bolt_body_.thread_start)
+        # The bolt is in phase when its teeth have passed below the nut's (see
+        # :meth:`in_phase` and :func:`engagement_outline`).
+        self._tip = engagement_outline(analyzer.bolt, analyzer.nut)
         self._nut_thread_start = analyzer.nut.thread_start
         # Vertices that can pass whole into the other body: the nut's in its top pitch,
         # the bolt's in its first (the thread's run-outs on the end faces are wedges),
@@ -333,9 +351,10 @@ class Mechanics:
         return False
 
     def in_phase(self, d: _Drop) -> bool:
-        """Whether the bolt has dropped into the nut's thread (the snap): the whole outline
-        where its full thread begins is below the plane where the nut's does. For the
-        thesis's flat ends: the whole tip face below the nut's top face."""
+        """Whether the bolt has dropped into the nut's thread (the snap): the whole of its
+        engagement outline (:func:`engagement_outline`) is below the plane where the nut's
+        full thread begins. For the thesis's flat ends: the whole tip face below the nut's
+        top face."""
         pose = self._pose(d.rotation, d.xy, d.zc)
         return bool(
             pose.origin[2] + float((self._tip @ d.rotation[2]).max())
