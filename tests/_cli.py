@@ -6,6 +6,10 @@ import pytest
 
 from threadmate.cli import main
 
+#: The thesis's flat parts on the command line (a designation's default is a chamfered bolt
+#: in a countersunk nut): for the tests that reproduce the thesis or its numbers.
+THESIS_PARTS = ("--point", "flat", "--no-countersink")
+
 
 def run_cli(capsys: pytest.CaptureFixture[str], *args: str) -> tuple[int, str, str]:
     """Run ``threadmate ARGS``; return (exit status, stdout, stderr)."""

@@ -28,7 +28,8 @@ from threadmate.geometry import spec_from_designation
 from threadmate.library import Grid, load, sweep, write_library
 
 #: The thread of the shared real library (a designation, so that ``threadmate run`` with the
-#: same grid can reuse the library).
+#: same grid can reuse the library), with the thesis's flat parts (``--point flat
+#: --no-countersink``).
 DESIGNATION = "1/4-20 UNC-2A/2B"
 #: The shared real library's grid (held roll, held pitch, phases).
 REAL_GRID = {"roll": "0,1", "pitch": "-1:1:1", "phase": "0:330:30"}
@@ -46,7 +47,7 @@ def mechanics_library(tmp_path_factory: Any) -> Path:
     if "real" not in _BUILT:
         out = tmp_path_factory.mktemp("mechanics-library") / "library"
         sweep(
-            spec_from_designation(DESIGNATION),
+            spec_from_designation(DESIGNATION, point="flat", countersink=False),
             REAL_GRID["roll"],
             REAL_GRID["pitch"],
             REAL_GRID["phase"],

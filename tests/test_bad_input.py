@@ -92,7 +92,7 @@ def test_run_compare_list_with_an_empty_item(tmp_path, capsys, text):
 @pytest.fixture(scope="module")
 def thesis_library(tmp_path_factory):
     out = tmp_path_factory.mktemp("thesis") / "library"
-    spec = spec_from_designation(DESIGNATION)
+    spec = spec_from_designation(DESIGNATION, point="flat", countersink=False)
     sweep(spec, "0", "0", "0", out=out, model="thesis", workers=1)
     return out
 

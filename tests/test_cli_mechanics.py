@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from _cli import run_cli
+from _cli import THESIS_PARTS, run_cli
 
 DESIGNATION = "1/4-20 UNC-2A/2B"
 PITCH = 0.05  # in
@@ -43,7 +43,19 @@ def _one_line_error(err: str, after_progress: bool = False) -> None:
 
 def test_settle_json_document(capsys):
     rc, out, err = run(
-        ["settle", DESIGNATION, "--roll", "4", "--pitch", "0", "--phase", "170", "--json"], capsys
+        [
+            "settle",
+            DESIGNATION,
+            *THESIS_PARTS,
+            "--roll",
+            "4",
+            "--pitch",
+            "0",
+            "--phase",
+            "170",
+            "--json",
+        ],
+        capsys,
     )
     assert rc == 0, err
     doc = json.loads(out)  # exactly one JSON document on stdout
@@ -200,6 +212,7 @@ def test_search_without_snap_exits_3_after_printing(capsys):
         [
             "search",
             DESIGNATION,
+            *THESIS_PARTS,
             "--roll",
             "4",
             "--pitch",
@@ -224,7 +237,19 @@ def test_search_without_snap_exits_3_after_printing(capsys):
     assert "no snap within 0.05 turn(s)" in err
     # The same in text (the Mechanics is cached in-process: a short second run).
     rc, out, err = run(
-        ["search", DESIGNATION, "--roll", "4", "--pitch", "0", "--phase", "170", "--turns", "0.02"],
+        [
+            "search",
+            DESIGNATION,
+            *THESIS_PARTS,
+            "--roll",
+            "4",
+            "--pitch",
+            "0",
+            "--phase",
+            "170",
+            "--turns",
+            "0.02",
+        ],
         capsys,
     )
     assert rc == 3
@@ -241,7 +266,9 @@ def test_search_without_snap_exits_3_after_printing(capsys):
 
 def test_search_that_snaps_with_plot(tmp_path, capsys):
     fig = tmp_path / "signature.png"
-    rc, out, err = run(["search", DESIGNATION, *UPRIGHT, "--json", "--plot", str(fig)], capsys)
+    rc, out, err = run(
+        ["search", DESIGNATION, *THESIS_PARTS, *UPRIGHT, "--json", "--plot", str(fig)], capsys
+    )
     assert rc == 0, err
     doc = json.loads(out)
     for key in ("units", "parameters", "start", "snap", "work", "events", "states"):

@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from _cli import run_cli
+from _cli import THESIS_PARTS, run_cli
 
 SQ3 = math.sqrt(3.0)
 
@@ -124,7 +124,7 @@ def test_missing_and_invalid_spec(tmp_path, capsys):
 
 
 def test_designation(capsys):
-    rc, out, err = run(["planar", "1/4-20 UNC-2A/2B", "--json"], capsys)
+    rc, out, err = run(["planar", "1/4-20 UNC-2A/2B", *THESIS_PARTS, "--json"], capsys)
     assert rc == 0, err
     doc = json.loads(out)
     # Mean pitch diameters from ASME B1.1: bolt 0.2127-0.2164, nut 0.2175-0.2224.

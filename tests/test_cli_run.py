@@ -15,7 +15,7 @@ import networkx as nx
 import pandas as pd
 import pytest
 
-from _cli import run_cli
+from _cli import THESIS_PARTS, run_cli
 from _libraries import (
     DESIGNATION,
     REAL_GRID,
@@ -49,6 +49,7 @@ def job(tmp_path_factory):
     argv = [
         "run",
         DESIGNATION,
+        *THESIS_PARTS,
         "-o",
         str(out),
         "--roll",
@@ -173,6 +174,7 @@ def test_run_from_scratch_on_one_tilt(tmp_path, capsys):
         capsys,
         "run",
         DESIGNATION,
+        *THESIS_PARTS,
         "-o",
         out,
         "--roll",

@@ -9,6 +9,7 @@ import sys
 
 import pytest
 
+from _cli import THESIS_PARTS
 from threadmate.cli import main
 from threadmate.geometry import BoltSpec, NutSpec, ThreadSpec, save_spec
 
@@ -22,7 +23,8 @@ def run(capsys, *args: str) -> tuple[int, str, str]:
 
 
 def test_json_quarter_20(capsys):
-    rc, out, err = run(capsys, "thread", "1/4-20 UNC-2A/2B", "--json")
+    # The thesis's flat parts: one pitch of bolt and of nut.
+    rc, out, err = run(capsys, "thread", "1/4-20 UNC-2A/2B", *THESIS_PARTS, "--json")
     assert rc == 0
     doc = json.loads(out)  # exactly one JSON document
     assert doc["units"] == "in" and doc["pitch"] == pytest.approx(0.05)

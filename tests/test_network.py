@@ -301,7 +301,7 @@ def test_passive_path_agrees_with_search(real_lib, real_graph, start):
     phases = meta["grid"]["phase"]
     phase_step = max(b - a for a, b in zip(phases, phases[1:], strict=False))
     run = search(
-        spec_from_designation(DESIGNATION),
+        spec_from_designation(DESIGNATION, point="flat", countersink=False),
         *start,
         compliance=compliance_of(real_lib),
         step=step,

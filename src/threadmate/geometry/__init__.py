@@ -26,6 +26,7 @@ from ._mesh import (
     thread_meshes,
 )
 from ._meshio import load_mesh, read_stl, stl_header, stl_units, write_stl
+from ._nuts import countersink_limits, standard_countersink_diameter, standard_nut_height
 from ._profile import BOLT_REGIONS, NUT_REGIONS, Profile, bolt_profile, nut_profile, wrap_t
 from ._spec import UNITS, BoltSpec, NutSpec, ThreadSpec, load_spec, parse_length, save_spec
 
@@ -52,6 +53,7 @@ __all__ = [
     "bolt_body",
     "bolt_mesh",
     "check_chord",
+    "countersink_limits",
     "bolt_profile",
     "bolt_rotation",
     "load_mesh",
@@ -69,6 +71,8 @@ __all__ = [
     "read_stl",
     "save_spec",
     "spec_from_designation",
+    "standard_countersink_diameter",
+    "standard_nut_height",
     "stl_header",
     "stl_units",
     "thread_limits",

@@ -29,9 +29,11 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from .._errors import DesignationError, InputError
+from .._errors import DesignationError, InputError, SpecError
 from . import _iso, _unified
-from ._spec import BoltSpec, NutSpec, ThreadSpec
+from ._ends import BoltPoint, Countersink
+from ._nuts import standard_countersink_diameter, standard_nut_height
+from ._spec import BoltSpec, NutSpec, ThreadSpec, parse_length
 
 __all__ = [
     "Designation",
@@ -502,7 +504,15 @@ def _pick(limits: tuple[float, float], condition: str, largest: bool) -> float:
     return hi if (condition == "max") == largest else lo
 
 
-def spec_from_designation(designation: str | Designation, condition: str = "mean") -> ThreadSpec:
+def spec_from_designation(
+    designation: str | Designation,
+    condition: str = "mean",
+    *,
+    point: str | BoltPoint = "chamfer",
+    countersink: bool | Countersink | None = True,
+    bolt_length: float | str | None = None,
+    nut_height: float | str | None = None,
+) -> ThreadSpec:
     """Expand a designation into a :class:`ThreadSpec` at a material condition.
 
     Parameters
@@ -513,14 +523,53 @@ def spec_from_designation(designation: str | Designation, condition: str = "mean
         ``max``/``maximum``: maximum material (every bolt diameter at its largest, every
         nut diameter at its smallest); ``min``/``minimum``: minimum material; ``mean``:
         the midpoint of every limit.
+    point : {"chamfer", "flat", "round"} or BoltPoint
+        The bolt's point: a form with its defaults, or a :class:`BoltPoint` whose unset
+        values take them. ``"flat"`` is the thesis's bolt.
+    countersink : bool, None or Countersink
+        ``True``: the standard nut's countersink; ``False`` or ``None``: a flat,
+        sharp-edged bore (the thesis's nut); a :class:`Countersink` (its diameter, if
+        unset, the standard's).
+    bolt_length, nut_height : float, str or None
+        A length in the designation's units, or text in pitches such as ``"3p"``; for
+        ``nut_height`` also ``"standard"``, the standard hex nut's height. None: the
+        spec's defaults (the point's height and one pitch; the countersink's depth and
+        one pitch).
+
+    Raises
+    ------
+    DesignationError
+        For a designation that names no standard thread.
+    SpecError
+        For parts that do not fit the thread (naming the spec key), or
+        ``nut_height="standard"`` for a size the nut tables do not hold.
 
     Notes
     -----
     The bolt's root fillet is the standard's root radius at the condition (ASME B1.1
     UNR: 0.144P at max, 0.108P at min, 0.126P at mean; ISO: 0.125P), reduced where the
     rounded limits leave a full-round root smaller than that (the arc must fit its
-    corner). Crests and the nut's root are flat. Bolt length and nut height keep the
-    spec defaults (one pitch).
+    corner). Crests and the nut's root are flat.
+
+    The defaults of the ends come from the fastener standards (``conventions.md``,
+    "Ends"):
+
+    - point: a 45-degree chamfer (from the axis) down to a tip diameter 0.1 pitch below
+      the bolt's minor diameter (ASME B18.2.1 hex bolts and cap screws; ISO 4753 end
+      "CH"); a round point's radius is 1.4 times the major diameter (ISO 4753 "RN");
+    - countersink: 120 degrees included (ASME B18.2.2, ISO 4032: 90 to 120), the
+      diameter at the face the mean of the standard's limits (ASME B18.2.2: the basic
+      major diameter to that plus 0.030 in up to 3/8 in, to 1.08 times it above; ISO
+      4032: ``d`` to ``d_a max``, and 1.08 ``d`` for a size outside its table), or their
+      maximum where the mean does not clear the nut's major diameter at the condition
+      (where that does not either, M1 and M1.1 at minimum material: the nut's major
+      diameter plus half the band);
+    - ``nut_height="standard"``: ASME B18.2.2 hex nuts (1/4 to 1 1/2 in), ASME B18.6.3
+      hex machine screw nuts (#0 to #12), ISO 4032 style-1 hex nuts (M1.6 to M64).
+
+    The tables are in :mod:`threadmate.geometry._nuts`. With ``point="flat",
+    countersink=False`` and the default lengths the spec is the thesis's: one pitch of
+    bolt and of nut.
     """
     des = parse_designation(designation)
     cond = material_condition(condition)
@@ -541,13 +590,58 @@ def spec_from_designation(designation: str | Designation, condition: str = "mean
         units=des.units,
         pitch=des.pitch,
         bolt=BoltSpec(
-            **bolt_vals, crest_fillet=_pick(b.crest_fillet, cond, True), root_fillet=max(root, 0.0)
+            **bolt_vals,
+            crest_fillet=_pick(b.crest_fillet, cond, True),
+            root_fillet=max(root, 0.0),
+            length=_part_length(bolt_length, des, "bolt_length"),
+            point=_point(point),
         ),
         nut=NutSpec(
             **nut_vals,
             crest_fillet=_pick(n.crest_fillet, cond, True),
             root_fillet=_pick(n.root_fillet, cond, True),
+            height=_part_length(nut_height, des, "nut_height"),
+            countersink=_countersink(countersink, des, nut_vals["major"]),
         ),
         hand=des.hand,
         designation=des.text,
     )
+
+
+def _point(point: str | BoltPoint) -> BoltPoint:
+    """``point`` as a :class:`BoltPoint` (its form and values are checked by the spec)."""
+    if isinstance(point, BoltPoint):
+        return point
+    if isinstance(point, str):
+        return BoltPoint(point.strip().lower())
+    raise SpecError(f"point must be 'flat', 'chamfer', 'round' or a BoltPoint; got {point!r}")
+
+
+def _countersink(
+    countersink: bool | Countersink | None, des: Designation, nut_major: float
+) -> Countersink | None:
+    """The nut's countersink: the standard one, none, or the one given (its diameter, if
+    unset, the standard's)."""
+    if countersink is None or countersink is False:
+        return None
+    if countersink is True:
+        countersink = Countersink()
+    if not isinstance(countersink, Countersink):
+        raise SpecError(
+            f"countersink must be True, False, None or a Countersink; got {countersink!r}"
+        )
+    if countersink.diameter is not None:
+        return countersink
+    return Countersink(countersink.angle, standard_countersink_diameter(des, nut_major))
+
+
+def _part_length(value: float | str | None, des: Designation, name: str) -> float | None:
+    """A bolt length or nut height given in units, in pitches or (nut) as "standard"."""
+    if value is None:
+        return None
+    if name == "nut_height" and isinstance(value, str) and value.strip().lower() == "standard":
+        try:
+            return standard_nut_height(des)
+        except SpecError as exc:
+            raise SpecError(f"nut_height 'standard': {exc}") from None
+    return parse_length(value, des.pitch, name, des.units)

@@ -93,6 +93,14 @@ class BoltPoint:
                 out[key] = value
         return out
 
+    def describe(self, units: str) -> str:
+        """The point in words, e.g. ``chamfer 45 deg from the axis to a 4.635 mm tip``."""
+        if self.form == "chamfer":
+            return f"chamfer {self.angle:g} deg from the axis to a {self.diameter:.6g} {units} tip"
+        if self.form == "round":
+            return f"round, radius {self.radius:.6g} {units}, to a {self.diameter:.6g} {units} tip"
+        return self.form
+
 
 @dataclass(frozen=True)
 class Countersink:
@@ -113,6 +121,10 @@ class Countersink:
     def to_dict(self) -> dict[str, Any]:
         """The countersink as a spec table."""
         return {"angle": self.angle, "diameter": self.diameter}
+
+    def describe(self, units: str) -> str:
+        """The countersink in words, e.g. ``120 deg, 6.375 mm at the face``."""
+        return f"{self.angle:g} deg, {self.diameter:.6g} {units} at the face"
 
 
 @dataclass(frozen=True)

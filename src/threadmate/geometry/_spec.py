@@ -118,7 +118,8 @@ class ThreadSpec:
             nut = replace(nut, outer_radius=1.6 * nut.major / 2.0)
         if nut.countersink is not None:
             nut = replace(
-                nut, countersink=check_countersink(nut.countersink, nut.major, nut.outer_radius)
+                nut,
+                countersink=check_countersink(nut.countersink, nut.major, filled(nut.outer_radius)),
             )
         object.__setattr__(self, "bolt", bolt)
         object.__setattr__(self, "nut", nut)
