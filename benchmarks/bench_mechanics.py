@@ -49,7 +49,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
 
-    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     t0 = time.perf_counter()
     mech = Mechanics(spec, Compliance())
     print(f"built in {time.perf_counter() - t0:.2f} s; compliance {mech.compliance}")

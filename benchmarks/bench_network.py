@@ -167,7 +167,7 @@ def synthetic_rows(grid: Grid) -> pd.DataFrame:
 
 
 def bench(name: str, roll: str, pitch: str, phase: str, workdir: Path) -> None:
-    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     grid = Grid.parse(roll, pitch, phase)
     t = time.perf_counter()
     rows = synthetic_rows(grid)

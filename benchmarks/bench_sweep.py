@@ -102,7 +102,7 @@ def _one(args: argparse.Namespace) -> None:
     from threadmate.geometry import spec_from_designation
     from threadmate.library import Grid, info, load, sweep
 
-    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     grid = Grid.parse(args.roll, args.pitch, args.phase)
     n_tilts = grid.shape[0] * grid.shape[1]
     out = Path(args.out)

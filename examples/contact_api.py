@@ -11,11 +11,13 @@ from __future__ import annotations
 from threadmate.contact import ContactAnalyzer, record_schema
 from threadmate.geometry import spec_from_designation
 
-# 1/4-20 UNC-2A/2B at mean material: the midpoint of every ASME B1.1 limit. A pair that is
+# 1/4-20 UNC-2A/2B at mean material: the midpoint of every ASME B1.1 limit, with the
+# thesis's flat tip and flat, sharp-edged bore (a designation's default is the standard
+# chamfered point and countersunk nut; docs/conventions.md, "Ends"). A pair that is
 # no standard size (or measured parts) is typed in instead as
 # ThreadSpec(units=..., pitch=..., bolt=BoltSpec(...), nut=NutSpec(...)); see
 # docs/conventions.md, "Thread spec file".
-spec = spec_from_designation("1/4-20 UNC-2A/2B")
+spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
 print(
     f"{spec.designation} at mean material ({spec.units}): bolt major/PD/minor "
     f"{spec.bolt.major:.5f}/{spec.bolt.pitch_diameter:.5f}/{spec.bolt.minor:.5f}, "

@@ -14,7 +14,13 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from threadmate.contact import off_spec_region, region_at
+from threadmate.contact import (
+    Compliance,
+    Mechanics,
+    engagement_outline,
+    off_spec_region,
+    region_at,
+)
 from threadmate.contact._exact import Feature, feature_at, lowest_on_rim
 from threadmate.geometry import (
     BoltPoint,
@@ -176,3 +182,48 @@ def test_off_spec_labels(chamfered):
     assert off_spec_region(nut, np.array([0.0, 0.0, -0.5])) == "other"
     f = Feature("thread", np.zeros(3), None, np.zeros(3))
     assert region_at(bolt, far_low, f, off_spec=1e-4) == "point"
+
+
+def test_engagement_outline_and_plane_at_the_engagement_radius(chamfered):
+    """Closed forms: the 45-degree cone reaches the engagement radius rho (a quarter of
+    the way from the nut's minor radius to the bolt's major) at z = rho - TIP/2; the
+    90-degree countersink at z = rho - SINK/2."""
+    bolt, nut = bolt_body(chamfered), nut_body(chamfered)
+    rho = NUT["minor"] / 2 + 0.25 * (BOLT["major"] / 2 - NUT["minor"] / 2)
+    outline, plane = engagement_outline(bolt, nut)
+    np.testing.assert_allclose(outline[:, 2], rho - TIP / 2, atol=1e-12)
+    assert abs(np.hypot(outline[:, 0], outline[:, 1]).max() - rho) < 1e-12
+    assert abs(plane - (rho - SINK / 2)) < 1e-12
+    # The thesis's flat ends: the tip face's outline and the top face.
+    flat = _spec(BoltPoint("flat"), None)
+    outline, plane = engagement_outline(bolt_body(flat), nut_body(flat))
+    assert plane == 0.0 and np.all(outline[:, 2] == 0.0)
+    r = np.hypot(outline[:, 0], outline[:, 1])
+    theta = np.arctan2(outline[:, 1], outline[:, 0])
+    expected = [_sharp_radius(-PITCH * th / (2 * math.pi), "bolt") for th in theta]
+    np.testing.assert_allclose(r, expected, atol=1e-12)
+
+
+def test_upright_chamfer_rests_on_the_bore_edge_under_the_countersink():
+    """A stiffly held, upright chamfered bolt out of phase rests with its cone on the
+    nut's crest edge at the countersink's bottom: the cone r = TIP/2 + z_b meets the
+    circle r = minor/2 at z = -depth, so the tip sits at -depth - (minor/2 - TIP/2)
+    (within the descent's tolerance), the contacts carry the load, and they are on the
+    chamfer and the countersink."""
+    spec = _spec(BoltPoint("chamfer", angle=45.0, diameter=TIP), Countersink(90.0, SINK))
+    mech = Mechanics(spec, Compliance(stiffness=100.0), chord=2e-5)
+    depth = SINK / 2 - NUT["minor"] / 2  # 90 degrees included: depth = radial run
+    expected = -depth - (NUT["minor"] / 2 - TIP / 2)
+    # Half a turn from the phase where its teeth meet the nut's groove (this pair snaps
+    # into the thread near phase 0).
+    rest = mech.settle(0.0, 0.0, 180.0)
+    state = rest.state
+    # Held upright on a ring of edge contacts around the axis: the contacts alone carry
+    # the load.
+    assert state.classification == "stable"
+    assert abs(state.origin[2] - expected) < 2e-5 + 1e-4 * abs(expected)
+    lifted = sum(c.force * c.normal[2] for c in state.contacts)
+    assert abs(lifted - 10.0) < 1e-6 * 10.0
+    for c in state.contacts:
+        assert c.bolt_region == "chamfer"
+        assert c.nut_region == "countersink"

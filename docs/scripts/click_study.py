@@ -33,7 +33,7 @@ def main() -> None:
     parser.add_argument("--start", type=float, default=30.0, help="start phase (deg)")
     parser.add_argument("--out", default="docs/figures/click.png")
     args = parser.parse_args()
-    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     mech = Mechanics(spec, Compliance())
     rows = []
     for size in SIZES:

@@ -30,7 +30,7 @@ def ours(alpha: float, beta: float, phi: float) -> tuple[float, float, float]:
 
 
 def main() -> None:
-    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     analyzer = ContactAnalyzer(spec)
     mech = Mechanics(spec, Compliance(), analyzer=analyzer)
     soft = Mechanics(spec, Compliance(stiffness=0.01), analyzer=analyzer)

@@ -13,9 +13,17 @@ import click
 from .._validate import MAX_LENGTH, check_length
 from ..contact import MAX_TILT, ContactAnalyzer, ContactResult
 from ..geometry import check_chord
-from ._common import SPEC_HELP, check_configuration_options, emit_json, resolve_spec
+from ._common import SPEC_HELP, Parts, check_configuration_options, emit_json, resolve_spec
 from ._main import cli
-from ._options import chord_option, condition_option
+from ._options import (
+    MeshFiles,
+    chord_option,
+    condition_option,
+    echo_mesh_notes,
+    mesh_files_option,
+    mesh_summary,
+    parts_option,
+)
 
 __all__ = ["contact"]
 
@@ -125,6 +133,8 @@ spec's units.
     f"(0: the tip centre; within +/-{MAX_LENGTH:g}).",
 )
 @condition_option
+@parts_option
+@mesh_files_option
 @click.option(
     "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
 )
@@ -137,17 +147,21 @@ def contact(
     compliance_z: float,
     condition: str,
     as_json: bool,
+    parts: Parts,
+    meshes: MeshFiles,
 ) -> None:
     """Run the three contact stages for one configuration."""
     check_configuration_options(roll, pitch, phase, chord)
-    spec = resolve_spec(spec_text, condition)
+    spec = resolve_spec(spec_text, condition, parts)
     check_length("--compliance-z", compliance_z, spec.units, signed=True)
     if chord is not None:
         check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
-    result = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z).analyze(
-        roll, pitch, phase
-    )
+    analyzer = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z, **meshes.arguments())
+    echo_mesh_notes(analyzer.mesh_info, spec.units)
+    result = analyzer.analyze(roll, pitch, phase)
     if as_json:
-        emit_json(result.to_dict())
+        emit_json({**result.to_dict(), "mesh": analyzer.mesh_info})
     else:
         click.echo(_text(result))
+        if meshes.given:
+            click.echo(mesh_summary(analyzer.mesh_info, spec.units))

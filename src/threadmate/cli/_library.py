@@ -27,14 +27,18 @@ from ..library import (
     sweep,
     write_figures,
 )
-from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
+from ._common import SPEC_HELP, Parts, emit_json, resolve_spec, writable_directory
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
+    MeshFiles,
     chord_option,
     compliance_from_options,
     compliance_options,
     condition_option,
+    echo_mesh_notes,
+    mesh_files_option,
+    parts_option,
 )
 
 __all__ = ["sweep_command", "library_group"]
@@ -272,6 +276,8 @@ N/m, lengths in the spec's units, angles in degrees.
     "automatic). A mechanics chunk is one held tilt.",
 )
 @condition_option
+@parts_option
+@mesh_files_option
 @click.option(
     "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
 )
@@ -297,13 +303,15 @@ def sweep_command(
     chunk_size: int | None,
     condition: str,
     as_json: bool,
+    parts: Parts,
+    meshes: MeshFiles,
 ) -> None:
     """Sweep the grid into a library."""
     _check_sweep_options(ctx, model, workers, chunk_size, step, phase_tolerance)
     compliance = compliance_from_options(
         force, stiffness_text, lateral_stiffness, friction, compliance_z
     )
-    spec = resolve_spec(spec_text, condition)
+    spec = resolve_spec(spec_text, condition, parts)
     writable_directory(out, "-o")
     existed = (out / METADATA_FILE).is_file()
     resumed: dict[str, int] = {}
@@ -338,6 +346,7 @@ def sweep_command(
                 step=step,
                 phase_tolerance=phase_tolerance,
                 progress=callback,
+                **meshes.arguments(),
             )
     except SweepInterrupted as exc:
         raise click.ClickException(str(exc)) from None
@@ -373,6 +382,8 @@ def sweep_command(
         report["compliance"] = meta["compliance"]
         report["continuation"] = meta["continuation"]
         report["states"] = doc["states"]
+    report["mesh"] = meta.get("mesh")
+    echo_mesh_notes(meta.get("mesh"), doc["units"])
     if as_json:
         emit_json(report)
         return

@@ -23,6 +23,8 @@ from ..contact import (
     CONTINUATION_STEP,
     MAX_TILT,
     Compliance,
+    ContactAnalyzer,
+    Mechanics,
     RestState,
     SearchResult,
     search,
@@ -31,6 +33,7 @@ from ..contact import (
 from ..geometry import ThreadSpec, check_chord
 from ._common import (
     SPEC_HELP,
+    Parts,
     check_configuration_options,
     emit_json,
     resolve_spec,
@@ -40,10 +43,15 @@ from ._library import _progress_bar
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
+    MeshFiles,
     chord_option,
     compliance_from_options,
     compliance_option_list,
     condition_option,
+    echo_mesh_notes,
+    mesh_files_option,
+    mesh_summary,
+    parts_option,
 )
 
 __all__ = ["search_command", "settle_command", "plot_search"]
@@ -84,6 +92,8 @@ def _mechanics_options(func: Callable[..., Any]) -> Callable[..., Any]:
         *compliance_option_list(),
         chord_option,
         condition_option,
+        parts_option,
+        mesh_files_option,
         click.option(
             "--json",
             "as_json",
@@ -108,6 +118,7 @@ def _setup(
     compliance_z: float,
     chord: float | None,
     condition: str,
+    parts: Parts | None = None,
 ) -> tuple[ThreadSpec, Compliance]:
     """Check the options (cheapest first) and build the spec and the compliance.
 
@@ -118,11 +129,23 @@ def _setup(
     compliance = compliance_from_options(
         force, stiffness_text, lateral_stiffness, friction, compliance_z
     )
-    spec = resolve_spec(spec_text, condition)
+    spec = resolve_spec(spec_text, condition, parts)
     if chord is not None:
         check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
     compliance.check_for(spec.pitch)
     return spec, compliance
+
+
+def _mechanics(
+    spec: ThreadSpec, compliance: Compliance, chord: float | None, meshes: MeshFiles
+) -> Mechanics:
+    """The mechanics on the generated meshes or the CAD meshes given (``--bolt-mesh``,
+    ``--nut-mesh``: loaded and checked by the analyser; notes and warnings on stderr)."""
+    analyzer = ContactAnalyzer(
+        spec, chord=chord, compliance_z=compliance.compliance_z, **meshes.arguments()
+    )
+    echo_mesh_notes(analyzer.mesh_info, spec.units)
+    return Mechanics(spec, compliance, chord=chord, analyzer=analyzer)
 
 
 # -- text ------------------------------------------------------------------------------------
@@ -353,6 +376,8 @@ def settle_command(
     chord: float | None,
     condition: str,
     as_json: bool,
+    parts: Parts,
+    meshes: MeshFiles,
 ) -> None:
     """One rest state (see the command's help)."""
     spec, compliance = _setup(
@@ -367,12 +392,16 @@ def settle_command(
         compliance_z,
         chord,
         condition,
+        parts,
     )
-    rest = settle(spec, roll, pitch, phase, compliance=compliance, chord=chord)
+    mech = _mechanics(spec, compliance, chord, meshes)
+    rest = settle(mech, roll, pitch, phase)
     if as_json:
-        emit_json(rest.to_dict())
+        emit_json({**rest.to_dict(), "mesh": mech.analyzer.mesh_info})
     else:
         click.echo(_settle_text(spec, rest))
+        if meshes.given:
+            click.echo(mesh_summary(mech.analyzer.mesh_info, spec.units))
 
 
 @cli.command(
@@ -433,6 +462,8 @@ def search_command(
     turns: float,
     step: float,
     plot: Path | None,
+    parts: Parts,
+    meshes: MeshFiles,
 ) -> None:
     """The simulated search (see the command's help)."""
     if not (math.isfinite(turns) and 0 < turns <= MAX_TURNS):
@@ -452,26 +483,28 @@ def search_command(
         compliance_z,
         chord,
         condition,
+        parts,
     )
+    mech = _mechanics(spec, compliance, chord, meshes)
     with _progress_bar("search (deg)") as callback:
         run = search(
-            spec,
+            mech,
             roll,
             pitch,
             phase,
-            compliance=compliance,
             turns=turns,
             step=step,
             phase_tolerance=min(PHASE_TOLERANCE, step),
-            chord=chord,
             progress=callback,
         )
     if figure is not None:
         plot_search(spec, run, figure)
     if as_json:
-        emit_json(run.to_dict())
+        emit_json({**run.to_dict(), "mesh": mech.analyzer.mesh_info})
     else:
         click.echo(_search_text(spec, run, step))
+        if meshes.given:
+            click.echo(mesh_summary(mech.analyzer.mesh_info, spec.units))
         if figure is not None:
             click.echo(f"wrote {figure}")
     if run.snap is None:

@@ -11,6 +11,7 @@ from .._io import atomic_path
 from ..geometry import stl_header, thread_meshes, write_stl
 from ._common import (
     SPEC_HELP,
+    Parts,
     emit_json,
     resolve_spec,
     writable_directory,
@@ -18,13 +19,17 @@ from ._common import (
     write_failed,
 )
 from ._main import cli
-from ._options import chord_option, condition_option
+from ._options import chord_option, condition_option, parts_option
 
 __all__ = ["mesh", "mesh_document"]
 
 
 def mesh_document(
-    text: str, out_dir: str | Path, chord: float | None = None, condition: str = "mean"
+    text: str,
+    out_dir: str | Path,
+    chord: float | None = None,
+    condition: str = "mean",
+    parts: Parts | None = None,
 ) -> dict[str, Any]:
     """Tessellate a designation or spec file into ``out_dir/bolt.stl`` and ``nut.stl``.
 
@@ -35,7 +40,7 @@ def mesh_document(
     paths = {"bolt": out / "bolt.stl", "nut": out / "nut.stl"}
     for path in paths.values():  # a folder in the way of a file (the other would land)
         writable_output(path)
-    spec = resolve_spec(text, condition)
+    spec = resolve_spec(text, condition, parts)
     bolt, nut = thread_meshes(spec, chord)
     try:
         # Both land under temporary names first; the renames happen only after both writes.
@@ -77,12 +82,18 @@ def mesh_document(
 )
 @chord_option
 @condition_option
+@parts_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
 def mesh(
-    designation: str, out_dir: Path, chord: float | None, condition: str, as_json: bool
+    designation: str,
+    out_dir: Path,
+    chord: float | None,
+    condition: str,
+    as_json: bool,
+    parts: Parts,
 ) -> None:
     """Tessellate a thread pair and write its two STL files."""
-    doc = mesh_document(designation, out_dir, chord, condition.lower())
+    doc = mesh_document(designation, out_dir, chord, condition.lower(), parts)
     if as_json:
         emit_json(doc)
         return

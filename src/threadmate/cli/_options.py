@@ -7,14 +7,19 @@ it (one message naming the parameter and its range).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
+from dataclasses import dataclass, fields
+from pathlib import Path
 from typing import Any
 
 import click
 
 from .._errors import InputError
+from .._units import MM_PER_UNIT
 from ..contact import Compliance
-from ..geometry import DEFAULT_CHORD, material_condition
+from ..geometry import DEFAULT_CHORD, POINT_FORMS, material_condition
+from ._common import Parts
 
 __all__ = [
     "COMPLIANCE_PARAMETERS",
@@ -25,6 +30,11 @@ __all__ = [
     "compliance_options",
     "condition_option",
     "parse_stiffness",
+    "parts_option",
+    "MeshFiles",
+    "mesh_files_option",
+    "echo_mesh_notes",
+    "mesh_summary",
 ]
 
 #: The defaults of the options are those of :class:`Compliance`.
@@ -165,3 +175,218 @@ def chord_option(func: Callable[..., Any]) -> Callable[..., Any]:
         help=f"Chord tolerance of the meshes in the spec's length units (default "
         f"{DEFAULT_CHORD['in']:g} in, {DEFAULT_CHORD['mm']:g} mm).",
     )(func)
+
+
+def parts_option(func: Callable[..., Any]) -> Callable[..., Any]:
+    """The bolt's point, the nut's countersink and their lengths, for every command that
+    expands a designation or reads a spec: ``--point``, ``--chamfer-angle``,
+    ``--point-diameter``, ``--round-radius``, ``--countersink/--no-countersink``,
+    ``--countersink-angle``, ``--countersink-diameter``, ``--bolt-length``,
+    ``--nut-height``. The command receives them as one keyword argument ``parts``
+    (:class:`threadmate.cli._common.Parts`, for :func:`~threadmate.cli._common.resolve_spec`).
+    """
+    options: list[Callable[[Any], Any]] = [
+        click.option(
+            "--point",
+            "point",
+            type=click.Choice(POINT_FORMS),
+            default=None,
+            help="The bolt's point: chamfer (ASME B18.2.1, ISO 4753), round (ISO 4753 RN) "
+            "or flat (the thesis's). Default: chamfer for a designation, a spec file's own.",
+        ),
+        click.option(
+            "--chamfer-angle",
+            "chamfer_angle",
+            type=float,
+            default=None,
+            metavar="DEG",
+            help="Chamfer angle from the bolt's axis in degrees (default 45).",
+        ),
+        click.option(
+            "--point-diameter",
+            "point_diameter",
+            type=float,
+            default=None,
+            metavar="LEN",
+            help="Diameter of the tip face where a chamfer or round ends, in the spec's units "
+            "(default 0.1 pitch below the bolt's minor diameter).",
+        ),
+        click.option(
+            "--round-radius",
+            "round_radius",
+            type=float,
+            default=None,
+            metavar="LEN",
+            help="Radius of a round point in the spec's units (default 1.4 x major diameter).",
+        ),
+        click.option(
+            "--countersink/--no-countersink",
+            "countersink",
+            default=None,
+            help="The nut's countersink, or a flat, sharp-edged bore (the thesis's). Default: "
+            "a countersink for a designation, a spec file's own. --point flat "
+            "--no-countersink are the thesis's parts.",
+        ),
+        click.option(
+            "--countersink-angle",
+            "countersink_angle",
+            type=float,
+            default=None,
+            metavar="DEG",
+            help="Included angle of the countersink in degrees (default 120).",
+        ),
+        click.option(
+            "--countersink-diameter",
+            "countersink_diameter",
+            type=float,
+            default=None,
+            metavar="LEN",
+            help="Diameter of the countersink at the nut's face, in the spec's units "
+            "(default: the mean of ASME B18.2.2's or ISO 4032's limits).",
+        ),
+        click.option(
+            "--bolt-length",
+            "bolt_length",
+            default=None,
+            metavar="LEN|Np",
+            help="Bolt length in the spec's units or in pitches, e.g. 3p (default: the "
+            "point's height and one pitch).",
+        ),
+        click.option(
+            "--nut-height",
+            "nut_height",
+            default=None,
+            metavar="LEN|Np|standard",
+            help="Nut height in the spec's units, in pitches (3p), or 'standard': the "
+            "standard hex nut's (ASME B18.2.2, B18.6.3, ISO 4032) (default: the "
+            "countersink's depth and one pitch).",
+        ),
+    ]
+    names = [f.name for f in fields(Parts)]
+
+    @functools.wraps(func)
+    def command(*args: Any, **kwargs: Any) -> Any:
+        parts = Parts(**{name: kwargs.pop(name) for name in names})
+        return func(*args, parts=parts, **kwargs)
+
+    wrapped: Callable[..., Any] = command
+    for option in reversed(options):
+        wrapped = option(wrapped)
+    return wrapped
+
+
+# -- meshes from CAD ---------------------------------------------------------------------
+@dataclass(frozen=True)
+class MeshFiles:
+    """``--bolt-mesh``, ``--nut-mesh`` and ``--mesh-units`` as one keyword argument
+    ``meshes`` of a command."""
+
+    bolt: Path | None = None
+    nut: Path | None = None
+    units: str | None = None
+
+    @property
+    def given(self) -> bool:
+        """Whether a mesh file is given."""
+        return self.bolt is not None or self.nut is not None
+
+    def arguments(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`~threadmate.contact.ContactAnalyzer`,
+        :func:`~threadmate.library.sweep` and the pipeline (the paths, as given)."""
+        if self.units is not None and not self.given:
+            raise InputError("--mesh-units needs --bolt-mesh or --nut-mesh")
+        return {
+            "bolt_mesh": None if self.bolt is None else str(self.bolt),
+            "nut_mesh": None if self.nut is None else str(self.nut),
+            "mesh_units": self.units,
+        }
+
+
+def mesh_files_option(func: Callable[..., Any]) -> Callable[..., Any]:
+    """``--bolt-mesh FILE``, ``--nut-mesh FILE`` and ``--mesh-units in|mm``: meshes from CAD
+    instead of generated ones. The command receives them as one keyword argument
+    ``meshes`` (:class:`MeshFiles`); the API loads and checks the files."""
+    options: list[Callable[[Any], Any]] = [
+        click.option(
+            "--bolt-mesh",
+            "bolt_mesh",
+            type=click.Path(path_type=Path),
+            default=None,
+            metavar="FILE",
+            help="The bolt from CAD (STL, OBJ or PLY) instead of the generated mesh, in its "
+            "frame: tip face at z = 0, body in z >= 0, axis +Z toward the head. Regions "
+            "and normals still come from the spec; contacts where the mesh leaves the "
+            "spec (a point or a head it does not state) are labelled point or other.",
+        ),
+        click.option(
+            "--nut-mesh",
+            "nut_mesh",
+            type=click.Path(path_type=Path),
+            default=None,
+            metavar="FILE",
+            help="The nut from CAD instead of the generated mesh, in its frame: entry (top) "
+            "face at z = 0, body in z <= 0, axis along Z. Contacts where it leaves the "
+            "spec (a countersink or flats it does not state) are labelled countersink "
+            "or other.",
+        ),
+        click.option(
+            "--mesh-units",
+            "mesh_units",
+            type=click.Choice(["in", "mm"]),
+            default=None,
+            help="Length units of the mesh files (STL carries none). Default: the units "
+            "a threadmate STL's header declares, else the spec's; a header that disagrees "
+            "is refused. A file in other units than the spec's is scaled into them.",
+        ),
+    ]
+
+    @functools.wraps(func)
+    def command(*args: Any, **kwargs: Any) -> Any:
+        meshes = MeshFiles(
+            kwargs.pop("bolt_mesh"), kwargs.pop("nut_mesh"), kwargs.pop("mesh_units")
+        )
+        return func(*args, meshes=meshes, **kwargs)
+
+    wrapped: Callable[..., Any] = command
+    for option in reversed(options):
+        wrapped = option(wrapped)
+    return wrapped
+
+
+def echo_mesh_notes(info: dict[str, Any] | None, units: str) -> None:
+    """On stderr: each CAD mesh scaled into the spec's units, and each warning that much
+    of a mesh's contact zone lies off the spec (``mesh_info`` of the analyser, or the
+    ``mesh`` entry of a library's metadata)."""
+    for kind in ("bolt", "nut"):
+        part = (info or {}).get(kind)
+        if not isinstance(part, dict) or not part.get("sha256"):
+            continue
+        scale = part.get("scale")
+        if scale is None and part.get("units") not in (None, units):
+            scale = MM_PER_UNIT[part["units"]] / MM_PER_UNIT[units]
+        if scale is not None and scale != 1.0:
+            click.echo(
+                f"threadmate: {kind} mesh {part.get('file')}: in {part.get('units')}, "
+                f"scaled by {scale:.6g} into the spec's {units}",
+                err=True,
+            )
+        if part.get("warning"):
+            click.echo(f"threadmate: warning: {part['warning']}", err=True)
+
+
+def mesh_summary(info: dict[str, Any], units: str) -> str:
+    """One line naming the meshes used (for the text output when a CAD mesh is given)."""
+    words = []
+    for kind in ("bolt", "nut"):
+        part = info.get(kind) or {}
+        if part.get("generated"):
+            words.append(f"{kind} generated (chord {part['chord']:g} {units})")
+            continue
+        sha = part.get("sha256")
+        facts = [f"sha256 {sha[:12]}", f"units {part.get('units')}"] if sha else []
+        facts += [
+            f"deviation {part.get('deviation', float('nan')):.3g} {units}",
+            f"{part.get('zone_off_spec_share', 0.0):.0%} of its contact zone off the spec",
+        ]
+        words.append(f"{kind} {part.get('file') or 'from CAD'} ({', '.join(facts)})")
+    return "Meshes: " + "; ".join(words)

@@ -20,9 +20,16 @@ from ..planar import (
     plot_pivot_axes,
     plot_region_disk,
 )
-from ._common import SPEC_HELP, emit_json, resolve_spec, writable_output, write_failed
+from ._common import (
+    SPEC_HELP,
+    Parts,
+    emit_json,
+    resolve_spec,
+    writable_output,
+    write_failed,
+)
 from ._main import cli
-from ._options import condition_option
+from ._options import condition_option, parts_option
 
 __all__ = ["planar"]
 
@@ -58,6 +65,7 @@ angles in degrees.
     "is the thesis's example phase, where two contacts show.",
 )
 @condition_option
+@parts_option
 @click.option(
     "--json", "as_json", is_flag=True, help="Print one JSON document on stdout instead of text."
 )
@@ -82,6 +90,7 @@ def planar(
     as_json: bool,
     plot: Path | None,
     pivot_plot: Path | None,
+    parts: Parts,
 ) -> None:
     """Report the planar contact state (see the command's help)."""
     if not math.isfinite(phase):
@@ -98,7 +107,7 @@ def planar(
         writable_output(pivot_plot, pivot_option)
         if plot is not None and plot.resolve() == pivot_plot.resolve():
             raise InputError(f"--plot and --pivot-plot name the same file: {plot}")
-    spec = resolve_spec(spec_text, condition)
+    spec = resolve_spec(spec_text, condition, parts)
     state = planar_state(spec, phase)
     window = in_phase_window(spec)
     critical = critical_phases(spec)

@@ -12,15 +12,19 @@ from .._errors import InputError
 from .._validate import check_workers
 from ..contact import CONTINUATION_STEP, MAX_TILT
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID, run_pipeline
-from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
+from ._common import SPEC_HELP, Parts, emit_json, resolve_spec, writable_directory
 from ._library import _RANGE_HELP, _progress_bar
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
+    MeshFiles,
     chord_option,
     compliance_from_options,
     compliance_options,
     condition_option,
+    echo_mesh_notes,
+    mesh_files_option,
+    parts_option,
 )
 
 
@@ -97,6 +101,8 @@ on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["pha
     help="Roll errors to expect, +/- degrees (default: the whole grid).",
 )
 @condition_option
+@parts_option
+@mesh_files_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
 def run_command(
     spec_text: str,
@@ -118,6 +124,8 @@ def run_command(
     roll_spread: float | None,
     condition: str,
     as_json: bool,
+    parts: Parts,
+    meshes: MeshFiles,
 ) -> None:
     """The main job (help text above)."""
     check_workers(workers)
@@ -134,7 +142,7 @@ def run_command(
         c = dataclasses.replace(base, force=f, stiffness=k)
         if c not in compliances:
             compliances.append(c)
-    spec = resolve_spec(spec_text, condition)
+    spec = resolve_spec(spec_text, condition, parts)
     for c in compliances:
         c.check_for(spec.pitch)
     with _progress_bar("sweep") as callback:
@@ -151,7 +159,9 @@ def run_command(
             roll_spread=roll_spread,
             step=step,
             progress=callback,
+            **meshes.arguments(),
         )
+    echo_mesh_notes(result.meshes, spec.units)
     if as_json:
         emit_json(result.to_dict())
         return

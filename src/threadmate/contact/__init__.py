@@ -44,10 +44,10 @@ Example
 >>> run.snap.phase, run.snap.drop, run.work                         # doctest: +SKIP
 """
 
-from ._analyzer import MAX_TILT, TRAVEL_TOLERANCE, ContactAnalyzer, analyze
+from ._analyzer import MAX_TILT, TRAVEL_TOLERANCE, ContactAnalyzer, analyze, check_mesh_file
 from ._compliance import LIMITS as COMPLIANCE_LIMITS
 from ._compliance import Compliance
-from ._exact import OFF_SPEC_REGIONS, off_spec_region, region_at
+from ._exact import OFF_SPEC_REGIONS, engagement_outline, off_spec_region, region_at
 from ._records import (
     ROLES,
     STATE_COLUMNS,
@@ -74,6 +74,8 @@ from ._settle import Mechanics, settle
 
 __all__ = [
     "OFF_SPEC_REGIONS",
+    "check_mesh_file",
+    "engagement_outline",
     "off_spec_region",
     "region_at",
     "CLASSIFICATIONS",

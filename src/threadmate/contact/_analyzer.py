@@ -23,16 +23,17 @@ from .._validate import check_number, check_open_range
 from ..geometry import (
     DEFAULT_CHORD,
     Pose,
+    ThreadBody,
     ThreadSpec,
     bolt_body,
     bolt_rotation,
     load_mesh,
-    mesh_deviation,
     nut_body,
     thread_meshes,
 )
+from ._cad import OFF_SPEC_WARNING, MeshFit, describe, file_units, mesh_fit
 from ._collision import CollisionPair
-from ._exact import contact_normal, region_at, turn_axis_tangent
+from ._exact import contact_normal, engagement_outline, region_at, turn_axis_tangent
 from ._result import Contact, ContactResult, StageResult, _vec
 from ._stability import classify, interference_depth, is_rolling, pivot_offset
 from ._stages import (
@@ -44,13 +45,26 @@ from ._stages import (
 )
 from ._triangles import intersection_segments
 
-__all__ = ["ContactAnalyzer", "analyze", "MAX_TILT", "TRAVEL_TOLERANCE"]
+__all__ = [
+    "ContactAnalyzer",
+    "analyze",
+    "check_mesh_file",
+    "MAX_TILT",
+    "OFF_SPEC_FACTOR",
+    "TRAVEL_TOLERANCE",
+]
 
 #: Largest roll or pitch (degrees) the analyser accepts: beyond it the "bolt comes down on
 #: the nut" picture (tip first, compliance centre above the nut) no longer holds.
 MAX_TILT = 45.0
 #: Bisection tolerance on travel (bolt motion), per unit.
 TRAVEL_TOLERANCE = {u: 1e-7 * MM_PER_UNIT["in"] / MM_PER_UNIT[u] for u in ("in", "mm")}
+#: With a mesh from CAD, a contact farther than the feature tolerance plus this many mesh
+#: deviations from the exact surface lies where the mesh does not follow the spec. A
+#: contact point lies on both meshes (:func:`._triangles.cluster_location`), so within a
+#: deviation of each exact surface where the mesh follows it; the feature tolerance (two
+#: deviations and the travel) plus three more leaves a margin of five over that.
+OFF_SPEC_FACTOR = 3.0
 
 
 def _positive(name: str, value: float | None) -> float | None:
@@ -73,15 +87,21 @@ def check_configuration(roll: float, pitch: float, phase: float) -> tuple[float,
     return out[0], out[1], out[2]
 
 
-def _user_mesh(mesh: Any, kind: Literal["bolt", "nut"], spec: ThreadSpec) -> trimesh.Trimesh:
-    """A user mesh from a path (validated by :func:`threadmate.geometry.load_mesh`) or a
-    Trimesh (checked to sit in its frame)."""
+def _user_mesh(
+    mesh: Any, kind: Literal["bolt", "nut"], spec: ThreadSpec, units: str | None = None
+) -> trimesh.Trimesh:
+    """A user mesh from a path (validated by :func:`threadmate.geometry.load_mesh`, in
+    ``units``: see :func:`._cad.file_units`) or a Trimesh (in ``units``, default the
+    spec's; checked to sit in its frame)."""
     if isinstance(mesh, str | Path):
-        return load_mesh(mesh, kind, spec=spec)
+        return load_mesh(mesh, kind, spec=spec, units=file_units(mesh, units, spec))
     if not isinstance(mesh, trimesh.Trimesh):
         raise InputError(
             f"{kind}_mesh must be a mesh file path or a trimesh.Trimesh, got {type(mesh).__name__}"
         )
+    if units is not None and units != spec.units:
+        mesh = mesh.copy()
+        mesh.apply_scale(MM_PER_UNIT[units] / MM_PER_UNIT[spec.units])
     lo, hi = mesh.bounds
     size = float(np.max(hi - lo))
     slack = 1e-6 * max(size, spec.pitch)
@@ -100,6 +120,40 @@ def _user_mesh(mesh: Any, kind: Literal["bolt", "nut"], spec: ThreadSpec) -> tri
     if not mesh.is_watertight:
         raise InputError(f"{kind} mesh is not a closed volume (not watertight)")
     return mesh
+
+
+def _cad_mesh(
+    given: Any,
+    kind: Literal["bolt", "nut"],
+    spec: ThreadSpec,
+    body: ThreadBody,
+    units: str | None,
+) -> tuple[trimesh.Trimesh, MeshFit, dict[str, Any]]:
+    """A mesh from CAD, validated, with how it follows ``body`` and its description."""
+    path = given if isinstance(given, str | Path) else None
+    resolved = file_units(path, units, spec) if path is not None else (units or spec.units)
+    mesh = _user_mesh(given, kind, spec, units)
+    name = f"{kind} mesh {Path(path).name}" if path is not None else f"{kind} mesh"
+    fit = mesh_fit(mesh, body, spec, name)
+    info = describe(path, resolved, spec)
+    info["deviation"] = fit.deviation
+    return mesh, fit, info
+
+
+def check_mesh_file(
+    path: str | Path, kind: Literal["bolt", "nut"], spec: ThreadSpec, units: str | None = None
+) -> dict[str, Any]:
+    """Validate a mesh file as :class:`ContactAnalyzer` would (format, closed volume, size,
+    frame, units, that it follows the spec somewhere) without building anything, and
+    describe it: ``{"file", "path", "sha256", "units", "scale", "deviation"}``.
+
+    For a caller that hands the path on to other processes (the library sweep): the
+    refusal comes here, before anything is written.
+    """
+    if units is not None and units not in MM_PER_UNIT:
+        raise InputError(f"mesh_units must be 'in' or 'mm', got {units!r}")
+    body = bolt_body(spec) if kind == "bolt" else nut_body(spec)
+    return _cad_mesh(path, kind, spec, body, units)[2]
 
 
 def _share(cluster: Cluster, corners: NDArray[np.float64]) -> list[Cluster]:
@@ -172,7 +226,14 @@ class ContactAnalyzer:
     bolt_mesh, nut_mesh : path or trimesh.Trimesh, optional
         Meshes from CAD instead of generated ones, each in its own frame (bolt tip face at
         z = 0, nut top face at z = 0, axes along Z); refused with :class:`InputError`
-        otherwise. Regions and normals still come from the exact bodies of ``spec``.
+        otherwise. Regions and normals still come from the exact bodies of ``spec``. The
+        deviation that sets the tolerances is measured only where such a mesh follows the
+        spec (:mod:`._cad`); a contact farther than :attr:`off_spec_tolerance` from the
+        spec's surface is labelled ``point``, ``countersink`` or ``other``.
+    mesh_units : {"in", "mm"}, optional
+        Length units of the mesh files (default: the units a threadmate STL declares in
+        its header, else the spec's; a header that disagrees is refused). A mesh in other
+        units than the spec's is scaled into them.
     quasi_tolerance : float, optional
         Largest pivot offset of a quasi-stable two-point state (default pitch / 10).
     interference_tolerance : float, optional
@@ -181,6 +242,11 @@ class ContactAnalyzer:
     max_turn : float
         Search range of the second and third stages (degrees, default 30).
     """
+
+    #: Distance from the exact surface beyond which a contact on a CAD mesh lies where the
+    #: mesh does not follow the spec (None: generated meshes, which always do): the feature
+    #: tolerance plus :data:`OFF_SPEC_FACTOR` mesh deviations.
+    off_spec_tolerance: float | None
 
     def __init__(
         self,
@@ -193,6 +259,7 @@ class ContactAnalyzer:
         quasi_tolerance: float | None = None,
         interference_tolerance: float | None = None,
         max_turn: float = 30.0,
+        mesh_units: str | None = None,
     ) -> None:
         if not isinstance(spec, ThreadSpec):
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
@@ -206,22 +273,67 @@ class ContactAnalyzer:
         self.bolt = bolt_body(spec)
         self.nut = nut_body(spec)
 
+        if mesh_units is not None and mesh_units not in MM_PER_UNIT:
+            raise InputError(f"mesh_units must be 'in' or 'mm', got {mesh_units!r}")
+        generated = None
         if bolt_mesh is None or nut_mesh is None:
-            gen_bolt, gen_nut = thread_meshes(spec, chord)
+            generated = dict(zip(("bolt", "nut"), thread_meshes(spec, chord), strict=True))
         self.chord = float(chord if chord is not None else DEFAULT_CHORD[spec.units])
-        if bolt_mesh is None:
-            bm, dev_b = gen_bolt.mesh, float(gen_bolt.max_deviation)
-        else:
-            bm = _user_mesh(bolt_mesh, "bolt", spec)
-            dev_b = float(mesh_deviation(bm, self.bolt))
-        if nut_mesh is None:
-            nm, dev_n = gen_nut.mesh, float(gen_nut.max_deviation)
-        else:
-            nm = _user_mesh(nut_mesh, "nut", spec)
-            dev_n = float(mesh_deviation(nm, self.nut))
-        self._setup(
-            bm, nm, max(dev_b, dev_n, 0.0), quasi_tolerance, interference_tolerance, max_turn
+        #: Where each mesh came from and how it follows the spec (:attr:`mesh_info`).
+        self._mesh_info: dict[str, dict[str, Any]] = {}
+        fits: dict[str, MeshFit] = {}
+        meshes: dict[str, trimesh.Trimesh] = {}
+        sources: tuple[tuple[Literal["bolt", "nut"], Any, ThreadBody], ...] = (
+            ("bolt", bolt_mesh, self.bolt),
+            ("nut", nut_mesh, self.nut),
         )
+        for kind, given, body in sources:
+            if given is None:
+                assert generated is not None
+                tb = generated[kind]
+                meshes[kind] = tb.mesh
+                self._mesh_info[kind] = {
+                    "generated": True,
+                    "chord": float(tb.chord),
+                    "deviation": float(tb.max_deviation),
+                }
+                continue
+            meshes[kind], fits[kind], self._mesh_info[kind] = _cad_mesh(
+                given, kind, spec, body, mesh_units
+            )
+        deviation = max(float(info["deviation"]) for info in self._mesh_info.values())
+        self._setup(
+            meshes["bolt"],
+            meshes["nut"],
+            max(deviation, 0.0),
+            quasi_tolerance,
+            interference_tolerance,
+            max_turn,
+        )
+        if fits:
+            self.off_spec_tolerance = self.feature_tolerance + OFF_SPEC_FACTOR * max(
+                self.deviation, 1e-9 * spec.pitch
+            )
+            for name, fit in fits.items():
+                self._describe_fit(name, fit)
+
+    def _describe_fit(self, kind: str, fit: MeshFit) -> None:
+        """The off-spec shares of a CAD mesh, and a warning when much of its contact zone
+        lies off the spec."""
+        assert self.off_spec_tolerance is not None
+        share, zone_share = fit.off_spec_share(self.off_spec_tolerance)
+        info = self._mesh_info[kind]
+        info["off_spec_share"] = share
+        info["zone_off_spec_share"] = zone_share
+        info["warning"] = None
+        if zone_share > OFF_SPEC_WARNING:
+            what = {"bolt": "point", "nut": "countersink"}[kind]
+            info["warning"] = (
+                f"{kind} mesh {info['file'] or '(object)'}: {zone_share:.0%} of its contact "
+                f"zone lies off the spec (farther than {self.off_spec_tolerance:.3g} "
+                f"{self.units} from its exact surface); contacts there are labelled "
+                f"{what}/other. If the part has a {what} the spec does not state, state it."
+            )
 
     def _setup(
         self,
@@ -236,8 +348,9 @@ class ContactAnalyzer:
         self.deviation = deviation
         self.engine = CollisionPair(bolt_mesh, nut_mesh)
         self._bolt_tree = cKDTree(self.engine.bolt_vertices)
-        verts = self.engine.bolt_vertices
-        self._tip = verts[np.abs(verts[:, 2]) <= 1e-9 * spec.pitch]
+        # Where the bolt's teeth begin to engage, from the exact bodies (also under a CAD
+        # mesh, which the spec describes where it follows it): in phase below the nut's.
+        self._engagement, self._nut_engagement = engagement_outline(self.bolt, self.nut)
         self._nut_tree = cKDTree(self.engine.nut_vertices)
         travel = TRAVEL_TOLERANCE[spec.units]
         self.search = Search(
@@ -250,13 +363,31 @@ class ContactAnalyzer:
         bound = max(deviation, 1e-9 * spec.pitch)
         #: Distance within which a contact point is taken to lie on a face or edge.
         self.feature_tolerance = 2.0 * bound + 10.0 * travel
-        #: Distance from the exact surface beyond which a contact on a CAD mesh lies where
-        #: the mesh does not follow the spec (None: generated meshes, which always do).
-        self.off_spec_tolerance: float | None = None
+        self.off_spec_tolerance = None
         self.quasi_tolerance = _positive("quasi_tolerance", quasi_tolerance) or spec.pitch / 10
         self.interference_tolerance = (
             _positive("interference_tolerance", interference_tolerance) or 4.0 * bound
         )
+
+    @property
+    def mesh_info(self) -> dict[str, Any]:
+        """The meshes used: per body either ``{"generated": True, "chord", "deviation"}``
+        or, for a mesh from CAD, ``{"file", "path", "sha256", "units", "scale",
+        "deviation", "off_spec_share", "zone_off_spec_share", "warning"}`` (``file``,
+        ``path`` and ``sha256`` None for a mesh given as an object; the shares by area,
+        of the whole mesh and of its contact zone, farther than the off-spec tolerance
+        from the exact surface); and ``off_spec_tolerance`` (None without CAD meshes).
+        Lengths in the spec's units."""
+        return {
+            "bolt": dict(self._mesh_info["bolt"]),
+            "nut": dict(self._mesh_info["nut"]),
+            "off_spec_tolerance": self.off_spec_tolerance,
+        }
+
+    @property
+    def mesh_warnings(self) -> list[str]:
+        """Warnings about CAD meshes much of whose contact zone is off the spec."""
+        return [w for info in self._mesh_info.values() if (w := info.get("warning"))]
 
     @property
     def tolerances(self) -> dict[str, float]:
@@ -414,8 +545,11 @@ class ContactAnalyzer:
         held = list(zip(c1, clusters, strict=True))
         first = StageResult.at("first", s1.free, c1, 0.0, s1.queries)
         tol = self.feature_tolerance
-        # In phase: the whole tip face went below the nut's top face before touching.
-        if s1.free.origin[2] + float((self._tip @ rotation[2]).max()) < -tol:
+        # In phase: the whole tip face went below the nut's top face before touching (with
+        # a point or a countersink: the bolt's teeth below the nut's first full tooth).
+        if s1.free.origin[2] + float((self._engagement @ rotation[2]).max()) < (
+            self._nut_engagement - tol
+        ):
             return done("in-phase", first=first)
 
         # Second contact: turn about the nut's tangent at the first contact.

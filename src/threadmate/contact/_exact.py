@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.optimize import brentq
 
 from ..geometry import Pose, ThreadBody
 
@@ -57,6 +58,7 @@ __all__ = [
     "refined_contact",
     "edge_crossing",
     "lowest_on_rim",
+    "engagement_outline",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -707,3 +709,29 @@ def lowest_on_rim(
         best = float(angles[int(np.argmin(heights))])
         half /= 8
     return pose.to_fixed(_edge_points(bolt, rim, anchor, np.array([best])))[0]
+
+
+def engagement_outline(bolt: ThreadBody, nut: ThreadBody) -> tuple[NDArray[np.float64], float]:
+    """Where the teeth begin to engage: the bolt's outline (bolt frame) and the nut's
+    plane (fixed frame). The bolt is in phase when the whole outline is below the plane.
+
+    With the thesis's flat ends, the tip face's outline and the nut's top face: the whole
+    tip face below the top face. A point passes into the bore, and a countersink takes the
+    tip, long before the threads engage; teeth engage where both bodies have material
+    between the nut's minor radius and the bolt's major radius. Both are taken at the
+    *engagement radius*, a quarter of the way from the one to the other: the bolt's outline
+    at the height where its point reaches that radius, the nut's plane where its
+    countersink does. A point resting on the edge of the bore or in the countersink keeps
+    its outline above that plane; once its teeth have dropped beside the nut's, the
+    outline is below it.
+    """
+    r_nut, r_bolt = nut.profile.r_lo, bolt.profile.r_hi
+    reach = r_nut + 0.25 * (r_bolt - r_nut)
+
+    def level(body: ThreadBody) -> float:
+        env = body.envelope
+        if env is None or not float(env.radius(env.z_lo)) < reach < float(env.radius(env.z_hi)):
+            return body.cap_z
+        return float(brentq(lambda h: float(env.radius(h)) - reach, env.z_lo, env.z_hi, xtol=1e-15))
+
+    return bolt.thread_outline(level(bolt)), level(nut)

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import brentq, nnls
+from scipy.optimize import nnls
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError, cKDTree
@@ -62,11 +62,17 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 from .._errors import InputError
 from .._units import METRES_PER_UNIT
 from .._validate import check_open_range
-from ..geometry import Pose, ThreadBody, ThreadSpec, bolt_rotation, rot_x
-from ..geometry._spec import filled
+from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
 from ._analyzer import ContactAnalyzer, check_configuration
 from ._compliance import Compliance
-from ._exact import contact_normal, edge_crossing, lowest_on_rim, refined_contact, region_at
+from ._exact import (
+    contact_normal,
+    edge_crossing,
+    engagement_outline,
+    lowest_on_rim,
+    refined_contact,
+    region_at,
+)
 from ._lcp import contact_step
 from ._rest_state import LoadedContact, MechanicalState, RestState
 from ._result import _vec
@@ -106,26 +112,6 @@ class _Near:
     nut_feature: str
 
 
-def engagement_outline(bolt: ThreadBody, nut: ThreadBody) -> NDArray[np.float64]:
-    """The bolt's outline (bolt frame) at the height where its teeth begin to engage.
-
-    With the thesis's flat tip, the tip face's outline. With a point, the point passes
-    into the bore and a countersink takes it long before the threads engage; the teeth
-    engage where the bolt's material reaches beyond the nut's minor radius. The outline is
-    taken where the point's radius reaches a quarter of the way from the nut's minor
-    radius to the bolt's major radius: below the nut's first full tooth (the plane where
-    its full thread begins) the bolt's teeth are then in the nut's groove, whereas a point
-    resting on the edge of the bore, or in the countersink, keeps that outline above it.
-    """
-    env = bolt.envelope
-    if env is None:
-        return bolt.thread_outline(bolt.cap_z)
-    r_nut, r_bolt = nut.profile.r_lo, bolt.profile.r_hi
-    reach = r_nut + 0.25 * (r_bolt - r_nut)
-    z = brentq(lambda h: float(env.radius(h)) - reach, env.z_lo, env.z_hi, xtol=1e-15)
-    return bolt.thread_outline(z)
-
-
 class Mechanics:
     """Rest states and the counter-clockwise search of one thread pair and compliance.
 
@@ -142,6 +128,8 @@ class Mechanics:
         Chord tolerance of the generated meshes (spec units).
     bolt_mesh, nut_mesh : path or trimesh.Trimesh, optional
         Meshes from CAD, each in its own frame (see :class:`ContactAnalyzer`).
+    mesh_units : {"in", "mm"}, optional
+        Units of the mesh files (see :class:`ContactAnalyzer`).
     tolerance : float, optional
         Length tolerance of the descent (spec units, default the contact stages' travel
         tolerance, 1e-7 in): a rest state's tilt is converged when no bolt point would
@@ -156,6 +144,7 @@ class Mechanics:
         chord: float | None = None,
         bolt_mesh: object = None,
         nut_mesh: object = None,
+        mesh_units: str | None = None,
         tolerance: float | None = None,
         analyzer: ContactAnalyzer | None = None,
     ) -> None:
@@ -173,6 +162,7 @@ class Mechanics:
                 compliance_z=compliance.compliance_z,
                 bolt_mesh=bolt_mesh,
                 nut_mesh=nut_mesh,
+                mesh_units=mesh_units,
             )
         elif analyzer.compliance_z != compliance.compliance_z or analyzer.spec != spec:
             raise InputError(
@@ -198,11 +188,10 @@ class Mechanics:
         self.support_margin = spec.pitch / 100
         self.separation = spec.pitch / 4
         self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
-        self._floor = -filled(spec.nut.height) - 2 * filled(spec.bolt.length) - spec.pitch
+        self._floor = analyzer.nut.z_min - 2 * analyzer.bolt.z_max - spec.pitch
         # The bolt is in phase when its teeth have passed below the nut's (see
         # :meth:`in_phase` and :func:`engagement_outline`).
-        self._tip = engagement_outline(analyzer.bolt, analyzer.nut)
-        self._nut_thread_start = analyzer.nut.thread_start
+        self._engagement, self._nut_engagement = engagement_outline(analyzer.bolt, analyzer.nut)
         # Vertices that can pass whole into the other body: the nut's in its top pitch,
         # the bolt's in its first (the thread's run-outs on the end faces are wedges),
         # counted from where the full thread begins.
@@ -352,13 +341,12 @@ class Mechanics:
 
     def in_phase(self, d: _Drop) -> bool:
         """Whether the bolt has dropped into the nut's thread (the snap): the whole of its
-        engagement outline (:func:`engagement_outline`) is below the plane where the nut's
-        full thread begins. For the thesis's flat ends: the whole tip face below the nut's
-        top face."""
+        engagement outline is below the nut's engagement plane (:func:`engagement_outline`).
+        For the thesis's flat ends: the whole tip face below the nut's top face."""
         pose = self._pose(d.rotation, d.xy, d.zc)
         return bool(
-            pose.origin[2] + float((self._tip @ d.rotation[2]).max())
-            < self._nut_thread_start - self.analyzer.feature_tolerance
+            pose.origin[2] + float((self._engagement @ d.rotation[2]).max())
+            < self._nut_engagement - self.analyzer.feature_tolerance
         )
 
     # -- contacts -------------------------------------------------------------------------
@@ -750,7 +738,7 @@ class Mechanics:
             dtilt = dq[1:3]
             dxy = dq[3:5] / self.metres if len(dq) > 3 else np.zeros(2)
             moved = (
-                float(np.abs(dtilt).max()) * (self.radius + filled(self.spec.bolt.length))
+                float(np.abs(dtilt).max()) * (self.radius + self.analyzer.bolt.z_max)
                 + float(np.abs(dxy).max(initial=0.0))
                 + abs(dq[0]) / self.metres
             )

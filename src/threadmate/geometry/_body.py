@@ -82,14 +82,6 @@ class ThreadBody:
         countersink's surface when there is one."""
         return (self.cap_region,) + ((self.envelope.region,) if self.envelope else ())
 
-    @property
-    def thread_start(self) -> float:
-        """Height of the plane where the full thread begins: the end face's (0) for a flat
-        end, the top of the bolt's point or the bottom of the nut's countersink."""
-        if self.envelope is None:
-            return self.cap_z
-        return self.envelope.z_hi if self.kind == "bolt" else self.envelope.z_lo
-
     def thread_outline(self, z: float, samples: int = 2048) -> NDArray[np.float64]:
         """Points ``(samples, 3)`` of the lateral surface's outline at height ``z``."""
         theta = np.linspace(0.0, TWO_PI, samples, endpoint=False)

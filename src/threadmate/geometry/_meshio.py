@@ -265,9 +265,9 @@ def _check_size(mesh: trimesh.Trimesh, body: str, spec: ThreadSpec, name: str) -
     hint = ""
     mm_per_in = MM_PER_UNIT["in"]
     if spec.units == "in" and lo <= ratio / mm_per_in <= hi:
-        hint = ": it looks like mm (give units='mm' or convert it)"
+        hint = ": it looks like mm (give units='mm', --mesh-units mm, or convert it)"
     elif spec.units == "mm" and lo <= ratio * mm_per_in <= hi:
-        hint = ": it looks like inches (give units='in' or convert it)"
+        hint = ": it looks like inches (give units='in', --mesh-units in, or convert it)"
     raise MeshError(
         f"{name} has implausible size for the spec: its {what} is {got:.6g} "
         f"but the spec's is {expected:.6g} {spec.units}{hint}"

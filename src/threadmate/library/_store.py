@@ -427,6 +427,8 @@ _IDENTITY = (
     (("grid", "pitch"), "grid pitch values"),
     (("grid", "phase"), "grid phase values"),
     (("mesh", "chord"), "mesh chord tolerance"),
+    (("mesh", "bolt"), "bolt mesh"),
+    (("mesh", "nut"), "nut mesh"),
     (("contact", "compliance_z"), "compliance centre (compliance_z)"),
     (("contact", "analyzer"), "contact analyser"),
     (("compliance",), "compliance (force, stiffness, lateral stiffness, friction, centre)"),
@@ -469,6 +471,13 @@ def compare_metadata(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
             # The designation text names a spec; the values decide the rows.
             va = {k: v for k, v in va.items() if k != "designation"}
             vb = {k: v for k, v in vb.items() if k != "designation"}
+        if keys in (("mesh", "bolt"), ("mesh", "nut")):
+            # A mesh from CAD is its content and units (a renamed file is the same mesh);
+            # an older library, or a generated mesh, has none.
+            ma, mb = _mesh_identity(va), _mesh_identity(vb)
+            if (ma and ma[:2]) != (mb and mb[:2]):
+                out.append(f"{words} ({_mesh_words(ma)} vs {_mesh_words(mb)})")
+            continue
         if not _same(va, vb):
             if keys == ("spec",) and isinstance(va, dict) and isinstance(vb, dict):
                 diff = sorted(_flat_diff(va, vb))
@@ -478,6 +487,20 @@ def compare_metadata(a: dict[str, Any], b: dict[str, Any]) -> list[str]:
             else:
                 out.append(f"{words} ({va!r} vs {vb!r})")
     return out
+
+
+def _mesh_identity(v: Any) -> tuple[Any, Any, Any] | None:
+    """What decides a CAD mesh's rows: its SHA-256 and units (and its name, to say so)."""
+    if not isinstance(v, dict) or not v.get("sha256"):
+        return None
+    return (v.get("sha256"), v.get("units"), v.get("file"))
+
+
+def _mesh_words(v: tuple[Any, Any, Any] | None) -> str:
+    if v is None:
+        return "generated"
+    sha, units, name = v
+    return f"{name}, sha256 {str(sha)[:12]}, units {units}"
 
 
 def _short(v: Any) -> str:

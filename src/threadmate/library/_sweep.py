@@ -78,6 +78,17 @@ class SweepInterrupted(ThreadmateError):
 
 # -- the work, as run in a worker ---------------------------------------------------------
 @dataclass(frozen=True)
+class MeshFile:
+    """A mesh from CAD as a worker receives it: the path (fcl objects do not pickle: each
+    worker loads the file once), its units and the SHA-256 the sweep started with (a file
+    changed meanwhile is refused)."""
+
+    path: str
+    units: str
+    sha256: str
+
+
+@dataclass(frozen=True)
 class Job:
     """Everything a worker needs to analyse configurations of one sweep (small, picklable)."""
 
@@ -89,6 +100,9 @@ class Job:
     step: float = CONTINUATION_STEP
     phase_tolerance: float = 0.01
     analyzer: Callable[..., Any] | None = None
+    bolt_mesh: MeshFile | None = None
+    nut_mesh: MeshFile | None = None
+    mesh_units: str | None = None
 
     @property
     def key(self) -> str:
@@ -100,8 +114,21 @@ class Job:
                 self.model,
                 self.compliance,
                 _describe_analyzer(self.analyzer),
+                self.bolt_mesh,
+                self.nut_mesh,
+                self.mesh_units,
             )
         )
+
+    def mesh_arguments(self) -> dict[str, Any]:
+        """The analyser's keyword arguments for the meshes from CAD (none without)."""
+        if self.bolt_mesh is None and self.nut_mesh is None:
+            return {}
+        return {
+            "bolt_mesh": None if self.bolt_mesh is None else self.bolt_mesh.path,
+            "nut_mesh": None if self.nut_mesh is None else self.nut_mesh.path,
+            "mesh_units": self.mesh_units,
+        }
 
 
 _LOCAL = threading.local()
@@ -112,10 +139,19 @@ def _worker_for(job: Job) -> Any:
     kept."""
     if getattr(_LOCAL, "key", None) != job.key:
         _LOCAL.worker = None  # free the old meshes before building new ones
+        meshes = job.mesh_arguments()
         if job.model == "mechanics":
-            from ..contact import Mechanics
+            from ..contact import ContactAnalyzer, Mechanics
 
-            _LOCAL.worker = Mechanics(job.spec, job.compliance, chord=job.chord)
+            analyzer = None
+            if meshes:
+                analyzer = ContactAnalyzer(
+                    job.spec,
+                    chord=job.chord,
+                    compliance_z=job.compliance.compliance_z,
+                    **meshes,
+                )
+            _LOCAL.worker = Mechanics(job.spec, job.compliance, chord=job.chord, analyzer=analyzer)
         else:
             factory = job.analyzer
             if factory is None:
@@ -123,20 +159,39 @@ def _worker_for(job: Job) -> Any:
 
                 factory = ContactAnalyzer
             _LOCAL.worker = factory(
-                job.spec, chord=job.chord, compliance_z=job.compliance.compliance_z
+                job.spec, chord=job.chord, compliance_z=job.compliance.compliance_z, **meshes
             )
+        _check_mesh_files(job, _LOCAL.worker)
         _LOCAL.key = job.key
     return _LOCAL.worker
+
+
+def _check_mesh_files(job: Job, worker: Any) -> None:
+    """Refuse a mesh file whose content changed since the sweep started (the library
+    records the SHA-256 it was started with)."""
+    analyzer = getattr(worker, "analyzer", worker)
+    info = getattr(analyzer, "mesh_info", None)
+    for kind, given in (("bolt", job.bolt_mesh), ("nut", job.nut_mesh)):
+        if given is None or not isinstance(info, dict):
+            continue
+        got = (info.get(kind) or {}).get("sha256")
+        if got != given.sha256:
+            raise LibraryError(
+                f"{kind} mesh {given.path} changed while the sweep ran (SHA-256 "
+                f"{str(got)[:12]}, started with {given.sha256[:12]}); run the sweep again"
+            )
 
 
 def _settings(analyzer: Any) -> dict[str, Any]:
     """The mesh and contact settings an analyser actually used (for the metadata)."""
     tolerances = getattr(analyzer, "tolerances", None)
     deviation = getattr(analyzer, "deviation", None)
+    meshes = getattr(analyzer, "mesh_info", None)
     return {
         "chord": getattr(analyzer, "chord", None),
         "max_deviation": None if deviation is None else float(deviation),
         "tolerances": None if tolerances is None else {k: float(v) for k, v in tolerances.items()},
+        "meshes": meshes if isinstance(meshes, dict) else None,
     }
 
 
@@ -389,7 +444,12 @@ def _request_metadata(job: Job) -> dict[str, Any]:
         "conventions": "conventions.md: x_F = Rx(roll) Ry(pitch) Rz(phase) x_B + origin",
         "spec": job.spec.to_dict(),
         "grid": job.grid.to_dict(),
-        "mesh": {"chord": job.chord, "max_deviation": None},
+        "mesh": {
+            "chord": job.chord,
+            "max_deviation": None,
+            "bolt": _mesh_metadata(job.bolt_mesh),
+            "nut": _mesh_metadata(job.nut_mesh),
+        },
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         # Every part carries this id in its schema: a part of another library is told.
         "library_id": uuid.uuid4().hex,
@@ -417,6 +477,36 @@ def _request_metadata(job: Job) -> dict[str, Any]:
         }
         meta["columns"] = "config_id, the contact record of docs/architecture.md, error"
     return meta
+
+
+def _mesh_metadata(mesh: MeshFile | None) -> dict[str, Any] | None:
+    """A CAD mesh in the metadata: file name, SHA-256 and units (None: generated); its
+    deviation and off-spec shares are added from the first finished chunk."""
+    if mesh is None:
+        return None
+    return {"file": Path(mesh.path).name, "sha256": mesh.sha256, "units": mesh.units}
+
+
+def _mesh_files(
+    spec: ThreadSpec, bolt_mesh: Any, nut_mesh: Any, mesh_units: str | None
+) -> tuple[MeshFile | None, MeshFile | None]:
+    """The CAD meshes of a sweep, validated here (before any library is written) as the
+    workers will load them."""
+    from ..contact import check_mesh_file
+
+    out: list[MeshFile | None] = []
+    for kind, given in (("bolt", bolt_mesh), ("nut", nut_mesh)):
+        if given is None:
+            out.append(None)
+            continue
+        if not isinstance(given, str | os.PathLike):
+            raise InputError(
+                f"{kind}_mesh must be a mesh file path for a sweep (its workers load it), "
+                f"got {type(given).__name__}"
+            )
+        doc = check_mesh_file(os.fspath(given), kind, spec, mesh_units)  # type: ignore[arg-type]
+        out.append(MeshFile(str(Path(given).absolute()), doc["units"], doc["sha256"]))
+    return out[0], out[1]
 
 
 def _open_library(out: Path, job: Job) -> dict[str, Any]:
@@ -478,6 +568,9 @@ def sweep(
     progress: ProgressCallback | None = None,
     max_chunks: int | None = None,
     analyzer: Callable[..., Any] | None = None,
+    bolt_mesh: str | os.PathLike[str] | None = None,
+    nut_mesh: str | os.PathLike[str] | None = None,
+    mesh_units: str | None = None,
 ) -> Path | pd.DataFrame:
     """Build (or resume) the contact-state library of a thread pair over a grid.
 
@@ -535,6 +628,13 @@ def sweep(
         in each worker (default :class:`threadmate.contact.ContactAnalyzer`); it must pickle
         (a module-level class or a :func:`functools.partial` of one). Recorded in the
         metadata.
+    bolt_mesh, nut_mesh : path-like, optional
+        Mesh files from CAD instead of generated meshes (see
+        :class:`~threadmate.contact.ContactAnalyzer`): validated here, then loaded once by
+        each worker. Their file names, SHA-256 and units are recorded in the metadata; a
+        resumed sweep with other meshes (or none) is refused.
+    mesh_units : {"in", "mm"}, optional
+        Units of the mesh files (default: a threadmate STL header's, else the spec's).
 
     Returns
     -------
@@ -568,8 +668,19 @@ def sweep(
     _check_execution(workers, scheduler)
     if model == "mechanics" and analyzer is not None:
         raise InputError("analyzer is for the thesis's model only")
+    bolt_file, nut_file = _mesh_files(spec, bolt_mesh, nut_mesh, mesh_units)
     job = Job(
-        spec, grid, float(chord), model, compliance, float(step), float(phase_tolerance), analyzer
+        spec,
+        grid,
+        float(chord),
+        model,
+        compliance,
+        float(step),
+        float(phase_tolerance),
+        analyzer,
+        bolt_file,
+        nut_file,
+        mesh_units,
     )
 
     if out is None:
@@ -735,6 +846,14 @@ def _loop(
             meta["mesh"].update(
                 chord=settings["chord"] or job.chord, max_deviation=settings["max_deviation"]
             )
+            meshes = settings.get("meshes") or {}
+            for kind in ("bolt", "nut"):
+                if isinstance(meta["mesh"].get(kind), dict) and meshes.get(kind):
+                    # How the CAD mesh follows the spec (deviation, off-spec shares).
+                    extra = {k: v for k, v in meshes[kind].items() if k != "path"}
+                    meta["mesh"][kind] = {**extra, **meta["mesh"][kind]}
+            if meshes.get("off_spec_tolerance") is not None:
+                meta["mesh"]["off_spec_tolerance"] = meshes["off_spec_tolerance"]
             meta["contact"]["tolerances"] = settings["tolerances"]
             write_metadata(out, meta)
         write_part(out, part, table.replace_schema_metadata(library_schema(meta).metadata))

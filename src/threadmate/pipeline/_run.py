@@ -70,6 +70,9 @@ class RunResult:
     counts: dict[str, int] = field(default_factory=dict)
     recommended: dict[str, Any] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    #: The meshes used (the library metadata's ``mesh`` entry: chord, and per body a CAD
+    #: mesh's file, SHA-256, units, deviation and off-spec shares, or None: generated).
+    meshes: dict[str, Any] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready mapping of paths and figures (``threadmate run --json``)."""
@@ -93,6 +96,7 @@ class RunResult:
             "counts": self.counts,
             "recommended": self.recommended,
             "notes": self.notes,
+            "mesh": self.meshes,
         }
 
 
@@ -117,6 +121,9 @@ def run_pipeline(
     roll_spread: float | None = None,
     step: float = CONTINUATION_STEP,
     progress: Callable[[int, int], None] | None = None,
+    bolt_mesh: str | os.PathLike[str] | None = None,
+    nut_mesh: str | os.PathLike[str] | None = None,
+    mesh_units: str | None = None,
 ) -> RunResult:
     """Run the whole pipeline into ``out`` (see the module docstring for the layout).
 
@@ -124,6 +131,8 @@ def run_pipeline(
     compliance is refused by the sweep stage, never mixed. Grid arguments default to
     :data:`RUN_GRID`; ``compliances`` to the default :class:`Compliance` (give several to
     compare stiffnesses or forces: one library each, one recommendation over all).
+    ``bolt_mesh``, ``nut_mesh`` and ``mesh_units``: meshes from CAD for the sweep (see
+    :func:`threadmate.library.sweep`); the report names them.
     """
     out = Path(out)
     for folder in (out, out / "figures"):
@@ -148,6 +157,9 @@ def run_pipeline(
             compliance=comp,
             step=step,
             progress=progress,
+            bolt_mesh=bolt_mesh,
+            nut_mesh=nut_mesh,
+            mesh_units=mesh_units,
         )
     graphs = [from_library(lib) for lib in libs]
     graph = graphs[0]
@@ -175,6 +187,7 @@ def run_pipeline(
     figures["pivot_axes"] = plot_pivot_axes(spec, figdir / "planar-pivot-axes.png")
 
     lib_info = info(libs[0])
+    meshes = dict(lib_info["metadata"].get("mesh") or {})
     counts = {f"starts {k}": v for k, v in lib_info["classifications"].items()}
     counts.update({f"states {k}": v for k, v in lib_info["states"].get("by_class", {}).items()})
     report = _report(
@@ -188,6 +201,7 @@ def run_pipeline(
         signature,
         figures,
         out,
+        meshes,
     )
     report_path = atomic_write_text(out / "report.md", report)
     recommended = dict(rec.best, units=spec.units)
@@ -203,6 +217,7 @@ def run_pipeline(
         counts,
         recommended,
         rec.notes,
+        meshes,
     )
 
 
@@ -246,6 +261,32 @@ def _num(v: float | None, fmt: str) -> str:
     return "-" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, fmt)
 
 
+def _meshes_line(meshes: dict[str, Any], u: str) -> str:
+    """Which meshes the library was swept on: generated (chord), or files from CAD."""
+    chord = meshes.get("chord")
+    words = []
+    for kind in ("bolt", "nut"):
+        part = meshes.get(kind)
+        if not isinstance(part, dict):
+            words.append(f"{kind} generated" + (f" (chord {chord:g} {u})" if chord else ""))
+            continue
+        facts = [f"SHA-256 `{str(part.get('sha256'))[:16]}`", f"units {part.get('units')}"]
+        if part.get("units") not in (None, u):
+            facts.append(f"scaled into {u}")
+        if part.get("deviation") is not None:
+            facts.append(f"deviation from the spec {part['deviation']:.3g} {u}")
+        if part.get("zone_off_spec_share") is not None:
+            facts.append(f"{part['zone_off_spec_share']:.0%} of its contact zone off the spec")
+        words.append(f"{kind} from CAD `{part.get('file')}` ({', '.join(facts)})")
+    line = "- Meshes: " + "; ".join(words) + "."
+    if any(isinstance(meshes.get(k), dict) for k in ("bolt", "nut")):
+        line += (
+            " Regions and normals come from the spec's exact bodies; contacts where a CAD "
+            "mesh leaves the spec are labelled point, countersink or other."
+        )
+    return line
+
+
 def _report(
     spec: ThreadSpec,
     compliances: list[Compliance],
@@ -257,6 +298,7 @@ def _report(
     signature: tuple[float, float, float] | None,
     figures: dict[str, Path],
     out: Path,
+    meshes: dict[str, Any] | None = None,
 ) -> str:
     name = spec.designation or "custom spec"
     u = spec.units
@@ -316,6 +358,11 @@ def _report(
         "",
         f"- Thread: {name}; pitch {spec.pitch:g} {u}, handedness "
         f"{'right' if spec.handedness > 0 else 'left'}.",
+        f"- Parts: bolt point {spec.bolt.point.describe(u)}, bolt length "
+        f"{spec.bolt.length:g} {u}; nut countersink "
+        + (spec.nut.countersink.describe(u) if spec.nut.countersink else "none (flat bore)")
+        + f", nut height {spec.nut.height:g} {u}.",
+        _meshes_line(meshes or {}, u),
         "- Compliance"
         + (f" ({len(compliances)} settings compared)" if len(compliances) > 1 else "")
         + ": "
