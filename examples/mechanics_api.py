@@ -14,7 +14,9 @@ import math
 from threadmate.contact import Compliance, Mechanics, search, settle
 from threadmate.geometry import spec_from_designation
 
-spec = spec_from_designation("1/4-20 UNC-2A/2B")
+# The thesis's flat parts, whose example state (4, 0, 185) this follows; drop the two
+# keywords for the standard chamfered point and countersunk nut.
+spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
 # 10 N down, 1 N m/rad about X and Y through the centre at the bolt's tip, friction 0.15.
 compliance = Compliance(force=10.0, stiffness=1.0, friction=0.15)
 mech = Mechanics(spec, compliance)

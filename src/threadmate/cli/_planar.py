@@ -108,6 +108,15 @@ def planar(
         if plot is not None and plot.resolve() == pivot_plot.resolve():
             raise InputError(f"--plot and --pivot-plot name the same file: {plot}")
     spec = resolve_spec(spec_text, condition, parts)
+    # The planar model is the thesis's: the thread sections flush at the end faces. A
+    # point or countersink is not in it; say so rather than let it pass for them.
+    notes = []
+    if spec.bolt.point.form != "flat" or spec.nut.countersink is not None:
+        notes.append(
+            "the planar analysis is the thesis's model of flat ends (the thread sections "
+            "flush); the bolt's point and the nut's countersink are not in it (settle and "
+            "search model them)"
+        )
     state = planar_state(spec, phase)
     window = in_phase_window(spec)
     critical = critical_phases(spec)
@@ -126,9 +135,12 @@ def planar(
         doc["in_phase_window"] = [list(w) for w in window]
         doc["critical_phases"] = [c.to_dict() for c in critical]
         doc["figures"] = [str(f) for f in figures]
+        doc["notes"] = notes
         emit_json(doc)
         return
     _echo_text(spec, state, window, critical, figures)
+    for note in notes:
+        click.echo(f"note: {note}", err=True)
 
 
 def _echo_text(
