@@ -445,7 +445,15 @@ def test_ctrl_c_then_resume_equals_an_uninterrupted_sweep(spec_file, quarter_20,
         "--chunk-size",
         "2",
     ]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # A shell starts background jobs with SIGINT ignored, and children inherit that (a
+    # Python started so never raises KeyboardInterrupt): give the sweep Ctrl-C's default.
+    proc = subprocess.Popen(
+        cmd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     try:
         deadline = time.monotonic() + 60
         while len(list(out.glob("part-*.parquet"))) < 3 and time.monotonic() < deadline:

@@ -21,7 +21,7 @@ from threadmate.contact import (
     off_spec_region,
     region_at,
 )
-from threadmate.contact._exact import Feature, feature_at, lowest_on_rim
+from threadmate.contact._exact import Feature, _edge_points, feature_at, lowest_on_rim
 from threadmate.geometry import (
     BoltPoint,
     BoltSpec,
@@ -227,3 +227,33 @@ def test_upright_chamfer_rests_on_the_bore_edge_under_the_countersink():
     for c in state.contacts:
         assert c.bolt_region == "chamfer"
         assert c.nut_region == "countersink"
+
+
+def test_kink_edge_points_lie_on_cone_and_thread_nearest_the_anchor(chamfered):
+    """The exact edge where the countersink meets the nut's thread, at several angles: on
+    the countersink's cone and on the thread (closed forms), and the crossing nearest the
+    anchor's height (the profile's corners once sent a Newton step to another one)."""
+    nut = nut_body(chamfered)
+    half = math.radians(45.0)
+    kink = Feature("kink", None, np.zeros(3), np.zeros(3))
+
+    def gap(z: float, theta: float) -> float:  # thread radius minus cone radius
+        return _sharp_radius(z - PITCH * theta / (2 * math.pi), "nut") - (
+            SINK / 2 + z * math.tan(half)
+        )
+
+    for theta0 in (0.2, 2.5, 5.0):
+        zs = np.linspace(-(SINK / 2 - NUT["minor"] / 2), 0.0, 2001)
+        g = np.array([gap(z, theta0) for z in zs])
+        roots = [
+            brentq(gap, zs[i], zs[i + 1], args=(theta0,), xtol=1e-15)
+            for i in range(len(zs) - 1)
+            if np.signbit(g[i]) != np.signbit(g[i + 1])
+        ]
+        for z_true in roots:
+            anchor = np.array([math.cos(theta0), math.sin(theta0), z_true + 0.002])
+            angles = np.array([theta0])
+            point = _edge_points(nut, kink, anchor, angles)[0]
+            assert abs(point[2] - z_true) < 1e-12
+            r = math.hypot(point[0], point[1])
+            assert abs(r - (SINK / 2 + point[2] * math.tan(half))) < 1e-12

@@ -457,23 +457,36 @@ def _edge_points(
 def _kink_heights(
     body: ThreadBody, angles: NDArray[np.float64], z: NDArray[np.float64]
 ) -> NDArray[np.float64]:
-    """Heights where the thread meets the point or countersink at ``angles``: Newton on
-    ``R(t(theta, z)) - envelope(z)`` from ``z`` (``dt/dz = 1``), kept within the span."""
+    """Heights where the thread meets the point or countersink at ``angles``: the root of
+    ``R(t(theta, z)) - envelope(z)`` nearest ``z``, bracketed on a grid of a pitch about it
+    and bisected (the profile's corners defeat Newton's method)."""
     env = body.envelope
     assert env is not None
-    z = np.array(z, dtype=float)
-    for _ in range(12):
-        t = _t_array(body, angles, z)
-        f = _radius(body, t) - env.radius(z)
-        df = _slope(body, t) - env.slope(z)
-        step = np.where(np.abs(df) > 1e-12, f / np.where(df == 0, 1.0, df), 0.0)
-        # A step of more than a tenth of a pitch would leave the piece of profile the
-        # kink lies on.
-        step = np.clip(step, -0.1 * body.profile.pitch, 0.1 * body.profile.pitch)
-        z = np.clip(z - step, env.z_lo, env.z_hi)
-        if float(np.max(np.abs(step))) < 1e-13 * body.profile.pitch:
-            break
-    return z
+    pitch = body.profile.pitch
+    z0 = np.clip(np.asarray(z, dtype=float), env.z_lo, env.z_hi)
+    offsets = np.linspace(-0.5 * pitch, 0.5 * pitch, 65)
+    grid = np.clip(z0[:, None] + offsets[None, :], env.z_lo, env.z_hi)
+
+    def gap(theta: NDArray[np.float64], h: NDArray[np.float64]) -> NDArray[np.float64]:
+        return _radius(body, _t_array(body, theta, h)) - env.radius(h)
+
+    f = gap(np.broadcast_to(angles[:, None], grid.shape), grid)
+    change = np.signbit(f[:, :-1]) != np.signbit(f[:, 1:])
+    # Of the brackets, the one whose middle is nearest the anchor's height.
+    mid = 0.5 * (grid[:, :-1] + grid[:, 1:])
+    dist = np.where(change, np.abs(mid - z0[:, None]), np.inf)
+    k = np.argmin(dist, axis=1)
+    rows = np.arange(len(angles))
+    found = np.isfinite(dist[rows, k])
+    lo, hi = grid[rows, k], grid[rows, k + 1]
+    f_lo = f[rows, k]
+    for _ in range(48):
+        m = 0.5 * (lo + hi)
+        f_m = gap(angles, m)
+        left = np.signbit(f_m) == np.signbit(f_lo)
+        lo, f_lo = np.where(left, m, lo), np.where(left, f_m, f_lo)
+        hi = np.where(left, hi, m)
+    return np.where(found, 0.5 * (lo + hi), z0)
 
 
 def refine_on_edge(
