@@ -568,7 +568,7 @@ def test_passive_path_from_every_start_ends_in_the_snap(mech_rows):
 
 
 @pytest.mark.parametrize(("roll", "phase"), [(2.0, 315.0), (-2.0, 315.0), (2.0, 135.0)])
-def test_passive_path_agrees_with_search(mech_rows, mech, roll, phase):
+def test_passive_path_agrees_with_search(mech_rows, mech, quarter_20, roll, phase):
     start = mech_rows[
         (mech_rows["role"] == "start")
         & (mech_rows["held_roll"] == roll)
@@ -583,17 +583,25 @@ def test_passive_path_agrees_with_search(mech_rows, mech, roll, phase):
     assert _circular(end["phase"], run.snap.phase) <= M_PHASE_STEP
     snap_row = by_id.loc[path[-2]]
     assert snap_row["transition"] == "snap"
-    assert snap_row["drop"] == pytest.approx(run.snap.drop, rel=0.05)
+    # Both land in the thread at the same height, but for the screw's descent between
+    # their snap phases (and a hundredth of a pitch).
+    landed = run.states[-1]
+    assert landed.classification == "in-phase"
+    screw = quarter_20.lead * _circular(end["phase"], run.snap.phase) / 360.0
+    assert abs(end["centre_z"] - landed.centre[2]) <= screw + quarter_20.pitch / 100
     work = sum(
         by_id.loc[sid, "work_friction"] + by_id.loc[sid, "work_potential"] for sid in path[:-1]
     )
     joins = sum(by_id.loc[sid, "role"] == "start" for sid in path[1:])
-    if joins == 0:
-        # The same walk as the search's: the same snap and the same work.
+    if joins == 0:  # the search's walk, step for step: the same snap and click
         assert _circular(end["phase"], run.snap.phase) <= 0.02
-        assert work == pytest.approx(run.work, rel=1e-6)
-    else:
-        assert work == pytest.approx(run.work, rel=0.05)
+        assert snap_row["drop"] == pytest.approx(run.snap.drop, rel=1e-6)
+    # A path that joins another start's states may reach the thread in two hops where the
+    # search takes one (a jump a few hundredths of a degree before the snap, near the
+    # window's edge): the click is then split, the landing the same (above).
+    # The search also locates its contact changes, which adds nodes to its trapezoid rule
+    # for the work; the library keeps only the grid phases and the jumps.
+    assert work == pytest.approx(run.work, rel=0.05)
 
 
 def test_mechanics_summary_query_and_figures(mech_library, mech_rows, mech, tmp_path):

@@ -641,6 +641,20 @@ def test_rest_state_is_a_consequence_of_load_and_spring_not_of_the_search(quarte
     assert turned * reach + abs(a.centre[2] - b.centre[2]) <= tolerance
 
 
+def test_a_continuation_step_depends_on_the_state_it_leaves_alone(mech, q20_rests):
+    """The step from a rest state to the next phase is the same whatever was settled in
+    between (the library's sweep and the search settle different states between two
+    steps, and must follow one branch)."""
+    start = q20_rests[(2, -3, 40)].state
+    first = mech.settle(2, -3, 45, start=start).state
+    for cfg in ((4, 0, 185), (-3, 2, 300)):  # other descents, with other curvatures
+        mech.settle(*cfg)
+    mech.settle(2, -3, 42.5, start=start)
+    again = mech.settle(2, -3, 45, start=start).state
+    assert again.origin == first.origin and again.rotation == first.rotation
+    assert [c.force for c in again.contacts] == [c.force for c in first.contacts]
+
+
 @pytest.mark.parametrize("cfg", [(4, 0, 185), (2, -3, 40)])
 def test_infinitely_stiff_compliance_keeps_the_held_tilt(quarter_20, cfg):
     """k -> infinity (1e6 N m/rad): the rest tilt is the held one within 1e-3 degree, and the

@@ -438,7 +438,7 @@ def _edge_points(
         )
     if feature.kind == "kink":
         assert body.envelope is not None  # only a point or countersink has a kink
-        z = _kink_heights(body, angles, np.full_like(angles, float(anchor[2])))
+        z = _kink_heights(body, angles, float(anchor[2]))
         r_k = body.envelope.radius(z)
         return np.column_stack([r_k * np.cos(angles), r_k * np.sin(angles), z])
     theta0 = math.atan2(anchor[1], anchor[0])
@@ -454,39 +454,54 @@ def _edge_points(
     return np.column_stack([r * np.cos(angles), r * np.sin(angles), z])
 
 
-def _kink_heights(
-    body: ThreadBody, angles: NDArray[np.float64], z: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """Heights where the thread meets the point or countersink at ``angles``: the root of
-    ``R(t(theta, z)) - envelope(z)`` nearest ``z``, bracketed on a grid of a pitch about it
-    and bisected (the profile's corners defeat Newton's method)."""
+def _kink_heights(body: ThreadBody, angles: NDArray[np.float64], z: float) -> NDArray[np.float64]:
+    """:func:`_kink_height` at each of ``angles``, in order: the first from ``z``, each
+    next from the root before it (the kink is followed along the edge, and the walk to
+    the next root is then a cell or none)."""
+    out = np.empty(len(angles))
+    h = float(z)
+    for i, a in enumerate(angles.tolist()):
+        h = out[i] = _kink_height(body, a, h)
+    return out
+
+
+def _kink_height(body: ThreadBody, theta: float, z: float) -> float:
+    """Height where the thread meets the point or countersink at polar angle ``theta``:
+    the root of ``R(t(theta, h)) - envelope(h)`` nearest ``z``.
+
+    The root is bracketed on a grid of a 64th of a pitch stepped out from ``z`` (nearest
+    cells first, up to half a pitch each way) and found by Brent's method, which, unlike
+    Newton's, the profile's corners do not defeat. Plain floats: the contact code asks
+    one angle at a time. ``z`` (clipped to the envelope's span) when no root is near.
+    """
     env = body.envelope
     assert env is not None
-    pitch = body.profile.pitch
-    z0 = np.clip(np.asarray(z, dtype=float), env.z_lo, env.z_hi)
-    offsets = np.linspace(-0.5 * pitch, 0.5 * pitch, 65)
-    grid = np.clip(z0[:, None] + offsets[None, :], env.z_lo, env.z_hi)
+    prof = body.profile
+    pitch = prof.pitch
+    rise = body.hand * body.lead / TWO_PI
+    z0 = min(max(z, env.z_lo), env.z_hi)
 
-    def gap(theta: NDArray[np.float64], h: NDArray[np.float64]) -> NDArray[np.float64]:
-        return _radius(body, _t_array(body, theta, h)) - env.radius(h)
+    def gap(h: float) -> float:
+        return float(prof.radius(h - rise * theta)) - float(env.radius(h))
 
-    f = gap(np.broadcast_to(angles[:, None], grid.shape), grid)
-    change = np.signbit(f[:, :-1]) != np.signbit(f[:, 1:])
-    # Of the brackets, the one whose middle is nearest the anchor's height.
-    mid = 0.5 * (grid[:, :-1] + grid[:, 1:])
-    dist = np.where(change, np.abs(mid - z0[:, None]), np.inf)
-    k = np.argmin(dist, axis=1)
-    rows = np.arange(len(angles))
-    found = np.isfinite(dist[rows, k])
-    lo, hi = grid[rows, k], grid[rows, k + 1]
-    f_lo = f[rows, k]
-    for _ in range(48):
-        m = 0.5 * (lo + hi)
-        f_m = gap(angles, m)
-        left = np.signbit(f_m) == np.signbit(f_lo)
-        lo, f_lo = np.where(left, m, lo), np.where(left, f_m, f_lo)
-        hi = np.where(left, hi, m)
-    return np.where(found, 0.5 * (lo + hi), z0)
+    step = pitch / 64.0
+    values: dict[int, tuple[float, float]] = {}
+
+    def node(k: int) -> tuple[float, float]:
+        if k not in values:
+            h = min(max(z0 + k * step, env.z_lo), env.z_hi)
+            values[k] = (h, gap(h))
+        return values[k]
+
+    # Cells in order of their middles' distance from z0, the lower first on a tie.
+    for k in range(1, 33):
+        for lo_k in (-k, k - 1):
+            (h_lo, f_lo), (h_hi, f_hi) = node(lo_k), node(lo_k + 1)
+            if h_hi > h_lo and math.copysign(1.0, f_lo) != math.copysign(1.0, f_hi):
+                if f_lo == 0.0:
+                    return h_lo
+                return float(brentq(gap, h_lo, h_hi, xtol=1e-12 * pitch))
+    return z0
 
 
 def refine_on_edge(
@@ -596,13 +611,23 @@ def _edge_curve(
     """:func:`_edge_points` at one polar angle, in plain floats: the point of the exact
     edge through ``anchor`` (body frame) at that angle."""
     prof = body.profile
-    if feature.kind == "kink" or (feature.kind == "rim" and body.envelope is not None):
+    env = body.envelope
+    if env is not None and feature.kind == "kink":
+        last = [float(anchor[2])]  # the root before, to follow the kink from
 
-        def on_edge(angle: float) -> tuple[float, float, float]:
-            x, y, z = _edge_points(body, feature, anchor, np.array([angle]))[0]
-            return float(x), float(y), float(z)
+        def kink(angle: float) -> tuple[float, float, float]:
+            z = last[0] = _kink_height(body, angle, last[0])
+            r = float(env.radius(z))
+            return r * math.cos(angle), r * math.sin(angle), z
 
-        return on_edge
+        return kink
+    if env is not None and feature.kind == "rim":
+        r_rim, z_cap = env.face_radius, body.cap_z
+
+        def circle(angle: float) -> tuple[float, float, float]:
+            return r_rim * math.cos(angle), r_rim * math.sin(angle), z_cap
+
+        return circle
     if feature.kind == "rim":
         z_cap = body.cap_z
 

@@ -90,6 +90,11 @@ class MechanicalState:
         The part of :attr:`driver_torque` that overcomes friction (N m).
     turn : float
         Tilt of the bolt axis since the previous state on the way (degrees).
+    contact_curvature : 2 x 2 nested tuple or None
+        The descent's model of the contacts' curvature about roll and pitch at a rest
+        state (N m/rad, quasi-Newton): a continuation from this state starts its descent
+        with it, so that each step depends on the state it leaves and on nothing settled
+        before. Not part of the state's identity or its JSON.
     """
 
     kind: str
@@ -105,6 +110,9 @@ class MechanicalState:
     driver_torque: float = float("nan")
     friction_torque: float = float("nan")
     turn: float = 0.0
+    contact_curvature: tuple[tuple[float, float], tuple[float, float]] | None = field(
+        default=None, repr=False, compare=False
+    )
 
     @property
     def pose(self) -> Pose:

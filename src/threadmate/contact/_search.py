@@ -2,7 +2,8 @@
 
 From the rest state of a start (held tilt, start phase), the driver turns the bolt
 counter-clockwise in steps of ``step`` degrees; at each step the bolt follows the nearest
-rest state, found by the descent of :mod:`._settle` warm-started from the last one. A
+rest state, found by the descent of :mod:`._settle` warm-started from the state it leaves
+(and from nothing settled before it, so that a step is a function of that state). A
 step is *continuous* when the new rest state is near the last: the compliance centre
 falls less than ``pitch / 40`` and the bolt axis turns less than ``jump_tilt`` (0.5
 degree). Otherwise the rest state ceased to exist within the step (a fold): the bolt
@@ -121,6 +122,12 @@ class Continuation:
         Continuation step (degrees).
     phase_tolerance : float
         How closely events are located in phase (degrees).
+    contact_changes : bool
+        Locate the contact changes along continuous branches too (True, the search's
+        events), or only the folds (False: the library's sweep, which keeps the legs
+        between jumps and not the contact changes within them). The branch followed is the
+        same either way: a located contact change only adds the states either side of it
+        to the work's trapezoid rule.
     """
 
     def __init__(
@@ -131,10 +138,12 @@ class Continuation:
         *,
         step: float = CONTINUATION_STEP,
         phase_tolerance: float = 0.01,
+        contact_changes: bool = True,
     ) -> None:
         self.mech = mech
         self.held_roll, self.held_pitch = float(roll), float(pitch)
         self.step, self.phase_tolerance = float(step), float(phase_tolerance)
+        self.contact_changes = contact_changes
         self.sign = mech.spec.handedness  # +1: counter-clockwise (increasing phase)
         self.drop_limit = mech.spec.pitch / 40
         self.floor = 1e-4 * mech.compliance.force
@@ -230,7 +239,7 @@ class Continuation:
             nxt = min(at + self.step, turn)
             cur = self._settle(phase + sign * nxt, prev)
             if self._continuous(prev, cur):
-                if signature(cur) != signature(prev):
+                if self.contact_changes and signature(cur) != signature(prev):
                     before = signature(prev)
 
                     def same(

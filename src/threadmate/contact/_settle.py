@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -198,8 +198,6 @@ class Mechanics:
         nv, bv = self.engine.nut_vertices, self.engine.bolt_vertices
         self._nut_top = nv[nv[:, 2] >= -spec.pitch - spec.countersink_depth]
         self._bolt_tip = bv[bv[:, 2] <= spec.pitch + spec.point_height]
-        #: The last descent's contact curvature (warm start of a continuation).
-        self._warm: NDArray[np.float64] | None = None
 
     # -- poses ----------------------------------------------------------------------------
     def _pose(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> Pose:
@@ -708,9 +706,9 @@ class Mechanics:
         )
         prox = prox0[: len(k)].copy()
         curvature = np.zeros((2, 2))
-        if start is not None and self._warm is not None:
-            # Continuation: the last rest state's model is a good start for the next.
-            curvature, prox = self._warm.copy(), prox * 1e-2
+        if start is not None and start.contact_curvature is not None:
+            # Continuation: the model at the state left is a good start for the next.
+            curvature, prox = np.array(start.contact_curvature, dtype=float), prox * 1e-2
         u = self.potential(d.zc, tilt, xy, held)
         noise = 2.0 * f * max(self.analyzer.deviation, self.tolerance) * self.metres
         snapped = self.in_phase(d)
@@ -847,7 +845,6 @@ class Mechanics:
                                 c.nut_feature,
                             )
                         )
-        self._warm = curvature
         centre = np.array([d.xy[0], d.xy[1], d.zc])
         forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
         axis = d.rotation[:, 2]
@@ -860,7 +857,13 @@ class Mechanics:
             cls, kind = "quasi-stable", "rest"
         if not converged and cls != "in-phase":
             cls = "unstable"
-        final = self.state(kind, cls, d, near, phase, held, tilt, forces, turn)
+        final = replace(
+            self.state(kind, cls, d, near, phase, held, tilt, forces, turn),
+            contact_curvature=(
+                (float(curvature[0, 0]), float(curvature[0, 1])),
+                (float(curvature[1, 0]), float(curvature[1, 1])),
+            ),
+        )
         # The first state is a rest state already when the descent did not move.
         if path and path[0].kind == "first-contact" and steps == 0:
             path = []

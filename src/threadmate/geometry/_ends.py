@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -147,8 +147,15 @@ class Envelope:
     z_lo: float = 0.0
     z_hi: float = 0.0
 
-    def radius(self, z: ArrayLike) -> NDArray[np.float64]:
+    @overload
+    def radius(self, z: float) -> np.float64: ...
+    @overload
+    def radius(self, z: ArrayLike) -> NDArray[np.float64]: ...
+
+    def radius(self, z: ArrayLike) -> NDArray[np.float64] | np.float64:
         """Envelope radius at heights ``z``; +inf (bolt) or -inf (nut) outside its span."""
+        if isinstance(z, float):  # the contact code's root finding asks one height at a time
+            return np.float64(self._radius_at(z))
         z = np.asarray(z, dtype=float)
         if self.kind == "cone":
             r = self.r0 + self.slope_rz * z
@@ -156,6 +163,14 @@ class Envelope:
             r = np.sqrt(np.maximum(self.rho * self.rho - (z - self.z0) ** 2, 0.0))
         far = np.inf * self.side
         return np.where((z >= self.z_lo) & (z <= self.z_hi), r, far)
+
+    def _radius_at(self, z: float) -> float:
+        """:meth:`radius` at one height (the same formulas in plain floats)."""
+        if not self.z_lo <= z <= self.z_hi:
+            return math.inf * self.side
+        if self.kind == "cone":
+            return self.r0 + self.slope_rz * z
+        return math.sqrt(max(self.rho * self.rho - (z - self.z0) ** 2, 0.0))
 
     def slope(self, z: ArrayLike) -> NDArray[np.float64]:
         """``d radius / dz`` at heights ``z`` (inside its span)."""

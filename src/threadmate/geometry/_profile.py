@@ -160,7 +160,9 @@ class Profile:
 
     def radius(self, t: ArrayLike) -> NDArray[np.float64] | np.float64:
         """Exact profile radius ``R(t)`` (any ``t``; wrapped into one pitch)."""
-        if np.ndim(t) == 0:  # the contact code asks one point at a time
+        # The contact code asks one point at a time (a float: ``np.ndim`` costs more than
+        # the evaluation).
+        if isinstance(t, float) or np.ndim(t) == 0:
             t0 = float(cast("SupportsFloat", t))  # a number or a 0-d array
             return np.float64(self._radius_at(abs(_wrap1(t0, self.pitch))))
         u = np.abs(wrap_t(t, self.pitch))

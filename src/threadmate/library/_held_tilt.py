@@ -224,7 +224,9 @@ def states_of_held_tilt(
         starts.append(sid)
         at_phase[j].append(sid)
 
-    walk = Continuation(mech, roll, pitch, step=step, phase_tolerance=phase_tolerance)
+    walk = Continuation(
+        mech, roll, pitch, step=step, phase_tolerance=phase_tolerance, contact_changes=False
+    )
     for j, start in enumerate(starts):
         if start is not None:
             _continue(tilt, walk, start, j, grid, turns, ids[j], at_phase)
