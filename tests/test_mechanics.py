@@ -112,6 +112,7 @@ Q20_CONFIGS = [
     (3, 0, -10),
     (0, 0, 5),
     (1, 0, -5),
+    (-1, 0, 115),  # tips onto its tip face: seated upright (test_tip_face_seats_flat)
 ]
 M6_CONFIGS = [
     (-2, 3, 110),
@@ -406,7 +407,7 @@ def u_tolerance(spec, comp):
     return comp.force * 5e-6 * 0.0254
 
 
-PERTURBED_Q20 = [(4, 0, 185), (1, 0.5, 10), (0, 0, 90), (3, 3, 70), (-3, 2, 300)]
+PERTURBED_Q20 = [(4, 0, 185), (1, 0.5, 10), (0, 0, 90), (3, 3, 70), (-3, 2, 300), (-1, 0, 115)]
 PERTURBED_M6 = [(-2, 3, 110), (-4, -2, 290)]
 
 
@@ -433,6 +434,22 @@ def test_exact_perturbation_never_lowers_the_potential(
     drops = perturbation_drops(spec, comp, rest)
     worst = min(drops, key=drops.get)
     assert drops[worst] >= -tol, (cfg, worst, drops[worst] / tol)
+
+
+def test_tip_face_seats_flat(q20_rests, quarter_20):
+    """Held 1 degree off upright where the tip face overlaps the nut's top face, the load
+    tips the bolt onto its tip face (the spring's 1 N m/rad x 1 degree, 0.017 N m, is less
+    than the load's 10 N times the face's lever of about 0.1 in): the rest is exactly
+    upright with the tip face on the top face's plane (the exact reference's height), held
+    by tip-face contacts alone. (KKT and exact perturbation: the tests above.)"""
+    rest = q20_rests[(-1, 0, 115)]
+    s = rest.state
+    assert s.roll == pytest.approx(0.0, abs=1e-9) and s.pitch == pytest.approx(0.0, abs=1e-9)
+    assert s.centre[2] == pytest.approx(0.0, abs=5e-6)
+    assert exact_height(quarter_20, 0.0, 0.0, 115.0, 0.0) == pytest.approx(0.0, abs=5e-6)
+    loaded = [c for c in s.touching if c.force > 0]
+    assert len(loaded) >= 3
+    assert {c.regions for c in s.touching} == {"base/surface"}
 
 
 @pytest.fixture(scope="module")

@@ -148,8 +148,15 @@ class Continuation:
         self.drop_limit = mech.spec.pitch / 40
         self.floor = 1e-4 * mech.compliance.force
 
-    def _settle(self, phase: float, before: MechanicalState) -> MechanicalState:
-        return self.mech.settle(self.held_roll, self.held_pitch, phase, start=before).state
+    def _settle(
+        self, phase: float, before: MechanicalState, *, probe: bool = True
+    ) -> MechanicalState:
+        """The rest state at ``phase`` continued from ``before``; a ``probe`` stops at
+        the first pose in phase (:meth:`Mechanics.settle`): the continuation asks only
+        whether it snapped, and :meth:`_bisect` settles in full the snap it keeps."""
+        return self.mech.settle(
+            self.held_roll, self.held_pitch, phase, start=before, stop_in_phase=probe
+        ).state
 
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
         if b.classification == "in-phase" and a.classification != "in-phase":
@@ -164,16 +171,21 @@ class Continuation:
         s_lo: MechanicalState,
         s_hi: MechanicalState,
         same: Callable[[MechanicalState, MechanicalState], bool],
+        hi_from: MechanicalState,
     ) -> tuple[float, float, MechanicalState, MechanicalState]:
         """Close in on where ``same(s_lo, state)`` stops holding, from the side before
-        (``lo``, ``hi``: turns from ``phase``)."""
+        (``lo``, ``hi``: turns from ``phase``; ``s_hi`` was settled from ``hi_from``). An
+        in-phase ``s_hi`` (a probe) is settled in full: settles depend only on the state
+        they leave, so this is the same computation carried to its end."""
         while hi - lo > self.phase_tolerance:
             mid = 0.5 * (lo + hi)
             s_mid = self._settle(phase + self.sign * mid, s_lo)
             if same(s_lo, s_mid):
                 lo, s_lo = mid, s_mid
             else:
-                hi, s_hi = mid, s_mid
+                hi, s_hi, hi_from = mid, s_mid, s_lo
+        if s_hi.classification == "in-phase":
+            s_hi = self._settle(phase + self.sign * hi, hi_from, probe=False)
         return lo, hi, s_lo, s_hi
 
     def advance(
@@ -247,7 +259,7 @@ class Continuation:
                     ) -> bool:
                         return signature(b) == before and self._continuous(a, b)
 
-                    lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, same)
+                    lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, same, prev)
                     events.append(
                         SearchEvent(
                             phase + sign * 0.5 * (lo + hi),
@@ -269,7 +281,7 @@ class Continuation:
                 prev, at = cur, nxt
                 continue
             # A fold within (at, nxt]: close in on it from the side before.
-            lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, self._continuous)
+            lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, self._continuous, prev)
             integrate(prev, s_lo)
             branch.append(s_lo)
             close_branch(lo)

@@ -85,6 +85,16 @@ __all__ = ["Mechanics", "BALANCE", "mechanics", "settle"]
 BALANCE = 1e-6
 #: Descent steps before a rest state is given up as not converged.
 MAX_STEPS = 60
+#: Descent steps after the bolt drops in phase. A descent in the thread seldom balances
+#: (it is reported ``converged 0``); by this many steps its compliance centre lies within
+#: about 2e-5 in of where 60 leave it (1/4-20, measured), and the steps beyond cost a
+#: snap's bisection, or an in-phase start of a sweep, about two seconds each.
+IN_PHASE_STEPS = 20
+#: Tilt (degrees) within which a bolt touching the nut's entry with its end only is tried
+#: seated upright (:meth:`Mechanics._seat`), and the regions of such contacts.
+SEAT_TILT = 3.0
+SEAT_BOLT_REGIONS = frozenset({"base", "chamfer", "round"})
+SEAT_NUT_REGIONS = frozenset({"surface", "countersink"})
 
 
 @dataclass
@@ -346,6 +356,56 @@ class Mechanics:
             pose.origin[2] + float((self._engagement @ d.rotation[2]).max())
             < self._nut_engagement - self.analyzer.feature_tolerance
         )
+
+    # -- the seated tip -------------------------------------------------------------------
+    def _seating(self, near: list[_Near], tilt: NDArray[np.float64]) -> bool:
+        """Whether the bolt is tipping into a seat: within ``SEAT_TILT`` of upright, it
+        touches the nut's entry (top face, countersink) with its end only (tip face,
+        point), and no thread touches."""
+        touching = [c for c in near if c.gap <= self.touching]
+        return (
+            bool(touching)
+            and all(
+                c.bolt_region in SEAT_BOLT_REGIONS and c.nut_region in SEAT_NUT_REGIONS
+                for c in touching
+            )
+            and float(np.hypot(*tilt)) <= math.radians(SEAT_TILT)
+        )
+
+    def _seat(
+        self,
+        d: _Drop,
+        tilt: NDArray[np.float64],
+        phase: float,
+        held: NDArray[np.float64],
+        u_most: float,
+    ) -> tuple[_Drop, list[_Near], NDArray[np.float64], float] | None:
+        """The bolt seated upright in the nut's entry (the tip face flat on the top face,
+        the point in the countersink), if it lies below the potential ``u_most``, lowered
+        onto the nut there and touching end on entry only.
+
+        A face landing on a face, or a point centring in a countersink, is where the
+        descent's linearised contacts serve worst (the support jumps from a rim point to a
+        patch, or runs round a ring); the seated pose is known but for its height, so it
+        is tried once, as a step. The descent goes on from it: it is a rest state when its
+        contacts balance the load and the spring (the KKT conditions), and the descent
+        leaves it (a touch off upright, where coplanar meshes miss pairs) when not.
+        """
+        upright = np.zeros(2)
+        rotation = self._rotation(upright, phase)
+        # Turning upright moves no bolt point farther than this: the seat's height is
+        # within it of the present one.
+        reach = float(np.hypot(*tilt)) * (self.radius + self.analyzer.bolt.z_max)
+        seat = self.drop(rotation, d.xy, d.zc, span=reach + 4 * self.tolerance)
+        if seat is None:
+            return None
+        u = self.potential(seat.zc, upright, seat.xy, held)
+        if u >= u_most:
+            return None
+        near = self.contacts(seat)
+        if not self._seating(near, upright):
+            return None
+        return seat, near, upright, u
 
     # -- contacts -------------------------------------------------------------------------
     def _contact(
@@ -659,11 +719,22 @@ class Mechanics:
         )
 
     def settle(
-        self, roll: float, pitch: float, phase: float, *, start: MechanicalState | None = None
+        self,
+        roll: float,
+        pitch: float,
+        phase: float,
+        *,
+        start: MechanicalState | None = None,
+        stop_in_phase: bool = False,
     ) -> RestState:
         """The rest state of the bolt held at tilt ``(roll, pitch)`` and turned to
         ``phase`` (degrees), reached from first contact (or from ``start``, a state at a
         nearby phase: the continuation of the search).
+
+        With ``stop_in_phase`` the descent stops at the first pose in phase, which is
+        then returned unbalanced: the continuation's bisection asks only whether the
+        bolt snaps there (a descent in the thread takes many steps), and settles the
+        snap it keeps in full.
 
         Returns
         -------
@@ -712,13 +783,17 @@ class Mechanics:
         u = self.potential(d.zc, tilt, xy, held)
         noise = 2.0 * f * max(self.analyzer.deviation, self.tolerance) * self.metres
         snapped = self.in_phase(d)
+        snap_step = 0  # the descent step at which it dropped in phase
         last_step = np.zeros(2)
         ahead: list[_Near] = []  # contacts met by rejected steps (see below)
         support: tuple[int, ...] = ()
         steps = 0
         converged = False
+        seat_tried = False
         touching = _signature(near, self.touching)
-        while steps < MAX_STEPS:
+        while steps < MAX_STEPS and not (
+            snapped and (stop_in_phase or steps - snap_step >= IN_PHASE_STEPS)
+        ):
             centre = np.array([d.xy[0], d.xy[1], d.zc])
             G, gap = self._rows(near + ahead, centre, tilt)
             grad = self._gradient(tilt, d.xy, held)
@@ -726,6 +801,15 @@ class Mechanics:
             if f_res <= BALANCE / 10 and m_res <= BALANCE / 10:
                 converged = True
                 break
+            if not seat_tried and tilt.any() and self._seating(near, tilt):
+                seat_tried = True
+                seat = self._seat(d, tilt, phase, held, u)
+                if seat is not None:
+                    steps += 1
+                    d, near, tilt, u = seat
+                    ahead, support, prox = [], (), prox0[: len(k)].copy()
+                    touching = _signature(near, self.touching)
+                    continue
             metric = np.diag(k + prox)
             metric[1:3, 1:3] += curvature
             dq, lam = contact_step(metric, grad, G, gap, support)
@@ -771,13 +855,25 @@ class Mechanics:
                 continue
             step_q = np.concatenate([[(trial.zc - d.zc) * self.metres], dq[1:]])
             u_new = self.potential(trial.zc, new_tilt, new_xy, held)
+            # The pose left lay inside the nut (an earlier lowering passed a thin wedge of
+            # it whole, where its thread runs out on the top face): however short the step,
+            # the trial, lowered from clear of the nut, lands far above it. The trial is
+            # then the true pose there, and the descent goes on from it.
+            embedded = (
+                moved <= self.near
+                and trial.zc - d.zc > self.near + 20.0 * moved
+                and not snapped
+                and not self.in_phase(d)
+            )
             # Mesh heights carry the chord error: below it, the exact contact geometry of the
             # model decides (the step stays feasible: it was lowered onto the nut).
-            if (u - u_new >= 0.1 * promised and u_new < u) or (
-                promised <= noise and u_new <= u + noise
+            if (
+                embedded
+                or (u - u_new >= 0.1 * promised and u_new < u)
+                or (promised <= noise and u_new <= u + noise)
             ):
                 if self.in_phase(trial) and not snapped:
-                    snapped = True
+                    snapped, snap_step = True, steps
                     path.append(
                         self.state(
                             "in-phase",
@@ -809,6 +905,8 @@ class Mechanics:
                     # Turned back on the last step: the contact model flickers between two
                     # poses (a contact at the touching threshold); damp to meet between.
                     prox *= 4
+                elif embedded:  # new contacts, far from the model: trust it afresh
+                    prox = prox0[: len(k)].copy()
                 else:
                     # Same contacts: the model is good, trust it more.
                     prox = np.maximum(prox / (10 if now == touching else 3), prox0[: len(k)] * 1e-8)
