@@ -789,7 +789,9 @@ class Mechanics:
         support: tuple[int, ...] = ()
         steps = 0
         converged = False
-        seat_tried = False
+        # Upright, the spring's moment is k x held; the end's contacts can hold at most the
+        # load times the bolt's radius against it: beyond that no seat can be a rest state.
+        seat_tried = float(np.hypot(*(k[1:3] * held))) > f * arm_m
         touching = _signature(near, self.touching)
         while steps < MAX_STEPS and not (
             snapped and (stop_in_phase or steps - snap_step >= IN_PHASE_STEPS)
