@@ -857,22 +857,10 @@ class Mechanics:
                 continue
             step_q = np.concatenate([[(trial.zc - d.zc) * self.metres], dq[1:]])
             u_new = self.potential(trial.zc, new_tilt, new_xy, held)
-            # The pose left lay inside the nut (an earlier lowering passed a thin wedge of
-            # it whole, where its thread runs out on the top face): however short the step,
-            # the trial, lowered from clear of the nut, lands far above it. The trial is
-            # then the true pose there, and the descent goes on from it.
-            embedded = (
-                moved <= self.near
-                and trial.zc - d.zc > self.near + 20.0 * moved
-                and not snapped
-                and not self.in_phase(d)
-            )
             # Mesh heights carry the chord error: below it, the exact contact geometry of the
             # model decides (the step stays feasible: it was lowered onto the nut).
-            if (
-                embedded
-                or (u - u_new >= 0.1 * promised and u_new < u)
-                or (promised <= noise and u_new <= u + noise)
+            if (u - u_new >= 0.1 * promised and u_new < u) or (
+                promised <= noise and u_new <= u + noise
             ):
                 if self.in_phase(trial) and not snapped:
                     snapped, snap_step = True, steps
@@ -907,8 +895,6 @@ class Mechanics:
                     # Turned back on the last step: the contact model flickers between two
                     # poses (a contact at the touching threshold); damp to meet between.
                     prox *= 4
-                elif embedded:  # new contacts, far from the model: trust it afresh
-                    prox = prox0[: len(k)].copy()
                 else:
                     # Same contacts: the model is good, trust it more.
                     prox = np.maximum(prox / (10 if now == touching else 3), prox0[: len(k)] * 1e-8)
