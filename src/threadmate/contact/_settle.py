@@ -87,8 +87,8 @@ BALANCE = 1e-6
 MAX_STEPS = 60
 #: Descent steps after the bolt drops in phase. A descent in the thread seldom balances
 #: (it is reported ``converged 0``); by this many steps its compliance centre lies within
-#: about 2e-5 in of where 60 leave it (1/4-20, measured), and the steps beyond cost a
-#: snap's bisection, or an in-phase start of a sweep, about two seconds each.
+#: about 2e-5 in of where 60 leave it (1/4-20, measured), and the 40 steps beyond took an
+#: in-phase start of a sweep, or each in-phase settle of a snap's bisection, about 2 s.
 IN_PHASE_STEPS = 20
 #: Tilt (degrees) within which a bolt touching the nut's entry with its end only is tried
 #: seated upright (:meth:`Mechanics._seat`), and the regions of such contacts.
