@@ -90,6 +90,8 @@ MAX_STEPS = 60
 #: about 2e-5 in of where 60 leave it (1/4-20, measured), and the 40 steps beyond took an
 #: in-phase start of a sweep, or each in-phase settle of a snap's bisection, about 2 s.
 IN_PHASE_STEPS = 20
+#: Growth of the steps up from a colliding ``top`` in :meth:`Mechanics.drop`.
+RISE = 8.0
 #: Tilt (degrees) within which a bolt touching the nut's entry with its end only is tried
 #: seated upright (:meth:`Mechanics._seat`), and the regions of such contacts.
 SEAT_TILT = 3.0
@@ -253,13 +255,19 @@ class Mechanics:
         # material whole, where a thread runs out on an end face.)
         top = zc if known_free else zc + span - min(0.25 * span, 0.25 * self.near)
         start, cap = top, self.spec.pitch / 16
+        rise = span
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
             # longer cross a little lower, so one enumeration below cannot tell.
             if not known_free:
                 if eng.collides(self._pose(rotation, xy, top)):
-                    top += span
-                    span = min(2 * span, cap)
+                    # Up in steps growing eightfold, the bracket's foot left where it was:
+                    # near a steep contact the meshes' chord error interferes over a height
+                    # of the chord over the normal's vertical part (up to a few 1e-4 in),
+                    # and the foot alone decides which pairs are seen.
+                    top += rise
+                    span = min(span + rise, cap)
+                    rise = min(RISE * rise, cap)
                     continue
                 known_free = True
             low = top - span - self.near
@@ -278,7 +286,7 @@ class Mechanics:
             first = float(drop[ok].min())
             if first < 0.0:  # a pair crosses at ``top`` after all: start higher
                 top += span - first
-                known_free = False
+                known_free, rise = False, span
                 continue
             touch = top - first
             if touch - low < self.near * (1 - 1e-9):
@@ -290,7 +298,7 @@ class Mechanics:
                 # whole into the other within a step: python-fcl sees crossing triangles,
                 # never containment. Again from the start, in steps a quarter as long.
                 top, known_free, cap = start, False, cap / 4
-                span = min(span, cap)
+                span = rise = min(span, cap)
                 if cap < self.tolerance:
                     raise RuntimeError("lowering the bolt keeps passing into the nut")
                 continue
@@ -726,6 +734,7 @@ class Mechanics:
         *,
         start: MechanicalState | None = None,
         stop_in_phase: bool = False,
+        stop_beyond: tuple[float, float] | None = None,
     ) -> RestState:
         """The rest state of the bolt held at tilt ``(roll, pitch)`` and turned to
         ``phase`` (degrees), reached from first contact (or from ``start``, a state at a
@@ -734,7 +743,11 @@ class Mechanics:
         With ``stop_in_phase`` the descent stops at the first pose in phase, which is
         then returned unbalanced: the continuation's bisection asks only whether the
         bolt snaps there (a descent in the thread takes many steps), and settles the
-        snap it keeps in full.
+        snap it keeps in full. With ``stop_beyond = (drop, tilt)`` (and a ``start``) it
+        stops once the compliance centre has fallen more than ``drop`` (spec units) below
+        the start's or the bolt axis has turned more than ``tilt`` degrees from the
+        start's: the bolt left the start's branch within the step, a jump, which is all
+        the continuation asks of it. That state is returned as ``jumping`` (unstable).
 
         Returns
         -------
@@ -788,7 +801,7 @@ class Mechanics:
         ahead: list[_Near] = []  # contacts met by rejected steps (see below)
         support: tuple[int, ...] = ()
         steps = 0
-        converged = False
+        converged = jumping = False
         # Upright, the spring's moment is k x held; the end's contacts can hold at most the
         # load times the bolt's radius against it: beyond that no seat can be a rest state.
         seat_tried = float(np.hypot(*(k[1:3] * held))) > f * arm_m
@@ -879,6 +892,12 @@ class Mechanics:
                 d, tilt, u = trial, new_tilt, u_new
                 near = self.contacts(d)
                 ahead = []
+                if stop_beyond is not None and start is not None:
+                    fell = start.centre[2] - d.zc
+                    turned = axis_turn(d.rotation[:, 2], np.array(start.rotation)[:, 2])
+                    if fell > stop_beyond[0] or turned > stop_beyond[1]:
+                        jumping = True
+                        break
                 if _signature(near, self.touching) == old_sig and len(near) == len(old_rows):
                     # The contacts' moment changes with the tilt as their points slide (a
                     # rim's lowest point turns with the tilt's direction): its rate, the
@@ -937,6 +956,8 @@ class Mechanics:
         turn = axis_turn(axis, last_axis)
         if self.in_phase(d):
             cls, kind = "in-phase", "in-phase"
+        elif jumping:
+            cls, kind = "unstable", "jumping"
         elif self.holds_without_compliance(near, centre, tilt):
             cls, kind = "stable", "rest"
         else:
