@@ -4,9 +4,10 @@ Run:  python benchmarks/bench_mechanics.py [--n 40] [--starts 6] [--seed 0]
 
 1/4-20 UNC-2A/2B at mean material, default chord (5e-6 in), default compliance, one core.
 Costs are reported in python-fcl *query equivalents*: CPU time divided by the CPU time of one
-yes/no collision query of the same meshes, timed in the same run at the poses the run
-produced (each rest pose lifted by the descent's tolerance, where the bodies are free but
-close all round, and lowered by it, where they collide: the mean of the two).
+yes/no collision query of the same meshes, whole (``_reference.py``), timed in the same run
+at the poses the run produced (each rest pose lifted by the descent's tolerance, where the
+bodies are free but close all round, and lowered by it, where they collide: the mean of the
+two).
 
 - Rest states: ``--n`` fresh drops with roll and pitch uniform in +/-4 degrees and phase
   uniform in 0..360 (target: at most 60 query equivalents on average).
@@ -26,23 +27,10 @@ import statistics
 import time
 
 import numpy as np
+from _reference import ReferenceQuery
 
 from threadmate.contact import Compliance, Continuation, Mechanics
-from threadmate.geometry import Pose, spec_from_designation
-
-
-def _query_time(mech: Mechanics, poses: list[Pose], repeats: int = 20) -> float:
-    """Mean time of one yes/no query at ``poses`` lifted and lowered by the tolerance."""
-    eng = mech.engine
-    times = []
-    for pose in poses:
-        for dz in (mech.tolerance, -mech.tolerance):
-            moved = pose.translated([0.0, 0.0, dz])
-            t = time.process_time()
-            for _ in range(repeats):
-                eng.collides(moved)
-            times.append((time.process_time() - t) / repeats)
-    return float(np.mean(times))
+from threadmate.geometry import spec_from_designation
 
 
 def main() -> None:
@@ -98,7 +86,7 @@ def main() -> None:
             f"turned {turned:.2f} deg, events {len(events)}, {turn_times[-1]:.2f} s"
         )
 
-    q = _query_time(mech, poses)
+    q = ReferenceQuery(spec).cpu_time(poses, mech.tolerance, repeats=20)
     qe = np.array(times) / q
     print(f"\none yes/no query: {1e6 * q:.0f} us (mean at the run's poses)")
     print(

@@ -16,7 +16,7 @@ import time
 from dataclasses import replace
 
 import fcl
-import numpy as np
+from _reference import bvh
 
 from threadmate.geometry import (
     BoltPoint,
@@ -28,14 +28,6 @@ from threadmate.geometry import (
 )
 
 PAIRS = ("1/4-20 UNC-2A/2B", "M6x1-6g/6H")
-
-
-def _bvh(mesh) -> fcl.BVHModel:
-    model = fcl.BVHModel()
-    model.beginModel(len(mesh.vertices), len(mesh.faces))
-    model.addSubModel(np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64))
-    model.endModel()
-    return model
 
 
 def _time(fn, repeat: int) -> float:
@@ -83,8 +75,8 @@ def main() -> None:
                     f"{tb.triangles * spec.pitch / length:10.0f} {tb.max_deviation:14.3e} "
                     f"{tb.chord:10.3e}  {spec.units}"
                 )
-        bolt_o = fcl.CollisionObject(_bvh(built["bolt"].mesh))
-        nut_o = fcl.CollisionObject(_bvh(built["nut"].mesh))
+        bolt_o = fcl.CollisionObject(bvh(built["bolt"].mesh))
+        nut_o = fcl.CollisionObject(bvh(built["nut"].mesh))
         pitch = spec_from_designation(designation).pitch
         pose = Pose.from_angles(2.0, 0.0, 180.0, 0.04 * pitch)
         bolt_o.setTransform(fcl.Transform(pose.rotation, pose.origin))

@@ -19,9 +19,15 @@ and the counter-clockwise search continued from it grid phase by grid phase with
 and the snap: everything is in the time measured.
 
 **Query equivalents (QE).** In the same run, after the sweep, one yes/no python-fcl
-``collide`` query of the same meshes is timed (CPU time) at the library's own rest poses,
+``collide`` query of the same meshes, each one BVH of the whole mesh (``_reference.py``),
+is timed (CPU time) at the library's own rest poses,
 lifted and lowered by the descent's tolerance (the bodies free but close all round, and
-just colliding: the mean of the two), as in ``bench_mechanics.py``. Two costs per grid
+just colliding: the mean of the two), as in ``bench_mechanics.py``. A shared host's speed
+drifts over minutes (the same query has timed 0.84 to 1.08 ms after three sweeps of equal
+CPU time), so the query is also timed at six rest poses of the grid every 15 s while the
+workers run, by a thread of the otherwise idle sweeping process, and the query timed after
+the sweep is scaled by the ratio of those samples to the same six poses timed after it
+(``drift`` in the output; 1 on a steady host). Two costs per grid
 configuration are reported: the workers' CPU time (user + system of the pool's processes)
 divided by the configurations and by the query's CPU time (the cost a core pays,
 independent of how many workers share it and of other load on the machine), and the wall
@@ -45,28 +51,19 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
+
+from _reference import ReferenceQuery
 
 from threadmate.contact import CONTINUATION_STEP
 
 THESIS = ("-4:4:1", "-4:4:1", "0:355:5")
 THESIS_CONFIGURATIONS = 81 * 72
-
-
-def _query_time(engine, poses, tolerance: float, repeats: int = 50) -> float:
-    """Mean CPU time of one yes/no query at ``poses`` lifted and lowered by ``tolerance``."""
-    import numpy as np
-
-    times = []
-    for pose in poses:
-        for dz in (tolerance, -tolerance):
-            moved = pose.translated([0.0, 0.0, dz])
-            t = time.process_time()  # CPU time, as the workers' time it divides
-            for _ in range(repeats):
-                engine.collides(moved)
-            times.append((time.process_time() - t) / repeats)
-    return float(np.mean(times))
+#: The query-time gauge while the sweep runs: rest poses, and seconds between samples.
+GAUGE_POSES = 6
+SAMPLE_EVERY = 15.0
 
 
 def _poses(rows, model: str, most: int = 40) -> list:
@@ -98,12 +95,32 @@ def _poses(rows, model: str, most: int = 40) -> list:
 
 def _one(args: argparse.Namespace) -> None:
     """One sweep in this (child) process; prints one JSON line of figures."""
+    import numpy as np
+
     from threadmate.contact import Compliance, Mechanics
     from threadmate.geometry import spec_from_designation
     from threadmate.library import Grid, info, load, sweep
 
     spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     grid = Grid.parse(args.roll, args.pitch, args.phase)
+    # The host's speed drifts over minutes on a shared machine, so a query timed once
+    # after the sweep can miss the rate the sweep ran at. A thread of this process (idle
+    # while the workers run) times the query at a few rest poses of the grid every
+    # SAMPLE_EVERY seconds; the query at the library's own poses, timed after the sweep,
+    # is scaled by the ratio of those samples to the same poses timed after it too.
+    reference = ReferenceQuery(spec, args.chord)
+    mech = Mechanics(spec, Compliance(), chord=args.chord)
+    picks = np.linspace(0, grid.size - 1, GAUGE_POSES).round().astype(int).tolist()
+    gauge = [mech.settle(*map(float, c)).state.pose for c in grid.configurations(picks)]
+    samples: list[float] = []
+    done = threading.Event()
+
+    def sample() -> None:
+        while not done.wait(SAMPLE_EVERY):
+            samples.append(reference.cpu_time(gauge, mech.tolerance, repeats=10))
+
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
     n_tilts = grid.shape[0] * grid.shape[1]
     out = Path(args.out)
     kwargs = {"model": args.model, "workers": args.workers, "chord": args.chord}
@@ -116,6 +133,8 @@ def _one(args: argparse.Namespace) -> None:
     start = time.perf_counter()
     sweep(spec, args.roll, args.pitch, args.phase, out=out, **kwargs)
     wall = time.perf_counter() - start
+    done.set()
+    sampler.join()
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
     me = resource.getrusage(resource.RUSAGE_SELF)
     # workers=1 runs in this process: its CPU time is the work's.
@@ -126,10 +145,14 @@ def _one(args: argparse.Namespace) -> None:
     main_mb = me.ru_maxrss * to_mb
     worker_mb = children.ru_maxrss * to_mb
 
-    # The query time of the same meshes, in this run, at the run's own poses.
-    mech = Mechanics(spec, Compliance(), chord=args.chord)
+    # The query time of the same meshes, in this run, at the run's own poses, scaled to
+    # the host's rate while the sweep ran (the gauge poses timed either side of it).
     rows = load(out)
-    q = _query_time(mech.engine, _poses(rows, args.model), mech.tolerance)
+    gauge_after = reference.cpu_time(gauge, mech.tolerance, repeats=10)
+    q_after = reference.cpu_time(_poses(rows, args.model), mech.tolerance)
+    gauge_after = 0.5 * (gauge_after + reference.cpu_time(gauge, mech.tolerance, repeats=10))
+    drift = float(np.mean(samples)) / gauge_after if samples else 1.0
+    q = q_after * drift
     n = doc["done"]
     print(
         json.dumps(
@@ -143,6 +166,9 @@ def _one(args: argparse.Namespace) -> None:
                 "wall_s": wall,
                 "cpu_s": cpu,
                 "query_us": 1e6 * q,
+                "query_after_us": 1e6 * q_after,
+                "drift": drift,
+                "drift_samples": len(samples),
                 "qe_per_config_cpu": cpu / n / q,
                 "qe_per_config_wall": wall / n / q,
                 "ms_per_config_cpu": 1e3 * cpu / n,
@@ -228,7 +254,9 @@ def main() -> None:
                 f"{r['cpu_s']:.1f} s worker CPU"
             )
             print(
-                f"  one yes/no query {r['query_us']:.0f} us; per grid configuration "
+                f"  one yes/no query {r['query_us']:.0f} us (timed after the sweep "
+                f"{r['query_after_us']:.0f} us, times {r['drift']:.3f}, the host's rate while "
+                f"it ran over after, from {r['drift_samples']} samples); per grid configuration "
                 f"{r['ms_per_config_cpu']:.0f} ms CPU = {r['qe_per_config_cpu']:.0f} query "
                 f"equivalents (wall on {w}: {r['qe_per_config_wall']:.0f}); target <= 100"
             )

@@ -4,13 +4,17 @@ The BVHs are built once per analyser; a query only moves the bolt's collision ob
 ``setTransform``. fcl objects neither pickle nor release the GIL, so a process pool builds
 one analyser per worker.
 
-The nut is held twice: whole, and split once into :data:`SECTORS` angular sectors about
-its axis (each face by its centroid's angle), each its own BVH. The sectors serve two
-ends. The turning stages look for a new contact while ignoring the interference beside
-the contacts the bolt turns about: they leave those sectors out. And a search, once it
-has a colliding pose, asks again only of the sectors that collide there: a threaded pair
-is close to contact all round its circumference, so a query of the whole nut must prove
-separation everywhere (hundreds of microseconds), while a few sectors answer in tens.
+The nut is held split into :data:`SECTORS` angular sectors about its axis (each face by
+its centroid's angle), each its own BVH, and every query is asked of the sectors. A
+threaded pair is close to contact all round its circumference, so a query must prove
+separation nearly everywhere, and the sectors' bounding volumes fit a ring of thread far
+more tightly than those of one BVH of the whole nut: a yes/no query of all the sectors
+costs 10-30 % less than one of the whole nut, an enumeration of the pairs up to 15 % less
+over a sweep, with the same answers. The sectors serve two ends besides. The turning
+stages look for a new contact while ignoring the interference beside the contacts the
+bolt turns about: they leave those sectors out. And a search, once it has a colliding
+pose, asks again only of the sectors that collide there. A yes/no query asks first the
+sector that collided last: consecutive poses of a descent collide in the same place.
 
 Queries, each one yes/no question counted in :attr:`queries`:
 
@@ -38,7 +42,7 @@ __all__ = ["CollisionPair"]
 
 #: Pair enumeration stops here; far more than any contact the stages look at.
 MAX_PAIRS = 200_000
-#: Angular sectors of the nut for :meth:`CollisionPair.collides_outside`.
+#: Angular sectors of the nut, each its own BVH (see the module docstring).
 SECTORS = 36
 #: Multiplier of the bolt face in a pair's integer key (above any nut face count).
 _KEY = 1 << 31
@@ -48,10 +52,10 @@ def _pair_ids(
     bolt: fcl.CollisionObject,
     nut: fcl.CollisionObject,
     request: fcl.CollisionRequest,
-    nut_ids: NDArray[np.int64] | None,
+    nut_ids: NDArray[np.int64],
 ) -> NDArray[np.int64]:
-    """Unique intersecting (bolt face, nut face) pairs; ``nut_ids`` maps a sector's local
-    face numbers to the nut's."""
+    """Unique intersecting (bolt face, nut face) pairs, sorted; ``nut_ids`` (increasing)
+    maps a sector's local face numbers to the nut's."""
     result = fcl.CollisionResult()
     fcl.collide(bolt, nut, request, result)
     if not result.contacts:
@@ -60,8 +64,7 @@ def _pair_ids(
     # lexicographic unique would, at a fraction of its cost.
     key = np.unique(np.array([c.b1 * _KEY + c.b2 for c in result.contacts], dtype=np.int64))
     ids = np.column_stack([key // _KEY, key % _KEY])
-    if nut_ids is not None:
-        ids[:, 1] = nut_ids[ids[:, 1]]
+    ids[:, 1] = nut_ids[ids[:, 1]]
     return ids
 
 
@@ -90,7 +93,6 @@ class CollisionPair:
         self.nut_vertices = np.asarray(nut_mesh.vertices, dtype=float)
         self.nut_faces = np.asarray(nut_mesh.faces, dtype=np.int64)
         self._bolt = fcl.CollisionObject(_bvh(self.bolt_vertices, self.bolt_faces), fcl.Transform())
-        self._nut = fcl.CollisionObject(_bvh(self.nut_vertices, self.nut_faces), fcl.Transform())
         centroid = self.nut_vertices[self.nut_faces].mean(axis=1)
         angle = np.arctan2(centroid[:, 1], centroid[:, 0])
         #: Sector (0 .. SECTORS-1, counter-clockwise from -pi) of each nut face.
@@ -108,6 +110,8 @@ class CollisionPair:
                 ),
                 ids,
             )
+        #: The sectors in the order a yes/no query asks them: the last to collide first.
+        self._order = list(self._sectors)
         self._yes_no = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
         self._all = fcl.CollisionRequest(num_max_contacts=MAX_PAIRS, enable_contact=False)
         #: Collision queries spent since construction (or the last reset).
@@ -125,12 +129,18 @@ class CollisionPair:
         """Whether the bolt at ``pose`` intersects the nut (one query)."""
         self._place(pose)
         self.queries += 1
-        return self._hits(self._nut)
+        order = self._order
+        for i, k in enumerate(order):
+            if self._hits(self._sectors[k][0]):
+                if i:
+                    order.insert(0, order.pop(i))
+                return True
+        return False
 
     def collides_outside(self, pose: Pose, excluded: frozenset[int]) -> bool:
         """Whether the bolt at ``pose`` intersects the nut outside the ``excluded`` sectors
         (one query)."""
-        if not excluded:  # one BVH of the whole nut answers faster than its sectors
+        if not excluded:
             return self.collides(pose)
         self._place(pose)
         self.queries += 1
@@ -170,16 +180,19 @@ class CollisionPair:
         nut or only its ``sectors`` (one query)."""
         self._place(pose)
         self.queries += 1
-        if sectors is None:
-            return _pair_ids(self._bolt, self._nut, self._all, None)
         found = [
-            _pair_ids(self._bolt, obj, self._all, ids)
-            for k, (obj, ids) in self._sectors.items()
-            if k in sectors
+            ids
+            for ids in (
+                _pair_ids(self._bolt, obj, self._all, nut_ids)
+                for k, (obj, nut_ids) in self._sectors.items()
+                if sectors is None or k in sectors
+            )
+            if len(ids)
         ]
         if not found:
             return np.empty((0, 2), dtype=np.int64)
-        return np.unique(np.concatenate(found), axis=0)
+        # Each sector's pairs are sorted and distinct, and no nut face is in two sectors.
+        return found[0] if len(found) == 1 else np.unique(np.concatenate(found), axis=0)
 
     def triangles(
         self, pose: Pose, pairs: NDArray[np.int64]
