@@ -23,11 +23,12 @@ and the snap: everything is in the time measured.
 is timed (CPU time) at the library's own rest poses,
 lifted and lowered by the descent's tolerance (the bodies free but close all round, and
 just colliding: the mean of the two), as in ``bench_mechanics.py``. A shared host's speed
-drifts over minutes (the same query has timed 0.84 to 1.08 ms after three sweeps of equal
-CPU time), so the query is also timed at six rest poses of the grid every 15 s while the
-workers run, by a thread of the otherwise idle sweeping process, and the query timed after
-the sweep is scaled by the ratio of those samples to the same six poses timed after it
-(``drift`` in the output; 1 on a steady host). Two costs per grid
+drifts over minutes (the same query has timed 0.84 to 1.08 ms after sweeps of equal CPU
+time), so, as a check on that figure, the query is also timed at six rest poses of the
+grid every 15 s while the workers run, by a thread of the otherwise idle sweeping
+process, and compared with the same six poses timed after the sweep (``drift``: 1 on a
+steady host; the QE scaled by it is printed beside, not used, since the gauge itself runs
+as a third thread on the workers' cores). Two costs per grid
 configuration are reported: the workers' CPU time (user + system of the pool's processes)
 divided by the configurations and by the query's CPU time (the cost a core pays,
 independent of how many workers share it and of other load on the machine), and the wall
@@ -54,6 +55,7 @@ import tempfile
 import threading
 import time
 from pathlib import Path
+from typing import Any
 
 from _reference import ReferenceQuery
 
@@ -104,20 +106,32 @@ def _one(args: argparse.Namespace) -> None:
     spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     grid = Grid.parse(args.roll, args.pitch, args.phase)
     # The host's speed drifts over minutes on a shared machine, so a query timed once
-    # after the sweep can miss the rate the sweep ran at. A thread of this process (idle
-    # while the workers run) times the query at a few rest poses of the grid every
-    # SAMPLE_EVERY seconds; the query at the library's own poses, timed after the sweep,
-    # is scaled by the ratio of those samples to the same poses timed after it too.
-    reference = ReferenceQuery(spec, args.chord)
-    mech = Mechanics(spec, Compliance(), chord=args.chord)
-    picks = np.linspace(0, grid.size - 1, GAUGE_POSES).round().astype(int).tolist()
-    gauge = [mech.settle(*map(float, c)).state.pose for c in grid.configurations(picks)]
+    # after the sweep can miss the rate the sweep ran at. As a check, a thread of this
+    # process (idle while the workers run) times the query at a few rest poses of the
+    # grid every SAMPLE_EVERY seconds, to compare with the same poses timed after the
+    # sweep. The gauge is built once the workers have started, so that they do not
+    # inherit it.
+    gauge: dict[str, Any] = {}
     samples: list[float] = []
     done = threading.Event()
 
+    def build_gauge() -> None:
+        mech = Mechanics(spec, Compliance(), chord=args.chord)
+        picks = np.linspace(0, grid.size - 1, GAUGE_POSES).round().astype(int).tolist()
+        gauge["poses"] = [
+            mech.settle(*map(float, c)).state.pose for c in grid.configurations(picks)
+        ]
+        gauge["tolerance"] = mech.tolerance
+        gauge["query"] = ReferenceQuery(spec, args.chord)
+
+    def time_gauge() -> float:
+        return gauge["query"].cpu_time(gauge["poses"], gauge["tolerance"], repeats=10)
+
     def sample() -> None:
         while not done.wait(SAMPLE_EVERY):
-            samples.append(reference.cpu_time(gauge, mech.tolerance, repeats=10))
+            if not gauge:
+                build_gauge()
+            samples.append(time_gauge())
 
     sampler = threading.Thread(target=sample, daemon=True)
     sampler.start()
@@ -145,14 +159,16 @@ def _one(args: argparse.Namespace) -> None:
     main_mb = me.ru_maxrss * to_mb
     worker_mb = children.ru_maxrss * to_mb
 
-    # The query time of the same meshes, in this run, at the run's own poses, scaled to
-    # the host's rate while the sweep ran (the gauge poses timed either side of it).
+    # The query time of the same meshes, in this run, at the run's own poses; and the
+    # host's rate while the sweep ran over its rate after (the gauge, timed either side
+    # of that query).
     rows = load(out)
-    gauge_after = reference.cpu_time(gauge, mech.tolerance, repeats=10)
-    q_after = reference.cpu_time(_poses(rows, args.model), mech.tolerance)
-    gauge_after = 0.5 * (gauge_after + reference.cpu_time(gauge, mech.tolerance, repeats=10))
+    if not gauge:
+        build_gauge()
+    gauge_after = time_gauge()
+    q = gauge["query"].cpu_time(_poses(rows, args.model), gauge["tolerance"])
+    gauge_after = 0.5 * (gauge_after + time_gauge())
     drift = float(np.mean(samples)) / gauge_after if samples else 1.0
-    q = q_after * drift
     n = doc["done"]
     print(
         json.dumps(
@@ -166,10 +182,10 @@ def _one(args: argparse.Namespace) -> None:
                 "wall_s": wall,
                 "cpu_s": cpu,
                 "query_us": 1e6 * q,
-                "query_after_us": 1e6 * q_after,
                 "drift": drift,
                 "drift_samples": len(samples),
                 "qe_per_config_cpu": cpu / n / q,
+                "qe_per_config_cpu_drift_scaled": cpu / n / (q * drift),
                 "qe_per_config_wall": wall / n / q,
                 "ms_per_config_cpu": 1e3 * cpu / n,
                 "thesis_grid_wall_s": wall * THESIS_CONFIGURATIONS / n,
@@ -254,11 +270,14 @@ def main() -> None:
                 f"{r['cpu_s']:.1f} s worker CPU"
             )
             print(
-                f"  one yes/no query {r['query_us']:.0f} us (timed after the sweep "
-                f"{r['query_after_us']:.0f} us, times {r['drift']:.3f}, the host's rate while "
-                f"it ran over after, from {r['drift_samples']} samples); per grid configuration "
+                f"  one yes/no query {r['query_us']:.0f} us; per grid configuration "
                 f"{r['ms_per_config_cpu']:.0f} ms CPU = {r['qe_per_config_cpu']:.0f} query "
                 f"equivalents (wall on {w}: {r['qe_per_config_wall']:.0f}); target <= 100"
+            )
+            print(
+                f"  host drift (query time while the sweep ran over after, "
+                f"{r['drift_samples']} samples): {r['drift']:.3f}; scaled by it "
+                f"{r['qe_per_config_cpu_drift_scaled']:.0f} query equivalents"
             )
             print(
                 f"  thesis grid (81 held tilts x 72 phases) on {w} worker(s): about "
