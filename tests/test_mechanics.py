@@ -32,7 +32,14 @@ from scipy.optimize import nnls
 
 from _exact_geometry import exact_centre_height, rot
 from threadmate.contact import Compliance, Mechanics, search
-from threadmate.geometry import BoltSpec, NutSpec, ThreadSpec, thread_meshes
+from threadmate.geometry import (
+    BoltSpec,
+    NutSpec,
+    Pose,
+    ThreadSpec,
+    spec_from_designation,
+    thread_meshes,
+)
 
 #: Metres per length unit, written here (not taken from the package).
 METRES = {"in": 0.0254, "mm": 0.001}
@@ -670,6 +677,41 @@ def test_a_continuation_step_depends_on_the_state_it_leaves_alone(mech, q20_rest
     again = mech.settle(2, -3, 45, start=start).state
     assert again.origin == first.origin and again.rotation == first.rotation
     assert [c.force for c in again.contacts] == [c.force for c in first.contacts]
+
+
+def test_a_lowering_that_starts_in_collision_finds_the_first_touch_from_above():
+    """A descent step's lowering that starts in collision climbs out, then lowers again:
+    it must find the first touch from above, as a python-fcl sweep down from a free pose
+    in steps of 1e-6 in finds it (brute force), not a touch below material it passed.
+    Chamfered point and countersunk nut, held (2, 1), continued from phase 120 to 125:
+    a step there once climbed to a free pose under a thin overhang and placed the bolt
+    1.7e-4 in below the first touch, from where it snapped into a thread it could not
+    reach."""
+    calls = []
+
+    class Recording(Mechanics):
+        def drop(self, rotation, xy, zc, span=None):
+            found = super().drop(rotation, xy, zc, span)
+            calls.append((rotation, np.array(xy, dtype=float), found))
+            return found
+
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    mech = Recording(spec, DEFAULT)
+    start = mech.settle(2, 1, 120).state
+    calls.clear()
+    mech.settle(2, 1, 125, start=start)
+    reach = mech.compliance.compliance_z
+    for rotation, xy, found in calls[:3]:
+
+        def pose(zc, rotation=rotation, xy=xy):
+            return Pose(rotation, np.array([xy[0], xy[1], zc]) - rotation[:, 2] * reach)
+
+        top = found.zc + 5e-4
+        assert not mech.engine.collides(pose(top))
+        z = top
+        while not mech.engine.collides(pose(z)):
+            z -= 1e-6
+        assert found.zc - 1e-6 <= z <= found.zc + 1e-9
 
 
 def test_a_probe_that_leaves_the_branch_stops_on_the_side_a_full_settle_ends(mech):
