@@ -90,7 +90,8 @@ MAX_STEPS = 60
 #: about 2e-5 in of where 60 leave it (1/4-20, measured), and the 40 steps beyond took an
 #: in-phase start of a sweep, or each in-phase settle of a snap's bisection, about 2 s.
 IN_PHASE_STEPS = 20
-#: Growth of the steps up from a colliding ``top`` in :meth:`Mechanics.drop`.
+#: Growth of the steps up from a colliding ``top`` in :meth:`Mechanics.drop` (doubling
+#: spent a quarter of a sweep's queries, and could stop under an overhang).
 RISE = 8.0
 #: Tilt (degrees) within which a bolt touching the nut's entry with its end only is tried
 #: seated upright (:meth:`Mechanics._seat`), and the regions of such contacts.
@@ -261,10 +262,11 @@ class Mechanics:
             # longer cross a little lower, so one enumeration below cannot tell.
             if not known_free:
                 if eng.collides(self._pose(rotation, xy, top)):
-                    # Up in steps growing eightfold, the bracket's foot left where it was:
-                    # near a steep contact the meshes' chord error interferes over a height
-                    # of the chord over the normal's vertical part (up to a few 1e-4 in),
-                    # and the foot alone decides which pairs are seen.
+                    # Up in steps growing eightfold, the bracket's foot left where it was
+                    # (it alone decides which pairs are seen): near a steep contact the
+                    # meshes' chord error interferes over the chord over the normal's
+                    # vertical part (up to a few 1e-4 in), and small steps up can stop at
+                    # a free pose under a thin overhang and lower from there.
                     top += rise
                     span = min(span + rise, cap)
                     rise = min(RISE * rise, cap)
