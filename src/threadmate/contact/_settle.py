@@ -90,9 +90,6 @@ MAX_STEPS = 60
 #: about 2e-5 in of where 60 leave it (1/4-20, measured), and the 40 steps beyond took an
 #: in-phase start of a sweep, or each in-phase settle of a snap's bisection, about 2 s.
 IN_PHASE_STEPS = 20
-#: Growth of the steps up from a colliding ``top`` in :meth:`Mechanics.drop` (doubling
-#: spent a quarter of a sweep's queries, and could stop under an overhang).
-RISE = 8.0
 #: Tilt (degrees) within which a bolt touching the nut's entry with its end only is tried
 #: seated upright (:meth:`Mechanics._seat`), and the regions of such contacts.
 SEAT_TILT = 3.0
@@ -256,20 +253,13 @@ class Mechanics:
         # material whole, where a thread runs out on an end face.)
         top = zc if known_free else zc + span - min(0.25 * span, 0.25 * self.near)
         start, cap = top, self.spec.pitch / 16
-        rise = span
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
             # longer cross a little lower, so one enumeration below cannot tell.
             if not known_free:
                 if eng.collides(self._pose(rotation, xy, top)):
-                    # Up in steps growing eightfold, the bracket's foot left where it was
-                    # (it alone decides which pairs are seen): near a steep contact the
-                    # meshes' chord error interferes over the chord over the normal's
-                    # vertical part (up to a few 1e-4 in), and small steps up can stop at
-                    # a free pose under a thin overhang and lower from there.
-                    top += rise
-                    span = min(span + rise, cap)
-                    rise = min(RISE * rise, cap)
+                    top += span
+                    span = min(2 * span, cap)
                     continue
                 known_free = True
             low = top - span - self.near
@@ -288,7 +278,7 @@ class Mechanics:
             first = float(drop[ok].min())
             if first < 0.0:  # a pair crosses at ``top`` after all: start higher
                 top += span - first
-                known_free, rise = False, span
+                known_free = False
                 continue
             touch = top - first
             if touch - low < self.near * (1 - 1e-9):
@@ -300,7 +290,7 @@ class Mechanics:
                 # whole into the other within a step: python-fcl sees crossing triangles,
                 # never containment. Again from the start, in steps a quarter as long.
                 top, known_free, cap = start, False, cap / 4
-                span = rise = min(span, cap)
+                span = min(span, cap)
                 if cap < self.tolerance:
                     raise RuntimeError("lowering the bolt keeps passing into the nut")
                 continue
