@@ -720,34 +720,6 @@ def test_a_lowering_that_starts_in_collision_finds_the_first_touch_from_above():
         assert found.zc - 1e-6 <= z <= found.zc + 1e-9
 
 
-def test_a_probe_that_leaves_the_branch_stops_on_the_side_a_full_settle_ends(mech):
-    """A continuation's probe may stop once the bolt has left the branch it was on (its
-    compliance centre fallen more than pitch/40, or its axis turned more than 0.5 degree:
-    the continuation's test of a jump). It must then be on the side where the full
-    settle from the same state ends, having spent fewer queries; and a settle that stays
-    on the branch is not stopped at all: the probe is the full settle."""
-    drop, tilt = mech.spec.pitch / 40, 0.5
-    run = search(mech, 2, -3, 345, turns=5 / 360)
-    jump = next(e for e in run.events if e.kind == "jump")
-    before = max((s for s in run.states if s.phase < jump.phase), key=lambda s: s.phase)
-
-    def left(a, b):
-        axes = np.array(a.rotation)[:, 2] @ np.array(b.rotation)[:, 2]
-        return a.centre[2] - b.centre[2] > drop or math.degrees(math.acos(min(axes, 1.0))) > tilt
-
-    full = mech.settle(2, -3, jump.phase, start=before)
-    probe = mech.settle(2, -3, jump.phase, start=before, stop_beyond=(drop, tilt))
-    assert left(before, full.state) and left(before, probe.state)
-    assert probe.state.kind == "jumping" and probe.state.classification == "unstable"
-    assert probe.queries < full.queries
-    # On the branch: halfway from that state to where the jump was bracketed.
-    stay = 0.5 * (before.phase + jump.phase - 0.01)
-    full = mech.settle(2, -3, stay, start=before).state
-    probe = mech.settle(2, -3, stay, start=before, stop_beyond=(drop, tilt)).state
-    assert not left(before, full)
-    assert probe.origin == full.origin and probe.kind == full.kind == "rest"
-
-
 @pytest.mark.parametrize("cfg", [(4, 0, 185), (2, -3, 40)])
 def test_infinitely_stiff_compliance_keeps_the_held_tilt(quarter_20, cfg):
     """k -> infinity (1e6 N m/rad): the rest tilt is the held one within 1e-3 degree, and the

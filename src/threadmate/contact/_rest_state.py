@@ -66,9 +66,7 @@ class MechanicalState:
     ----------
     kind : str
         What the state is on the way: ``first-contact``, ``new-contact``, ``rolling``
-        (a contact released: the pivot rolls), ``rest``, ``in-phase``; ``jumping``: where
-        a continuation's probe stopped, the bolt having left the branch it was on
-        (:meth:`Mechanics.settle`'s ``stop_beyond``; never kept).
+        (a contact released: the pivot rolls), ``rest``, ``in-phase``.
     classification : str
         One of :data:`REST_CLASSES`.
     phase : float

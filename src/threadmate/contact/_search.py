@@ -152,16 +152,10 @@ class Continuation:
         self, phase: float, before: MechanicalState, *, probe: bool = True
     ) -> MechanicalState:
         """The rest state at ``phase`` continued from ``before``; a ``probe`` stops at
-        the first pose in phase, or once the bolt has left ``before``'s branch
-        (:meth:`Mechanics.settle`): the continuation asks only whether it snapped or
-        jumped, and :meth:`_bisect` settles in full the state it keeps."""
+        the first pose in phase (:meth:`Mechanics.settle`): the continuation asks only
+        whether it snapped, and :meth:`_bisect` settles in full the snap it keeps."""
         return self.mech.settle(
-            self.held_roll,
-            self.held_pitch,
-            phase,
-            start=before,
-            stop_in_phase=probe,
-            stop_beyond=(self.drop_limit, JUMP_TILT) if probe else None,
+            self.held_roll, self.held_pitch, phase, start=before, stop_in_phase=probe
         ).state
 
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
@@ -181,9 +175,8 @@ class Continuation:
     ) -> tuple[float, float, MechanicalState, MechanicalState]:
         """Close in on where ``same(s_lo, state)`` stops holding, from the side before
         (``lo``, ``hi``: turns from ``phase``; ``s_hi`` was settled from ``hi_from``). An
-        ``s_hi`` where a probe stopped (in phase, or jumping) is settled in full: settles
-        depend only on the state they leave, so this is the same computation carried to
-        its end."""
+        in-phase ``s_hi`` (a probe) is settled in full: settles depend only on the state
+        they leave, so this is the same computation carried to its end."""
         while hi - lo > self.phase_tolerance:
             mid = 0.5 * (lo + hi)
             s_mid = self._settle(phase + self.sign * mid, s_lo)
@@ -191,7 +184,7 @@ class Continuation:
                 lo, s_lo = mid, s_mid
             else:
                 hi, s_hi, hi_from = mid, s_mid, s_lo
-        if s_hi.classification == "in-phase" or s_hi.kind == "jumping":
+        if s_hi.classification == "in-phase":
             s_hi = self._settle(phase + self.sign * hi, hi_from, probe=False)
         return lo, hi, s_lo, s_hi
 

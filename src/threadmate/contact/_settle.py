@@ -726,7 +726,6 @@ class Mechanics:
         *,
         start: MechanicalState | None = None,
         stop_in_phase: bool = False,
-        stop_beyond: tuple[float, float] | None = None,
     ) -> RestState:
         """The rest state of the bolt held at tilt ``(roll, pitch)`` and turned to
         ``phase`` (degrees), reached from first contact (or from ``start``, a state at a
@@ -735,11 +734,7 @@ class Mechanics:
         With ``stop_in_phase`` the descent stops at the first pose in phase, which is
         then returned unbalanced: the continuation's bisection asks only whether the
         bolt snaps there (a descent in the thread takes many steps), and settles the
-        snap it keeps in full. With ``stop_beyond = (drop, tilt)`` (and a ``start``) it
-        stops once the compliance centre has fallen more than ``drop`` (spec units) below
-        the start's or the bolt axis has turned more than ``tilt`` degrees from the
-        start's: the bolt left the start's branch within the step, a jump, which is all
-        the continuation asks of it. That state is returned as ``jumping`` (unstable).
+        snap it keeps in full.
 
         Returns
         -------
@@ -793,7 +788,7 @@ class Mechanics:
         ahead: list[_Near] = []  # contacts met by rejected steps (see below)
         support: tuple[int, ...] = ()
         steps = 0
-        converged = jumping = False
+        converged = False
         # Upright, the spring's moment is k x held; the end's contacts can hold at most the
         # load times the bolt's radius against it: beyond that no seat can be a rest state.
         seat_tried = float(np.hypot(*(k[1:3] * held))) > f * arm_m
@@ -884,12 +879,6 @@ class Mechanics:
                 d, tilt, u = trial, new_tilt, u_new
                 near = self.contacts(d)
                 ahead = []
-                if stop_beyond is not None and start is not None:
-                    fell = start.centre[2] - d.zc
-                    turned = axis_turn(d.rotation[:, 2], np.array(start.rotation)[:, 2])
-                    if fell > stop_beyond[0] or turned > stop_beyond[1]:
-                        jumping = True
-                        break
                 if _signature(near, self.touching) == old_sig and len(near) == len(old_rows):
                     # The contacts' moment changes with the tilt as their points slide (a
                     # rim's lowest point turns with the tilt's direction): its rate, the
@@ -948,8 +937,6 @@ class Mechanics:
         turn = axis_turn(axis, last_axis)
         if self.in_phase(d):
             cls, kind = "in-phase", "in-phase"
-        elif jumping:
-            cls, kind = "unstable", "jumping"
         elif self.holds_without_compliance(near, centre, tilt):
             cls, kind = "stable", "rest"
         else:
