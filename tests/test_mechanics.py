@@ -706,16 +706,27 @@ def test_a_lowering_that_starts_in_collision_finds_the_first_touch_from_above():
     start = mech.settle(2, 1, 120).state
     calls.clear()
     mech.settle(2, 1, 125, start=start)
+    # The reference: python-fcl's yes/no query of the two whole meshes (not the engine's).
+    bodies = []
+    for body in thread_meshes(spec):
+        model = fcl.BVHModel()
+        model.beginModel(len(body.mesh.vertices), len(body.mesh.faces))
+        model.addSubModel(np.asarray(body.mesh.vertices, float), np.asarray(body.mesh.faces))
+        model.endModel()
+        bodies.append(fcl.CollisionObject(model, fcl.Transform()))
+    request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
     reach = mech.compliance.compliance_z
     for rotation, xy, found in calls[:3]:
 
-        def pose(zc, rotation=rotation, xy=xy):
-            return Pose(rotation, np.array([xy[0], xy[1], zc]) - rotation[:, 2] * reach)
+        def collides(zc, rotation=rotation, xy=xy):
+            pose = Pose(rotation, np.array([xy[0], xy[1], zc]) - rotation[:, 2] * reach)
+            bodies[0].setTransform(fcl.Transform(pose.rotation, pose.origin))
+            return fcl.collide(bodies[0], bodies[1], request, fcl.CollisionResult()) > 0
 
         top = found.zc + 5e-4
-        assert not mech.engine.collides(pose(top))
+        assert not collides(top)
         z = top
-        while not mech.engine.collides(pose(z)):
+        while not collides(z):
             z -= 1e-6
         assert found.zc - 1e-6 <= z <= found.zc + 1e-9
 
