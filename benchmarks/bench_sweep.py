@@ -23,8 +23,8 @@ and the snap: everything is in the time measured.
 is timed (CPU time) at the library's own rest poses,
 lifted and lowered by the descent's tolerance (the bodies free but close all round, and
 just colliding: the mean of the two), as in ``bench_mechanics.py``. A shared host's speed
-drifts over minutes (the same query has timed 0.84 to 1.08 ms after sweeps of equal CPU
-time), so, as a check on that figure, the query is also timed at six rest poses of the
+drifts over minutes (the same query has timed 0.66 to 1.08 ms after sweeps a few
+minutes apart), so, as a check on that figure, the query is also timed at six rest poses of the
 grid every 15 s while the workers run, by a thread of the otherwise idle sweeping
 process, and compared with the same six poses timed after the sweep (``drift``: 1 on a
 steady host; the QE scaled by it is printed beside, not used, since the gauge itself runs
