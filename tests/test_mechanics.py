@@ -35,7 +35,6 @@ from threadmate.contact import Compliance, Mechanics, search
 from threadmate.geometry import (
     BoltSpec,
     NutSpec,
-    Pose,
     ThreadSpec,
     spec_from_designation,
     thread_meshes,
@@ -169,6 +168,14 @@ class Collider:
         )
         model.endModel()
         return model
+
+    def collides(self, rotation, origin):
+        """Whether the bolt at (rotation, origin) intersects the nut (yes/no query)."""
+        self.bolt.setTransform(
+            fcl.Transform(np.asarray(rotation, dtype=float), np.asarray(origin, dtype=float))
+        )
+        request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
+        return fcl.collide(self.bolt, self.nut, request, fcl.CollisionResult()) > 0
 
     def contacts(self, rotation, origin):
         """Where the bolt at (rotation, origin) intersects the nut (empty: it does not)."""
@@ -706,22 +713,15 @@ def test_a_lowering_that_starts_in_collision_finds_the_first_touch_from_above():
     start = mech.settle(2, 1, 120).state
     calls.clear()
     mech.settle(2, 1, 125, start=start)
-    # The reference: python-fcl's yes/no query of the two whole meshes (not the engine's).
-    bodies = []
-    for body in thread_meshes(spec):
-        model = fcl.BVHModel()
-        model.beginModel(len(body.mesh.vertices), len(body.mesh.faces))
-        model.addSubModel(np.asarray(body.mesh.vertices, float), np.asarray(body.mesh.faces))
-        model.endModel()
-        bodies.append(fcl.CollisionObject(model, fcl.Transform()))
-    request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
+    # The reference: python-fcl's query of the two whole meshes (not the engine's).
+    reference = collider(spec)
     reach = mech.compliance.compliance_z
     for rotation, xy, found in calls[:3]:
 
         def collides(zc, rotation=rotation, xy=xy):
-            pose = Pose(rotation, np.array([xy[0], xy[1], zc]) - rotation[:, 2] * reach)
-            bodies[0].setTransform(fcl.Transform(pose.rotation, pose.origin))
-            return fcl.collide(bodies[0], bodies[1], request, fcl.CollisionResult()) > 0
+            return reference.collides(
+                rotation, np.array([xy[0], xy[1], zc]) - rotation[:, 2] * reach
+            )
 
         top = found.zc + 5e-4
         assert not collides(top)
