@@ -318,26 +318,8 @@ def test_settle_reaches_a_rest_state_soft_compliance(mech_soft, quarter_20, cfg)
     check_kkt(quarter_20, SOFT, mech_soft.settle(*cfg))
 
 
-FIRST_TOUCH_MISSED = (
-    "the first lowering from above passes a thin wedge of nut (where its "
-    "thread runs out on the top face) within one step: python-fcl sees "
-    "crossing triangles at the step's ends, never a wedge passed whole, so "
-    "the first contact is found about 1.3e-3 mm below the exact first touch "
-    "(an fcl sweep in fine steps agrees with the exact reference)"
-)
-# Held tilts at which, with the M6 compliance (centre 2 mm above the tip), the code's first
-# contact is found below the exact (and a fine fcl sweep's) height.
-M6_MISSED = [(-1.6, -2.28, 342.7), (2.22, 3.67, 321.46)]
-
-
 @pytest.mark.parametrize(
-    "which, cfg",
-    [("q20", c) for c in Q20_CONFIGS]
-    + [("m6", c) for c in M6_CONFIGS if c not in M6_MISSED]
-    + [
-        pytest.param("m6", c, marks=pytest.mark.xfail(strict=False, reason=FIRST_TOUCH_MISSED))
-        for c in M6_MISSED
-    ],
+    "which, cfg", [("q20", c) for c in Q20_CONFIGS] + [("m6", c) for c in M6_CONFIGS]
 )
 def test_first_contact_is_the_exact_first_touch(
     which, cfg, q20_rests, m6_rests, mech_m6, quarter_20, m6
@@ -686,46 +668,59 @@ def test_a_continuation_step_depends_on_the_state_it_leaves_alone(mech, q20_rest
     assert [c.force for c in again.contacts] == [c.force for c in first.contacts]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="a lowering that starts in collision climbs in doubling steps to a free pose, "
-    "then enumerates the crossing pairs at its bracket's foot only: material the bolt "
-    "passes whole between the two is missed (here 1.7e-4 in of an overhang of the nut; "
-    "on the chamfered M6 about one climbing lowering in eight, by the same check)",
+@pytest.mark.parametrize(
+    "designation, parts, held, phases",
+    [
+        ("1/4-20 UNC-2A/2B", {}, (2, 1), (120, 125)),
+        ("1/4-20 UNC-2A/2B", {"point": "flat", "countersink": False}, (4, 4), (347.5, 347.6)),
+    ],
 )
-def test_a_lowering_that_starts_in_collision_finds_the_first_touch_from_above():
-    """A descent step's lowering that starts in collision climbs out, then lowers again:
-    it must find the first touch from above, as a python-fcl sweep down from a free pose
-    in steps of 1e-6 in finds it (brute force), not a touch below material it passed.
-    Chamfered point and countersunk nut, held (2, 1), continued from phase 120 to 125:
-    a step there places the bolt 1.7e-4 in below the first touch, from where it snaps
-    into a thread it could not reach."""
-    calls = []
+def test_every_lowering_a_descent_keeps_is_at_the_first_touch_from_above(
+    designation, parts, held, phases
+):
+    """Every lowering a descent keeps must lie at the first touch below its free top, as a
+    python-fcl sweep of the two whole meshes down from above it in steps of 1e-6 in finds
+    it (brute force), not at a touch below material it passed. Two ways to miss it, each
+    seen here before the lowering checked the pairs above its touch:
+
+    - chamfered point, countersunk nut, held (2, 1), continued from phase 120 to 125: a
+      step that starts in collision climbs out in doubling steps, and its long bracket
+      passed 1.7e-4 in of an overhang of the nut whole; from there the bolt "snapped" at
+      122.5 degrees into a thread it could not reach;
+    - flat ends, held (4, 4), continued from 347.5 to 347.6 (past a fold): a bolt triangle
+      meeting a nut flank nearly parallel to it sank whole into the nut within the
+      bracket and crossed no nut triangle at its foot, 1.6e-5 in too low; and a long step
+      passed a 4e-4 in tooth at the nut's face whole.
+    """
+    kept = []
 
     class Recording(Mechanics):
-        def drop(self, rotation, xy, zc, span=None):
-            found = super().drop(rotation, xy, zc, span)
-            calls.append((rotation, np.array(xy, dtype=float), found))
+        def verified(self, d):
+            found = super().verified(d)
+            kept.append(found)
             return found
 
-    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    spec = spec_from_designation(designation, **parts)
     mech = Recording(spec, DEFAULT)
-    start = mech.settle(2, 1, 120).state
-    calls.clear()
-    mech.settle(2, 1, 125, start=start)
+    start = mech.settle(*held, phases[0]).state
+    kept.clear()
+    mech.settle(*held, phases[1], start=start)
     # The reference: python-fcl's query of the two whole meshes (not the engine's).
     reference = collider(spec)
     reach = mech.compliance.compliance_z
-    for rotation, xy, found in calls[:3]:
+    assert kept
+    for found in kept[:6]:
 
-        def collides(zc, rotation=rotation, xy=xy):
+        def collides(zc, found=found):
+            rotation = found.rotation
             return reference.collides(
-                rotation, np.array([xy[0], xy[1], zc]) - rotation[:, 2] * reach
+                rotation, np.array([found.xy[0], found.xy[1], zc]) - rotation[:, 2] * reach
             )
 
-        top = found.zc + 5e-4
-        assert not collides(top)
-        z = top
+        # From the free height the lowering measured its touch from (it can lie under an
+        # overhang of the nut: the bolt's tooth in the nut's groove).
+        assert not collides(found.top)
+        z = found.top
         while not collides(z):
             z -= 1e-6
         assert found.zc - 1e-6 <= z <= found.zc + 1e-9

@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 
 from ..geometry import Pose
 
-__all__ = ["CollisionPair"]
+__all__ = ["CollisionPair", "pair_keys"]
 
 #: Pair enumeration stops here; far more than any contact the stages look at.
 MAX_PAIRS = 200_000
@@ -46,6 +46,11 @@ MAX_PAIRS = 200_000
 SECTORS = 36
 #: Multiplier of the bolt face in a pair's integer key (above any nut face count).
 _KEY = 1 << 31
+
+
+def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
+    """One integer per ``(bolt_face, nut_face)`` pair (bolt face major)."""
+    return pairs[:, 0] * _KEY + pairs[:, 1]
 
 
 def _pair_ids(
@@ -174,6 +179,11 @@ class CollisionPair:
         for a, b in zip(lo.tolist(), hi.tolist(), strict=True):
             out.update(k % SECTORS for k in range(a, b + 1))
         return frozenset(out)
+
+    def sectors_around(self, pairs: NDArray[np.int64]) -> frozenset[int]:
+        """The sectors of the nut faces of ``pairs``, and the sector either side of each."""
+        found = np.unique(self.nut_sector[pairs[:, 1]])
+        return frozenset(((found[:, None] + np.arange(-1, 2)) % SECTORS).ravel().tolist())
 
     def pairs(self, pose: Pose, sectors: frozenset[int] | None = None) -> NDArray[np.int64]:
         """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose``, over the whole

@@ -29,7 +29,9 @@ Lowering (:meth:`Mechanics.drop`): the bolt at a tilt is placed a little above w
 is expected to touch, checked free with one yes/no query, and every triangle pair that
 intersects a little lower is enumerated with one more; the exact drop at which each pair
 first touches (:func:`vertical_touch`) gives the contact height without bisection, and
-the gaps of the other contacts within the depth ``near``.
+the gaps of the other contacts within the depth ``near``. A lowering that is kept is
+verified (:meth:`Mechanics.verified`): the pairs crossing just above its touch, and
+yes/no queries above it, find what the pairs at the bracket's foot missed.
 
 Classes (mechanics.md), from the forces and the minimum, never from the way there:
 
@@ -50,7 +52,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -64,6 +66,7 @@ from .._units import METRES_PER_UNIT
 from .._validate import check_open_range
 from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
 from ._analyzer import ContactAnalyzer, check_configuration
+from ._collision import pair_keys
 from ._compliance import Compliance
 from ._exact import (
     contact_normal,
@@ -104,9 +107,16 @@ class _Drop:
     rotation: NDArray[np.float64]
     xy: NDArray[np.float64]
     zc: float  # height of the compliance centre when touching
-    gaps: NDArray[np.float64]  # vertical gap of each enumerated pair (>= 0)
-    points: NDArray[np.float64]  # where each pair touches (F)
-    queries: int
+    top: float  # the free height the touch is measured from
+    start: float  # where the lowering started (see Mechanics.verified)
+    span: float  # its last step
+    cap: float  # the longest step it may take
+    pairs: NDArray[np.int64]  # (bolt, nut) face pairs whose touch from ``top`` is known
+    drops: NDArray[np.float64]  # each pair's drop from ``top`` to its touch (or inf)
+    touches: NDArray[np.float64]  # where each pair touches (F; NaN with an inf drop)
+    gaps: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))  # vertical (>= 0)
+    points: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 3)))  # (F)
+    verified: bool = False  # at the first touch from ``top`` (Mechanics.verified)
 
 
 @dataclass
@@ -192,6 +202,9 @@ class Mechanics:
         self.tolerance = travel
         #: Depth below the touching pose within which contacts are known to the descent.
         self.near = spec.pitch / 5000
+        #: Spacing of the yes/no queries with which a lowering looks for material it passed
+        #: whole above its touch (:meth:`verified`).
+        self.probe = spec.pitch / 256
         #: Gap below which a contact counts as touching (carries force at rest).
         self.touching = 20 * travel
         #: Margin of a stable state's support (see the module docstring).
@@ -224,14 +237,18 @@ class Mechanics:
         xy: NDArray[np.float64],
         zc: float | None,
         span: float | None = None,
+        *,
+        verify: bool = True,
     ) -> _Drop | None:
         """Lower the bolt at ``rotation`` (compliance centre over ``xy``) onto the nut.
 
         ``zc`` is where the compliance centre is expected to touch (None: unknown, the
         bolt comes from above the nut). Returns None when the bolt passes the nut.
+        Without ``verify`` the touch is the one the bracket's pairs give, which can lie
+        below the first touch (see :meth:`verified`): a descent step asks for it only once
+        the step would be kept there, since the first touch lies higher still.
         """
         eng = self.engine
-        q0 = eng.queries
         known_free = False
         # Where the lowest bolt point is just above the nut's top face: free for sure.
         above = (
@@ -252,12 +269,28 @@ class Mechanics:
         # within ``near`` of it. (No further: a deeper bracket can pass a thin wedge of
         # material whole, where a thread runs out on an end face.)
         top = zc if known_free else zc + span - min(0.25 * span, 0.25 * self.near)
-        start, cap = top, self.spec.pitch / 16
+        found = self._bracket(rotation, xy, top, span, known_free, self.spec.pitch / 16)
+        return self.verified(found) if verify and found is not None else found
+
+    def _bracket(
+        self,
+        rotation: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        top: float,
+        span: float,
+        known_free: bool,
+        cap: float,
+    ) -> _Drop | None:
+        """The touch the pairs crossing at a bracket's foot give, lowering from ``top`` in
+        steps of ``span`` doubling up to ``cap`` (see :meth:`drop`)."""
+        eng = self.engine
+        start, hit = top, -math.inf  # hit: the highest height known to collide
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
             # longer cross a little lower, so one enumeration below cannot tell.
             if not known_free:
                 if eng.collides(self._pose(rotation, xy, top)):
+                    hit = top
                     top += span
                     span = min(2 * span, cap)
                     continue
@@ -281,30 +314,102 @@ class Mechanics:
                 known_free = False
                 continue
             touch = top - first
+            if touch < hit:
+                # Below a height known to collide: the bracket, long after a climb, passed
+                # material whole (a thin tooth where a thread runs out on an end face).
+                low = hit
+                pairs = eng.pairs(self._pose(rotation, xy, low))
+                drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), pairs))
+                touch = max(touch, top - float(drop[np.isfinite(drop)].min(initial=math.inf)))
             if touch - low < self.near * (1 - 1e-9):
                 pairs = eng.pairs(self._pose(rotation, xy, touch - self.near))
                 drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), pairs))
-                ok = np.isfinite(drop)
-            if start - touch > 2 * self.near and self._embedded(rotation, xy, touch):
-                # A thin wedge of one body (where a thread runs out on an end face) passed
-                # whole into the other within a step: python-fcl sees crossing triangles,
-                # never containment. Again from the start, in steps a quarter as long.
-                top, known_free, cap = start, False, cap / 4
-                span = min(span, cap)
-                if cap < self.tolerance:
-                    raise RuntimeError("lowering the bolt keeps passing into the nut")
-                continue
-            gaps = drop - first
-            keep = ok & (gaps <= self.near)
-            return _Drop(
-                rotation,
-                np.array(xy, dtype=float),
-                touch,
-                np.maximum(gaps[keep], 0.0),
-                points[keep],
-                eng.queries - q0,
+            return self._touching(
+                _Drop(
+                    rotation,
+                    np.array(xy, dtype=float),
+                    touch,
+                    top,
+                    start,
+                    span,
+                    cap,
+                    pairs,
+                    drop,
+                    points,
+                )
             )
         raise RuntimeError("lowering the bolt did not settle on a bracket")
+
+    def _touching(self, d: _Drop) -> _Drop:
+        """``d`` with its touch raised to the first of its pairs' (when higher), and the
+        gaps and points of its pairs within ``near`` below it."""
+        ok = np.isfinite(d.drops)
+        first = min(d.top - d.zc, float(d.drops[ok].min(initial=math.inf)))
+        gaps = d.drops - first
+        keep = ok & (gaps <= self.near)
+        return replace(
+            d,
+            zc=d.top - first,
+            gaps=np.maximum(gaps[keep], 0.0),
+            points=d.touches[keep],
+        )
+
+    def verified(self, d: _Drop) -> _Drop:
+        """``d`` at the first touch below its free top.
+
+        The pairs crossing at the bracket's foot can miss what the bolt meets first, as
+        python-fcl sees crossing triangles, never containment:
+
+        - a bolt triangle meeting a nut flank nearly parallel to it sinks whole into the
+          nut within the bracket and then crosses no nut triangle. The pairs crossing just
+          above the touch are the ones missed: there are none, or they raise the touch;
+        - a long bracket passes a thin tooth whole (where a thread runs out on an end
+          face, a few 1e-4 in thick). Yes/no queries every :attr:`probe` above the touch
+          find it, and the pairs crossing there raise the touch.
+        """
+        if d.verified:
+            return d
+        eng = self.engine
+        while True:
+            above, probed = d.zc + self.tolerance, d.zc
+            while above < d.top:
+                # Just above the touch, the pairs missed lie within the crossing pairs'
+                # ring: a region of one body sunk into the other is bounded by crossings.
+                # At a probe that collides, anywhere.
+                around = eng.sectors_around(d.pairs) if above == d.zc + self.tolerance else None
+                pairs = eng.pairs(self._pose(d.rotation, d.xy, above), around)
+                new = pairs[~np.isin(pair_keys(pairs), pair_keys(d.pairs))]
+                drop, points = vertical_touch(
+                    *eng.triangles(self._pose(d.rotation, d.xy, d.top), new)
+                )
+                raised = drop[np.isfinite(drop)]
+                # (Touching just above within rounding is free there.)
+                if len(raised) and d.top - float(raised.min()) > d.zc + self.tolerance:
+                    d = self._touching(
+                        replace(
+                            d,
+                            pairs=np.concatenate([d.pairs, new]),
+                            drops=np.concatenate([d.drops, drop]),
+                            touches=np.concatenate([d.touches, points]),
+                        )
+                    )
+                    above, probed = d.zc + self.tolerance, d.zc
+                    continue
+                above = probed + self.probe
+                while above < d.top and not eng.collides(self._pose(d.rotation, d.xy, above)):
+                    above += self.probe
+                probed = above
+            if not (d.start - d.zc > 2 * self.near and self._embedded(d.rotation, d.xy, d.zc)):
+                return replace(d, verified=True)
+            # A thin wedge of one body (where a thread runs out on an end face) passed whole
+            # into the other within a step. Again from the start, in steps a quarter as long.
+            cap = d.cap / 4
+            if cap < self.tolerance:
+                raise RuntimeError("lowering the bolt keeps passing into the nut")
+            found = self._bracket(d.rotation, d.xy, d.start, min(d.span, cap), False, cap)
+            if found is None:  # pragma: no cover - the bolt touched from this start before
+                raise RuntimeError("lowering the bolt passed the nut on a second try")
+            d = found
 
     def _embedded(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> bool:
         """Whether a vertex of one mesh lies inside the other exact body, deeper than the
@@ -818,7 +923,7 @@ class Mechanics:
             if not np.all(np.isfinite(dq)):
                 break  # a degenerate contact problem: give up here, unconverged
             support = tuple(int(i) for i in np.flatnonzero(lam > 0))
-            promised = -(grad @ dq + 0.5 * dq @ (k * dq))
+            promised = -float(grad @ dq + 0.5 * dq @ (k * dq))
             dtilt = dq[1:3]
             dxy = dq[3:5] / self.metres if len(dq) > 3 else np.zeros(2)
             moved = (
@@ -851,17 +956,27 @@ class Mechanics:
                 new_xy,
                 d.zc + dq[0] / self.metres,
                 span=max(4 * self.tolerance, 0.25 * moved),
+                verify=False,
             )
             if trial is None:
                 prox *= 4
                 continue
-            step_q = np.concatenate([[(trial.zc - d.zc) * self.metres], dq[1:]])
+
+            def kept(u_new: float, u: float = u, promised: float = promised) -> bool:
+                # Mesh heights carry the chord error: below it, the exact contact geometry
+                # of the model decides (the step stays feasible: it was lowered onto the nut).
+                return (u - u_new >= 0.1 * promised and u_new < u) or (
+                    promised <= noise and u_new <= u + noise
+                )
+
             u_new = self.potential(trial.zc, new_tilt, new_xy, held)
-            # Mesh heights carry the chord error: below it, the exact contact geometry of the
-            # model decides (the step stays feasible: it was lowered onto the nut).
-            if (u - u_new >= 0.1 * promised and u_new < u) or (
-                promised <= noise and u_new <= u + noise
-            ):
+            if kept(u_new):
+                # Only a step kept at its bracket's touch can be kept at the first touch,
+                # which is no lower.
+                trial = self.verified(trial)
+                u_new = self.potential(trial.zc, new_tilt, new_xy, held)
+            step_q = np.concatenate([[(trial.zc - d.zc) * self.metres], dq[1:]])
+            if kept(u_new):
                 if self.in_phase(trial) and not snapped:
                     snapped, snap_step = True, steps
                     path.append(
