@@ -15,6 +15,7 @@ on matplotlib's Agg canvas (no display, no global pyplot state) and written atom
 from __future__ import annotations
 
 import os
+from collections import Counter
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
@@ -385,12 +386,21 @@ def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
     return save_figure(fig, path)
 
 
+def _counted(combination: str) -> str:
+    """A region combination as a set of contacts with their counts, the most frequent
+    first ("a/b x 3 + c/d"): the same contacts listed in another order are the same
+    combination, and six contacts on one ring would make a label wider than the figure."""
+    counts = Counter(combination.split(" + "))
+    ordered = sorted(counts.items(), key=lambda item: (-item[1], item[0]))
+    return " + ".join(part if n == 1 else f"{part} x {n}" for part, n in ordered)
+
+
 def plot_region_combinations(library: Library, path: str | os.PathLike[str], top: int = 25) -> Path:
     """Counts of the contact-region combinations (bolt/nut per contact) of each
     configuration (at the thesis's last stage reached, or of the rest state the mechanics'
     drop reaches), most frequent first (the ``top`` ones)."""
     df, _, name, model = _frame(library)
-    combos = df["region_combination"].replace("", "(none)").value_counts().head(top)
+    combos = df["region_combination"].replace("", "(none)").map(_counted).value_counts().head(top)
     fig = _figure(8.0, 1.0 + 0.28 * max(1, len(combos)))
     ax = fig.add_subplot()
     y = np.arange(len(combos))
@@ -400,7 +410,8 @@ def plot_region_combinations(library: Library, path: str | os.PathLike[str], top
     ax.set_xlabel("starts (held tilt, phase)" if model == "mechanics" else "configurations")
     where = "rest states reached" if model == "mechanics" else "last stage reached"
     ax.set_title(
-        f"{name}: contact-region combinations, {where} (bolt/nut per contact)", fontsize="medium"
+        f"{name}: contact-region combinations,\n{where} (bolt/nut per contact)",
+        fontsize="medium",
     )
     for yy, v in zip(y, combos.to_numpy(), strict=True):
         ax.text(float(v), float(yy), f" {v}", va="center", fontsize="x-small")
