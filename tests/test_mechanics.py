@@ -31,6 +31,7 @@ import pytest
 from scipy.optimize import nnls
 
 from _exact_geometry import exact_centre_height, rot
+from _fcl import bvh
 from threadmate.contact import Compliance, Mechanics, search
 from threadmate.geometry import (
     BoltSpec,
@@ -156,18 +157,8 @@ class Collider:
 
     def __init__(self, spec):
         bolt, nut = thread_meshes(spec)
-        self.bolt = fcl.CollisionObject(self._bvh(bolt.mesh), fcl.Transform())
-        self.nut = fcl.CollisionObject(self._bvh(nut.mesh), fcl.Transform())
-
-    @staticmethod
-    def _bvh(mesh):
-        model = fcl.BVHModel()
-        model.beginModel(len(mesh.vertices), len(mesh.faces))
-        model.addSubModel(
-            np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int32)
-        )
-        model.endModel()
-        return model
+        self.bolt = fcl.CollisionObject(bvh(bolt.mesh), fcl.Transform())
+        self.nut = fcl.CollisionObject(bvh(nut.mesh), fcl.Transform())
 
     def collides(self, rotation, origin):
         """Whether the bolt at (rotation, origin) intersects the nut (yes/no query)."""

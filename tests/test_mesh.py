@@ -18,6 +18,7 @@ import pytest
 from scipy import integrate
 from scipy.spatial import cKDTree
 
+from _fcl import bvh
 from threadmate._errors import InputError
 from threadmate.geometry import (
     DEFAULT_CHORD,
@@ -384,14 +385,6 @@ def _brute_force_pairs(A: np.ndarray, B: np.ndarray, eps: float) -> set[tuple[in
     return {(int(i), int(j)) for i, j in hit}
 
 
-def _bvh(mesh) -> fcl.BVHModel:
-    model = fcl.BVHModel()
-    model.beginModel(len(mesh.vertices), len(mesh.faces))
-    model.addSubModel(np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64))
-    model.endModel()
-    return model
-
-
 POSES = [  # (roll, pitch, phase, h): bolt partly into the nut, out of phase
     (0.0, 0.0, 5.0, -0.003),  # round phases, axes aligned: the meridian-plane danger
     (0.0, 0.0, 10.0, -0.002),
@@ -413,8 +406,8 @@ def coarse_fcl(quarter_20):
     return (
         bolt.mesh,
         nut.mesh,
-        fcl.CollisionObject(_bvh(bolt.mesh)),
-        fcl.CollisionObject(_bvh(nut.mesh)),
+        fcl.CollisionObject(bvh(bolt.mesh)),
+        fcl.CollisionObject(bvh(nut.mesh)),
     )
 
 

@@ -20,6 +20,7 @@ import fcl
 import numpy as np
 import pytest
 
+from _fcl import bvh
 from threadmate.geometry import (
     DEFAULT_CHORD,
     BoltPoint,
@@ -442,14 +443,6 @@ def test_pointed_bolt_and_countersunk_nut_share_no_meridian_plane(built, pair):
 
 
 # -- python-fcl on the chamfer in the countersink ---------------------------------------------
-def _bvh(mesh) -> fcl.BVHModel:
-    model = fcl.BVHModel()
-    model.beginModel(len(mesh.vertices), len(mesh.faces))
-    model.addSubModel(np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64))
-    model.endModel()
-    return model
-
-
 @pytest.mark.parametrize("pair", ["1/4-20", "M6x1"])
 @pytest.mark.parametrize("phase", [0.0, 37.0])
 @pytest.mark.parametrize("direction", [0.0, 113.0])
@@ -478,8 +471,8 @@ def test_fcl_sees_the_chamfer_meet_the_countersink(built, pair, phase, direction
     x_star = b + k_n * h - a
     assert x_star > 0
     norm = math.hypot(1.0, k_n)
-    nut_o = fcl.CollisionObject(_bvh(nut.mesh))
-    bolt_o = fcl.CollisionObject(_bvh(bolt.mesh))
+    nut_o = fcl.CollisionObject(bvh(nut.mesh))
+    bolt_o = fcl.CollisionObject(bvh(bolt.mesh))
     c, s = math.cos(math.radians(phase)), math.sin(math.radians(phase))
     rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
     for gap_chords, expected in ((10.0, False), (-10.0, True), (3.0, False), (-3.0, True)):
