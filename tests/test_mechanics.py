@@ -309,6 +309,23 @@ def test_settle_reaches_a_rest_state_soft_compliance(mech_soft, quarter_20, cfg)
     check_kkt(quarter_20, SOFT, mech_soft.settle(*cfg))
 
 
+@pytest.mark.parametrize("cfg", [(1, 4, 348.0), (2, 4, 347.5)])
+def test_kkt_where_the_thread_starts_meet_edge_to_edge(mech, quarter_20, cfg):
+    """The bolt's thread start (a thin wedge on its tip face) lowered onto the nut's (one on
+    its top face) rests edge on edge, with the nut's tooth a hair above the bolt's flank:
+    settle returns a rest state satisfying the KKT conditions there.
+
+    Two faults once hung the bolt there, unbalanced (force residual 1), for all 60 descent
+    steps. The contact refined along the nut's rim slid onto the nut's tooth over the
+    bolt's flank, a normal pointing down that no lowering can give; and the pairs crossing
+    at the touch were dropped for those crossing a little lower, where the bolt's wedge
+    lies wholly inside the nut, so the touch had no contact."""
+    rest = mech.settle(*cfg)
+    check_kkt(quarter_20, DEFAULT, rest)
+    loaded = [c for c in rest.state.touching if c.force > 0]
+    assert any((c.bolt_feature, c.nut_feature) == ("rim", "rim") for c in loaded), loaded
+
+
 @pytest.mark.parametrize(
     "which, cfg", [("q20", c) for c in Q20_CONFIGS] + [("m6", c) for c in M6_CONFIGS]
 )

@@ -314,16 +314,21 @@ class Mechanics:
                 known_free = False
                 continue
             touch = top - first
+            # More pairs are asked for below, each time added to those known: a pair that
+            # crosses higher up can lie wholly inside the other body lower down (a thin
+            # tooth where a thread starts on an end face), and its touch must not be lost.
             if touch < hit:
                 # Below a height known to collide: the bracket, long after a climb, passed
                 # material whole (a thin tooth where a thread runs out on an end face).
                 low = hit
-                pairs = eng.pairs(self._pose(rotation, xy, low))
-                drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), pairs))
-                touch = max(touch, top - float(drop[np.isfinite(drop)].min(initial=math.inf)))
+                pairs, drop, points, more = self._with_pairs_at(
+                    rotation, xy, top, pairs, drop, points, low
+                )
+                touch = max(touch, top - float(more[np.isfinite(more)].min(initial=math.inf)))
             if touch - low < self.near * (1 - 1e-9):
-                pairs = eng.pairs(self._pose(rotation, xy, touch - self.near))
-                drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), pairs))
+                pairs, drop, points, _ = self._with_pairs_at(
+                    rotation, xy, top, pairs, drop, points, touch - self.near
+                )
             return self._touching(
                 _Drop(
                     rotation,
@@ -339,6 +344,31 @@ class Mechanics:
                 )
             )
         raise RuntimeError("lowering the bolt did not settle on a bracket")
+
+    def _with_pairs_at(
+        self,
+        rotation: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        top: float,
+        pairs: NDArray[np.int64],
+        drops: NDArray[np.float64],
+        touches: NDArray[np.float64],
+        at: float,
+        sectors: frozenset[int] | None = None,
+    ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """``pairs`` (with their ``drops`` from ``top`` and ``touches``) and the pairs that
+        cross at the height ``at`` (of the nut's ``sectors``, default all) added; and the
+        drops of the pairs added."""
+        eng = self.engine
+        found = eng.pairs(self._pose(rotation, xy, at), sectors)
+        new = found[~np.isin(pair_keys(found), pair_keys(pairs))]
+        drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), new))
+        return (
+            np.concatenate([pairs, new]),
+            np.concatenate([drops, drop]),
+            np.concatenate([touches, points]),
+            drop,
+        )
 
     def _touching(self, d: _Drop) -> _Drop:
         """``d`` with its touch raised to the first of its pairs' (when higher), and the
@@ -377,22 +407,13 @@ class Mechanics:
                 # ring: a region of one body sunk into the other is bounded by crossings.
                 # At a probe that collides, anywhere.
                 around = eng.sectors_around(d.pairs) if above == d.zc + self.tolerance else None
-                pairs = eng.pairs(self._pose(d.rotation, d.xy, above), around)
-                new = pairs[~np.isin(pair_keys(pairs), pair_keys(d.pairs))]
-                drop, points = vertical_touch(
-                    *eng.triangles(self._pose(d.rotation, d.xy, d.top), new)
+                pairs, drops, touches, more = self._with_pairs_at(
+                    d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, above, around
                 )
-                raised = drop[np.isfinite(drop)]
+                raised = more[np.isfinite(more)]
                 # (Touching just above within rounding is free there.)
                 if len(raised) and d.top - float(raised.min()) > d.zc + self.tolerance:
-                    d = self._touching(
-                        replace(
-                            d,
-                            pairs=np.concatenate([d.pairs, new]),
-                            drops=np.concatenate([d.drops, drop]),
-                            touches=np.concatenate([d.touches, points]),
-                        )
-                    )
+                    d = self._touching(replace(d, pairs=pairs, drops=drops, touches=touches))
                     above, probed = d.zc + self.tolerance, d.zc
                     continue
                 above = probed + self.probe
@@ -518,10 +539,17 @@ class Mechanics:
     ) -> _Near:
         an = self.analyzer
         pose = self._pose(d.rotation, d.xy, d.zc - gap)
-        if refine:
-            n, point, fn, fb = refined_contact(
-                an.nut, an.bolt, pose, point, an.feature_tolerance, self.separation / 4
-            )
+        refined = (
+            refined_contact(an.nut, an.bolt, pose, point, an.feature_tolerance, self.separation / 4)
+            if refine
+            else None
+        )
+        # A contact a lowering found opens as the bolt rises: its normal points up. One
+        # pointing down means the refinement slid along an edge onto another feature close
+        # by (where two thread starts meet edge to edge, the nut's tooth over the bolt's
+        # flank): the contact then stays where the meshes touch.
+        if refined is not None and refined[0][2] >= 0.0:
+            n, point, fn, fb = refined
         else:
             n, fn, fb = contact_normal(an.nut, an.bolt, pose, point, an.feature_tolerance)
         return _Near(
