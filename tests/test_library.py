@@ -14,6 +14,7 @@ import json
 import math
 import os
 import sys
+from collections import Counter
 
 import numpy as np
 import pandas as pd
@@ -341,6 +342,9 @@ def test_summary_counts_and_figures(library, tmp_path):
     assert doc["done"] == 18 and doc["configurations"] == 18
     assert {k: v for k, v in doc["counts"].items() if v} == counts
     assert sum(doc["region_combinations"].values()) == 18
+    # The same contacts listed in another order are one combination (as in the figure).
+    as_sets = Counter(tuple(sorted(c.split(" + "))) for c in df["region_combination"])
+    assert sorted(doc["region_combinations"].values()) == sorted(as_sets.values())
     three = {k: doc["counts"][k] for k in ("unstable", "quasi-stable", "stable")}
     assert three[doc["most_common"]] == max(three.values())
     at = doc["at_phase"]

@@ -210,7 +210,8 @@ def summary(library: Library, phase: float | None = None) -> dict[str, Any]:
         classification (every class the model can give), ``most_common`` and
         ``least_common`` (among unstable, quasi-stable and stable for the thesis's model;
         among quasi-stable, stable and in-phase for the mechanics, whose drops always end
-        at rest), ``region_combinations`` (counts, most frequent first), ``n_contacts``
+        at rest), ``region_combinations`` (counts, most frequent first, each a set of
+        contacts with repeats counted: "a/b x 3 + c/d"), ``n_contacts``
         (counts), ``orientations`` (counts per roll/pitch) and ``at_phase`` (the grid
         phase and its counts). A mechanics library adds ``states``:
         ``total``, ``by_role``, ``by_class``, ``by_role_and_class`` over all its states
@@ -225,7 +226,7 @@ def summary(library: Library, phase: float | None = None) -> dict[str, Any]:
         counts[str(other)] = int((cls == other).sum())
     done = len(df)
     ranked = {c: counts[c] for c in _RANKED.get(model, _RANKED["thesis"])}
-    combos = df["region_combination"].replace("", "(none)").value_counts()
+    combos = _combinations(df)
     per_orientation = []
     for key, group in df.groupby(["roll", "pitch"], sort=True):
         r, p = cast("tuple[float, float]", key)  # grouped by two columns
@@ -395,12 +396,18 @@ def _counted(combination: str) -> str:
     return " + ".join(part if n == 1 else f"{part} x {n}" for part, n in ordered)
 
 
+def _combinations(df: pd.DataFrame) -> pd.Series:
+    """Counts of the configurations' region combinations (:func:`_counted`), most
+    frequent first."""
+    return df["region_combination"].replace("", "(none)").map(_counted).value_counts()
+
+
 def plot_region_combinations(library: Library, path: str | os.PathLike[str], top: int = 25) -> Path:
     """Counts of the contact-region combinations (bolt/nut per contact) of each
     configuration (at the thesis's last stage reached, or of the rest state the mechanics'
     drop reaches), most frequent first (the ``top`` ones)."""
     df, _, name, model = _frame(library)
-    combos = df["region_combination"].replace("", "(none)").map(_counted).value_counts().head(top)
+    combos = _combinations(df).head(top)
     fig = _figure(8.0, 1.0 + 0.28 * max(1, len(combos)))
     ax = fig.add_subplot()
     y = np.arange(len(combos))
