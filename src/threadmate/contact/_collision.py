@@ -53,24 +53,20 @@ def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
     return pairs[:, 0] * _KEY + pairs[:, 1]
 
 
-def _pair_ids(
+def _pair_keys_of(
     bolt: fcl.CollisionObject,
     nut: fcl.CollisionObject,
     request: fcl.CollisionRequest,
     nut_ids: NDArray[np.int64],
-) -> NDArray[np.int64]:
-    """Unique intersecting (bolt face, nut face) pairs, sorted; ``nut_ids`` (increasing)
-    maps a sector's local face numbers to the nut's."""
+) -> NDArray[np.int64] | None:
+    """Keys (:func:`pair_keys`) of the intersecting (bolt face, nut face) pairs, with
+    repeats (None: none); ``nut_ids`` maps a sector's local face numbers to the nut's."""
     result = fcl.CollisionResult()
     fcl.collide(bolt, nut, request, result)
     if not result.contacts:
-        return np.empty((0, 2), dtype=np.int64)
-    # One integer key per pair (bolt face major): a 1-D unique sorts them as the rows'
-    # lexicographic unique would, at a fraction of its cost.
-    key = np.unique(np.array([c.b1 * _KEY + c.b2 for c in result.contacts], dtype=np.int64))
-    ids = np.column_stack([key // _KEY, key % _KEY])
-    ids[:, 1] = nut_ids[ids[:, 1]]
-    return ids
+        return None
+    ids = np.array([(c.b1, c.b2) for c in result.contacts], dtype=np.int64)
+    return ids[:, 0] * _KEY + nut_ids[ids[:, 1]]
 
 
 def _bvh(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> fcl.BVHModel:
@@ -191,18 +187,17 @@ class CollisionPair:
         self._place(pose)
         self.queries += 1
         found = [
-            ids
-            for ids in (
-                _pair_ids(self._bolt, obj, self._all, nut_ids)
-                for k, (obj, nut_ids) in self._sectors.items()
-                if sectors is None or k in sectors
-            )
-            if len(ids)
+            keys
+            for k, (obj, nut_ids) in self._sectors.items()
+            if sectors is None or k in sectors
+            if (keys := _pair_keys_of(self._bolt, obj, self._all, nut_ids)) is not None
         ]
         if not found:
             return np.empty((0, 2), dtype=np.int64)
-        # Each sector's pairs are sorted and distinct, and no nut face is in two sectors.
-        return found[0] if len(found) == 1 else np.unique(np.concatenate(found), axis=0)
+        # One integer key per pair (bolt face major), all sectors at once: a 1-D unique
+        # sorts them as the rows' lexicographic unique would, at a fraction of its cost.
+        key = np.unique(np.concatenate(found))
+        return np.column_stack([key // _KEY, key % _KEY])
 
     def triangles(
         self, pose: Pose, pairs: NDArray[np.int64]

@@ -432,6 +432,32 @@ class Mechanics:
                 raise RuntimeError("lowering the bolt passed the nut on a second try")
             d = found
 
+    def _nudged(self, d: _Drop, rotation: NDArray[np.float64], xy: NDArray[np.float64]) -> _Drop:
+        """``d`` turned to ``rotation`` over ``xy`` by a motion that moves no bolt point
+        by more than :attr:`tolerance`, lowered onto its own pairs.
+
+        The balance asks for tilts far finer than the length tolerance (the last steps
+        of a descent move the bolt by nanometres), and any pair the motion brings to touch
+        was within ``near`` below the touch before it, so among the pairs ``d`` knows: the
+        exact drops of those pairs from ``d``'s free top, with no python-fcl query, give
+        the touch (what a query could add lies within the tolerance).
+        """
+        eng = self.engine
+        drops, touches = vertical_touch(*eng.triangles(self._pose(rotation, xy, d.top), d.pairs))
+        ok = np.isfinite(drops)
+        first = float(drops[ok].min()) if ok.any() else d.top - d.zc
+        return self._touching(
+            replace(
+                d,
+                rotation=rotation,
+                xy=np.array(xy, dtype=float),
+                zc=d.top - first,
+                drops=drops,
+                touches=touches,
+                verified=True,
+            )
+        )
+
     def _embedded(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> bool:
         """Whether a vertex of one mesh lies inside the other exact body, deeper than the
         meshes' deviation, at the pose where the bolt's centre is at ``zc``."""
@@ -979,16 +1005,21 @@ class Mechanics:
                 new_xy = d.xy + dxy
             else:
                 new_xy = d.xy
-            trial = self.drop(
-                self._rotation(new_tilt, phase),
-                new_xy,
-                d.zc + dq[0] / self.metres,
-                span=max(4 * self.tolerance, 0.25 * moved),
-                verify=False,
+            lowered = (
+                self._nudged(d, self._rotation(new_tilt, phase), new_xy)
+                if moved <= self.tolerance
+                else self.drop(
+                    self._rotation(new_tilt, phase),
+                    new_xy,
+                    d.zc + dq[0] / self.metres,
+                    span=max(4 * self.tolerance, 0.25 * moved),
+                    verify=False,
+                )
             )
-            if trial is None:
+            if lowered is None:
                 prox *= 4
                 continue
+            trial = lowered
 
             def kept(u_new: float, u: float = u, promised: float = promised) -> bool:
                 # Mesh heights carry the chord error: below it, the exact contact geometry
