@@ -19,11 +19,12 @@ the roll axis and ``Y' = Rx(roll) Y`` the pitch axis. One step minimises the qua
 model of U plus a proximal term under the linearised contacts (:mod:`._lcp`); its
 multipliers are the contact forces. The bolt is then tilted by the step and lowered onto
 the nut again with python-fcl (so every accepted pose touches and nothing
-interpenetrates), and the step is kept when U fell by a fair part of what the model
-promised (else the proximal weight grows: a trust region). A contact released by the
-step is the thesis's rolling pivot; a contact that appears is its next contact. The
-descent stops when the contact forces balance the load and the spring (see
-:data:`BALANCE`).
+interpenetrates; a step that moves no bolt point by more than the length tolerance, onto
+the pairs already known: :meth:`Mechanics._nudged`), and the step is kept when U fell
+by a fair part of what the model promised (else the proximal weight grows: a trust
+region). A contact released by the step is the thesis's rolling pivot; a contact that
+appears is its next contact. The descent stops when the contact forces balance the load
+and the spring (see :data:`BALANCE`).
 
 Lowering (:meth:`Mechanics.drop`): the bolt at a tilt is placed a little above where it
 is expected to touch, checked free with one yes/no query, and every triangle pair that
