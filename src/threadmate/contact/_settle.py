@@ -435,7 +435,8 @@ class Mechanics:
 
     def _nudged(self, d: _Drop, rotation: NDArray[np.float64], xy: NDArray[np.float64]) -> _Drop:
         """``d`` turned to ``rotation`` over ``xy`` by a motion that moves no bolt point
-        by more than :attr:`tolerance`, lowered onto its own pairs.
+        by more than :attr:`tolerance` (with the nudges before it, since python-fcl last
+        lowered the bolt), lowered onto its own pairs.
 
         The balance asks for tilts far finer than the length tolerance (the last steps
         of a descent move the bolt by nanometres), and any pair the motion brings to touch
@@ -945,6 +946,7 @@ class Mechanics:
         snapped = self.in_phase(d)
         snap_step = 0  # the descent step at which it dropped in phase
         last_step = np.zeros(2)
+        nudged = 0.0  # bolt motion since python-fcl last lowered the bolt (see _nudged)
         ahead: list[_Near] = []  # contacts met by rejected steps (see below)
         support: tuple[int, ...] = ()
         steps = 0
@@ -969,6 +971,7 @@ class Mechanics:
                 if seat is not None:
                     steps += 1
                     d, near, tilt, u = seat
+                    nudged = 0.0
                     ahead, support, prox = [], (), prox0[: len(k)].copy()
                     touching = _signature(near, self.touching)
                     continue
@@ -1006,9 +1009,12 @@ class Mechanics:
                 new_xy = d.xy + dxy
             else:
                 new_xy = d.xy
+            # Nudges add up: all of them since python-fcl last lowered the bolt stay within
+            # the tolerance, so that no run of them walks into a contact it does not know.
+            nudge = nudged + moved <= self.tolerance
             lowered = (
                 self._nudged(d, self._rotation(new_tilt, phase), new_xy)
-                if moved <= self.tolerance
+                if nudge
                 else self.drop(
                     self._rotation(new_tilt, phase),
                     new_xy,
@@ -1052,6 +1058,7 @@ class Mechanics:
                     )
                 old_rows, old_sig = G[: len(near), 1:3], _signature(near, self.touching)
                 d, tilt, u = trial, new_tilt, u_new
+                nudged = nudged + moved if nudge else 0.0
                 near = self.contacts(d)
                 ahead = []
                 if _signature(near, self.touching) == old_sig and len(near) == len(old_rows):
