@@ -58,13 +58,13 @@ def _pair_keys_of(
     nut: fcl.CollisionObject,
     request: fcl.CollisionRequest,
     nut_ids: NDArray[np.int64],
-) -> NDArray[np.int64] | None:
+) -> NDArray[np.int64]:
     """Keys (:func:`pair_keys`) of the intersecting (bolt face, nut face) pairs, with
-    repeats (None: none); ``nut_ids`` maps a sector's local face numbers to the nut's."""
+    repeats; ``nut_ids`` maps a sector's local face numbers to the nut's."""
     result = fcl.CollisionResult()
     fcl.collide(bolt, nut, request, result)
     if not result.contacts:
-        return None
+        return np.empty(0, dtype=np.int64)
     ids = np.array([(c.b1, c.b2) for c in result.contacts], dtype=np.int64)
     return ids[:, 0] * _KEY + nut_ids[ids[:, 1]]
 
@@ -187,16 +187,13 @@ class CollisionPair:
         self._place(pose)
         self.queries += 1
         found = [
-            keys
+            _pair_keys_of(self._bolt, obj, self._all, nut_ids)
             for k, (obj, nut_ids) in self._sectors.items()
             if sectors is None or k in sectors
-            if (keys := _pair_keys_of(self._bolt, obj, self._all, nut_ids)) is not None
         ]
-        if not found:
-            return np.empty((0, 2), dtype=np.int64)
         # One integer key per pair (bolt face major), all sectors at once: a 1-D unique
         # sorts them as the rows' lexicographic unique would, at a fraction of its cost.
-        key = np.unique(np.concatenate(found))
+        key = np.unique(np.concatenate(found)) if found else np.empty(0, dtype=np.int64)
         return np.column_stack([key // _KEY, key % _KEY])
 
     def triangles(

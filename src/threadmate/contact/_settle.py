@@ -315,9 +315,8 @@ class Mechanics:
                 known_free = False
                 continue
             touch = top - first
-            # More pairs are asked for below, each time added to those known: a pair that
-            # crosses higher up can lie wholly inside the other body lower down (a thin
-            # tooth where a thread starts on an end face), and its touch must not be lost.
+            # Pairs asked for below are added to those known, never put in their place: a
+            # pair crossing higher up can lie wholly inside the other body lower down.
             if touch < hit:
                 # Below a height known to collide: the bracket, long after a climb, passed
                 # material whole (a thin tooth where a thread runs out on an end face).
