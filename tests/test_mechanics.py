@@ -32,7 +32,7 @@ from scipy.optimize import nnls
 
 from _exact_geometry import exact_centre_height, rot
 from _fcl import bvh
-from threadmate.contact import Compliance, Mechanics, search
+from threadmate.contact import BALANCE, MAX_STEPS, Compliance, Continuation, Mechanics, search
 from threadmate.geometry import (
     BoltSpec,
     NutSpec,
@@ -674,6 +674,70 @@ def test_a_continuation_step_depends_on_the_state_it_leaves_alone(mech, q20_rest
     again = mech.settle(2, -3, 45, start=start).state
     assert again.origin == first.origin and again.rotation == first.rotation
     assert [c.force for c in again.contacts] == [c.force for c in first.contacts]
+
+
+def _settles_of_a_continuation(mech, monkeypatch, held, phase, turn):
+    """Every settle (arguments and result) of the continuation from the start at
+    ``phase`` over ``turn`` degrees (the library's: folds only)."""
+    settled = []
+    settle = mech.settle
+
+    def recording(*args, **kwargs):
+        rest = settle(*args, **kwargs)
+        settled.append((args, kwargs, rest))
+        return rest
+
+    start = mech.settle(*held, phase).state
+    monkeypatch.setattr(mech, "settle", recording)
+    Continuation(mech, *held, contact_changes=False).advance(start, phase, turn)
+    monkeypatch.undo()
+    return settled
+
+
+def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
+    mech, quarter_20, monkeypatch
+):
+    """A probe of the continuation (held (1, 4), past three folds between 345 and 350
+    degrees) stops once the bolt has gone twice the jump's fall or tilt from the state it
+    leaves. The descent carried on to its end (no probe) from the same state ends off the
+    branch too: in phase, fallen more than pitch / 40, or turned more than 0.5 degree,
+    recomputed here from the poses."""
+    settled = _settles_of_a_continuation(mech, monkeypatch, (1, 4), 345.0, 5.0)
+    departed = [(a, k) for a, k, rest in settled if rest.state.kind == "departed"]
+    assert len(departed) >= 3, [rest.state.kind for _, _, rest in settled]
+    for args, kwargs in departed:
+        before = kwargs["start"]
+        full = mech.settle(*args, start=before).state
+        fall = before.centre[2] - full.centre[2]
+        axes = np.array(before.rotation)[:, 2] @ np.array(full.rotation)[:, 2]
+        turned = math.degrees(math.acos(min(1.0, float(axes))))
+        assert full.classification == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
+
+
+def test_a_stalled_descent_ends_where_the_longer_one_does(mech, quarter_20, monkeypatch):
+    """Where the thread starts meet edge to edge (held (2, -1), 348.6 to 348.8 degrees) some
+    descents of the continuation stall: they stop after ``stall_steps`` without progress.
+    Carried on to the step limit, each reaches the same class within the length tolerance
+    of the same pose, with no better balance."""
+    settled = _settles_of_a_continuation(mech, monkeypatch, (2, -1), 345.0, 5.0)
+    stalled = [
+        (a, k, rest)
+        for a, k, rest in settled
+        if rest.state.kind == "rest"
+        and not rest.balance["converged"]
+        and rest.iterations < MAX_STEPS
+    ]
+    assert stalled, [(rest.state.kind, rest.iterations) for _, _, rest in settled]
+    monkeypatch.setattr(mech, "stall_steps", MAX_STEPS + 1)
+    reach = quarter_20.bolt.major / 2 + quarter_20.bolt.length
+    for args, kwargs, rest in stalled:
+        longer = mech.settle(*args, **kwargs)
+        assert longer.iterations > rest.iterations
+        assert longer.classification == rest.classification
+        a, b = rest.state, longer.state
+        turned = math.radians(max(abs(a.roll - b.roll), abs(a.pitch - b.pitch)))
+        assert turned * reach + abs(a.centre[2] - b.centre[2]) <= 20 * mech.tolerance
+        assert max(longer.balance["force"], longer.balance["moment"]) > BALANCE
 
 
 @pytest.mark.parametrize(

@@ -70,7 +70,7 @@ from ._rest_state import (
 )
 from ._result import CLASSIFICATIONS, STAGES, Contact, ContactResult, StageResult, record_schema
 from ._search import CONTINUATION_STEP, Continuation, Leg, check_continuation, search
-from ._settle import Mechanics, settle
+from ._settle import BALANCE, MAX_STEPS, Mechanics, settle
 
 __all__ = [
     "OFF_SPEC_REGIONS",
@@ -80,8 +80,10 @@ __all__ = [
     "region_at",
     "CLASSIFICATIONS",
     "COMPLIANCE_LIMITS",
+    "BALANCE",
     "Compliance",
     "LoadedContact",
+    "MAX_STEPS",
     "MechanicalState",
     "Mechanics",
     "REST_CLASSES",

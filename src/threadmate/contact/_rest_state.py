@@ -66,7 +66,8 @@ class MechanicalState:
     ----------
     kind : str
         What the state is on the way: ``first-contact``, ``new-contact``, ``rolling``
-        (a contact released: the pivot rolls), ``rest``, ``in-phase``.
+        (a contact released: the pivot rolls), ``rest``, ``in-phase``; ``departed``: a
+        probe of the continuation stopped once off the branch (never a library state).
     classification : str
         One of :data:`REST_CLASSES`.
     phase : float

@@ -46,6 +46,10 @@ JUMP_TILT = 0.5
 #: changes inside a step are located by bisection; a step this size is what the library's
 #: sweep and ``threadmate search`` both take by default, so that they agree.
 CONTINUATION_STEP = 5.0
+#: A probe's descent stops once it has gone this many times the jump's thresholds (the
+#: fall ``pitch / 40``, the tilt ``JUMP_TILT``) from the state it leaves: far enough that
+#: the rest state it would reach is not near that state either.
+DEPARTURE = 2.0
 
 
 def _tilt_between(a: MechanicalState, b: MechanicalState) -> float:
@@ -152,10 +156,16 @@ class Continuation:
         self, phase: float, before: MechanicalState, *, probe: bool = True
     ) -> MechanicalState:
         """The rest state at ``phase`` continued from ``before``; a ``probe`` stops at
-        the first pose in phase (:meth:`Mechanics.settle`): the continuation asks only
-        whether it snapped, and :meth:`_bisect` settles in full the snap it keeps."""
+        the first pose in phase, or once departed from ``before`` (:data:`DEPARTURE`,
+        :meth:`Mechanics.settle`): the continuation asks only whether it snapped or left
+        the branch, and :meth:`_bisect` settles in full the jump it keeps."""
         return self.mech.settle(
-            self.held_roll, self.held_pitch, phase, start=before, stop_in_phase=probe
+            self.held_roll,
+            self.held_pitch,
+            phase,
+            start=before,
+            stop_in_phase=probe,
+            leave=(DEPARTURE * self.drop_limit, DEPARTURE * JUMP_TILT) if probe else None,
         ).state
 
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
@@ -175,7 +185,7 @@ class Continuation:
     ) -> tuple[float, float, MechanicalState, MechanicalState]:
         """Close in on where ``same(s_lo, state)`` stops holding, from the side before
         (``lo``, ``hi``: turns from ``phase``; ``s_hi`` was settled from ``hi_from``). An
-        in-phase ``s_hi`` (a probe) is settled in full: settles depend only on the state
+        in-phase or departed ``s_hi`` (a probe) is settled in full: settles depend only on the state
         they leave, so this is the same computation carried to its end."""
         while hi - lo > self.phase_tolerance:
             mid = 0.5 * (lo + hi)
@@ -184,7 +194,7 @@ class Continuation:
                 lo, s_lo = mid, s_mid
             else:
                 hi, s_hi, hi_from = mid, s_mid, s_lo
-        if s_hi.classification == "in-phase":
+        if s_hi.classification == "in-phase" or s_hi.kind == "departed":
             s_hi = self._settle(phase + self.sign * hi, hi_from, probe=False)
         return lo, hi, s_lo, s_hi
 

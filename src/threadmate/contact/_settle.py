@@ -82,13 +82,20 @@ from ._rest_state import LoadedContact, MechanicalState, RestState
 from ._result import _vec
 from ._vertical import vertical_touch
 
-__all__ = ["Mechanics", "BALANCE", "mechanics", "settle"]
+__all__ = ["Mechanics", "BALANCE", "MAX_STEPS", "mechanics", "settle"]
 
 #: Largest residual of the equilibrium at a rest state, relative to the load (force: F;
 #: moment: F times the bolt's major radius).
 BALANCE = 1e-6
 #: Descent steps before a rest state is given up as not converged.
 MAX_STEPS = 60
+#: Descent steps over which a continued descent (one leaving a rest state at a nearby
+#: phase) that neither lowered the potential by more than the mesh's noise nor its least
+#: equilibrium residual by 1 % has stalled. It stops there: at the thread starts, where
+#: both bodies' run-outs meet edge to edge, such descents went on to ``MAX_STEPS`` without
+#: moving, in a third of a sweep's bisection time. (A descent from first contact can wander
+#: that long before it finds its support, an upright point settling on a ring of edges.)
+STALL_STEPS = 20
 #: Descent steps after the bolt drops in phase. A descent in the thread seldom balances
 #: (it is reported ``converged 0``); by this many steps its compliance centre lies within
 #: about 2e-5 in of where 60 leave it (1/4-20, measured), and the 40 steps beyond took an
@@ -210,6 +217,8 @@ class Mechanics:
         self.touching = 20 * travel
         #: Margin of a stable state's support (see the module docstring).
         self.support_margin = spec.pitch / 100
+        #: Descent steps without progress after which a descent has stalled (STALL_STEPS).
+        self.stall_steps = STALL_STEPS
         self.separation = spec.pitch / 4
         self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
         self._floor = analyzer.nut.z_min - 2 * analyzer.bolt.z_max - spec.pitch
@@ -886,6 +895,7 @@ class Mechanics:
         *,
         start: MechanicalState | None = None,
         stop_in_phase: bool = False,
+        leave: tuple[float, float] | None = None,
     ) -> RestState:
         """The rest state of the bolt held at tilt ``(roll, pitch)`` and turned to
         ``phase`` (degrees), reached from first contact (or from ``start``, a state at a
@@ -894,7 +904,12 @@ class Mechanics:
         With ``stop_in_phase`` the descent stops at the first pose in phase, which is
         then returned unbalanced: the continuation's bisection asks only whether the
         bolt snaps there (a descent in the thread takes many steps), and settles the
-        snap it keeps in full.
+        snap it keeps in full. With ``leave = (fall, turn)`` the descent from ``start``
+        stops, unbalanced (kind ``departed``), once the compliance centre has fallen more
+        than ``fall`` (spec units) below ``start``'s or the bolt axis has turned more than
+        ``turn`` degrees from ``start``'s: the bisection asks only whether the rest state
+        is near the state it leaves, and a descent that has gone this far on its way down
+        the potential does not come back; it settles in full the jump it keeps.
 
         Returns
         -------
@@ -917,8 +932,21 @@ class Mechanics:
                 f"the bolt passes the nut without touching at roll {roll:g}, "
                 f"pitch {pitch:g}, phase {phase:g}"
             )
+
+        def gone(d: _Drop) -> bool:
+            # (See ``leave``.)
+            return (
+                leave is not None
+                and start is not None
+                and (
+                    start.centre[2] - d.zc > leave[0]
+                    or axis_turn(d.rotation[:, 2], np.array(start.rotation)[:, 2]) > leave[1]
+                )
+            )
+
+        departed = gone(d) and not self.in_phase(d)
         path: list[MechanicalState] = []
-        near = self.contacts(d)
+        near = [] if departed else self.contacts(d)
         if start is None:
             path.append(self.state("first-contact", "unstable", d, near, phase, held, tilt))
         last_axis = d.rotation[:, 2].copy()
@@ -947,6 +975,7 @@ class Mechanics:
         last_step = np.zeros(2)
         nudged = 0.0  # bolt motion since python-fcl last lowered the bolt (see _nudged)
         ahead: list[_Near] = []  # contacts met by rejected steps (see below)
+        progress: list[tuple[float, float]] = []  # potential and residual (stall_steps)
         support: tuple[int, ...] = ()
         steps = 0
         converged = False
@@ -954,8 +983,10 @@ class Mechanics:
         # load times the bolt's radius against it: beyond that no seat can be a rest state.
         seat_tried = float(np.hypot(*(k[1:3] * held))) > f * arm_m
         touching = _signature(near, self.touching)
-        while steps < MAX_STEPS and not (
-            snapped and (stop_in_phase or steps - snap_step >= IN_PHASE_STEPS)
+        while (
+            not departed
+            and steps < MAX_STEPS
+            and not (snapped and (stop_in_phase or steps - snap_step >= IN_PHASE_STEPS))
         ):
             centre = np.array([d.xy[0], d.xy[1], d.zc])
             G, gap = self._rows(near + ahead, centre, tilt)
@@ -964,6 +995,17 @@ class Mechanics:
             if f_res <= BALANCE / 10 and m_res <= BALANCE / 10:
                 converged = True
                 break
+            progress.append((u, max(f_res, m_res)))
+            window = self.stall_steps
+            if start is not None and len(progress) > window:
+                u_then = progress[-window - 1][0]
+                best_then = min(r for _, r in progress[:-window])
+                if u_then - u <= noise and min(r for _, r in progress[-window:]) > (
+                    0.99 * best_then
+                ):
+                    # Stalled: a rest state if it balances (as when nothing is left to gain).
+                    converged = f_res <= BALANCE and m_res <= BALANCE
+                    break
             if not seat_tried and tilt.any() and self._seating(near, tilt):
                 seat_tried = True
                 seat = self._seat(d, tilt, phase, held, u)
@@ -1057,6 +1099,9 @@ class Mechanics:
                     )
                 old_rows, old_sig = G[: len(near), 1:3], _signature(near, self.touching)
                 d, tilt, u = trial, new_tilt, u_new
+                if not snapped and gone(d):
+                    departed = True
+                    break
                 nudged = nudged + moved if nudge else 0.0
                 near = self.contacts(d)
                 ahead = []
@@ -1113,6 +1158,19 @@ class Mechanics:
                             )
                         )
         centre = np.array([d.xy[0], d.xy[1], d.zc])
+        if departed:
+            return RestState(
+                self.units,
+                float(roll),
+                float(pitch),
+                float(phase),
+                comp.to_dict(),
+                self.state("departed", "unstable", d, [], phase, held, tilt),
+                tuple(path),
+                {"force": math.nan, "moment": math.nan, "converged": 0.0},
+                steps,
+                self.engine.queries - q0,
+            )
         forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
         axis = d.rotation[:, 2]
         turn = axis_turn(axis, last_axis)
