@@ -714,6 +714,37 @@ def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
         assert full.classification == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
 
 
+@pytest.mark.parametrize("held, phase", [((2, -3), 40.0), ((0, 0), 100.0), ((-3, -2), 50.0)])
+def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
+    mech, quarter_20, held, phase
+):
+    """The library's continuation stops its descent to a grid phase once a pose reaches a
+    rest state already there (the next start's): same load-carrying contacts, compliance
+    centre within pitch / 1000, axis within 0.05 degree. Carried on to its end without
+    that, the descent ends at a state those tolerances join to the same one."""
+    floor = 1e-4 * DEFAULT.force
+
+    def joins(a, b):
+        carrying = [sorted(c.regions for c in s.touching if c.force > floor) for s in (a, b)]
+        axes = np.array(a.rotation)[:, 2] @ np.array(b.rotation)[:, 2]
+        return (
+            carrying[0] == carrying[1]
+            and math.dist(a.centre, b.centre) <= quarter_20.pitch / 1000
+            and math.degrees(math.acos(min(1.0, float(axes)))) <= 0.05
+        )
+
+    start = mech.settle(*held, phase).state
+    known = mech.settle(*held, phase + 5.0).state
+    walk = Continuation(mech, *held, contact_changes=False)
+    legs, _, _ = walk.advance(
+        start, phase, 5.0, arrive=lambda s: known if joins(known, s) else None
+    )
+    assert legs[-1].after is known  # it arrived
+    full, _, _ = walk.advance(start, phase, 5.0)
+    assert joins(known, full[-1].after)
+    assert full[-1].after.classification == known.classification
+
+
 def test_a_stalled_descent_ends_where_the_longer_one_does(mech, quarter_20, monkeypatch):
     """Where the thread starts meet edge to edge (held (2, -1), 348.6 to 348.8 degrees) some
     descents of the continuation stall: they stop after ``stall_steps`` without progress.

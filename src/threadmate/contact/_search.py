@@ -153,7 +153,12 @@ class Continuation:
         self.floor = 1e-4 * mech.compliance.force
 
     def _settle(
-        self, phase: float, before: MechanicalState, *, probe: bool = True
+        self,
+        phase: float,
+        before: MechanicalState,
+        *,
+        probe: bool = True,
+        arrive: Callable[[MechanicalState], MechanicalState | None] | None = None,
     ) -> MechanicalState:
         """The rest state at ``phase`` continued from ``before``; a ``probe`` stops at
         the first pose in phase, or once departed from ``before`` (:data:`DEPARTURE`,
@@ -166,6 +171,7 @@ class Continuation:
             start=before,
             stop_in_phase=probe,
             leave=(DEPARTURE * self.drop_limit, DEPARTURE * JUMP_TILT) if probe else None,
+            arrive=arrive,
         ).state
 
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
@@ -205,9 +211,12 @@ class Continuation:
         turn: float,
         *,
         progress: Callable[[float], None] | None = None,
+        arrive: Callable[[MechanicalState], MechanicalState | None] | None = None,
     ) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]]:
         """Turn from ``state`` (a rest state at ``phase``, degrees) by ``turn`` degrees in
-        the unscrewing sense, stopping early at a snap.
+        the unscrewing sense, stopping early at a snap. ``arrive``: rest states already
+        known at the end of the turn, as :meth:`Mechanics.settle` asks for them on its
+        last step (the library's sweep).
 
         Returns
         -------
@@ -259,7 +268,7 @@ class Continuation:
             if progress is not None:
                 progress(at)
             nxt = min(at + self.step, turn)
-            cur = self._settle(phase + sign * nxt, prev)
+            cur = self._settle(phase + sign * nxt, prev, arrive=arrive if nxt == turn else None)
             if self._continuous(prev, cur):
                 if self.contact_changes and signature(cur) != signature(prev):
                     before = signature(prev)

@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -896,6 +897,7 @@ class Mechanics:
         start: MechanicalState | None = None,
         stop_in_phase: bool = False,
         leave: tuple[float, float] | None = None,
+        arrive: Callable[[MechanicalState], MechanicalState | None] | None = None,
     ) -> RestState:
         """The rest state of the bolt held at tilt ``(roll, pitch)`` and turned to
         ``phase`` (degrees), reached from first contact (or from ``start``, a state at a
@@ -910,6 +912,12 @@ class Mechanics:
         ``turn`` degrees from ``start``'s: the bisection asks only whether the rest state
         is near the state it leaves, and a descent that has gone this far on its way down
         the potential does not come back; it settles in full the jump it keeps.
+        ``arrive`` (the library's sweep) is asked at each pose of the descent, as a state
+        not yet at rest, for a rest state already known at this phase that the pose has
+        reached (same load-carrying contacts, within the sweep's tolerances of its pose);
+        the descent stops there and returns that state (``balance["arrived"]``): the sweep
+        would take the one it ends at for that state anyway, and the descent is in its
+        basin.
 
         Returns
         -------
@@ -995,6 +1003,22 @@ class Mechanics:
             if f_res <= BALANCE / 10 and m_res <= BALANCE / 10:
                 converged = True
                 break
+            known = None
+            if arrive is not None and not snapped:
+                known = arrive(self.state("rest", "unstable", d, near, phase, held, tilt, forces))
+            if known is not None:
+                return RestState(
+                    self.units,
+                    float(roll),
+                    float(pitch),
+                    float(phase),
+                    comp.to_dict(),
+                    known,
+                    tuple(path),
+                    {"force": f_res, "moment": m_res, "converged": 0.0, "arrived": 1.0},
+                    steps,
+                    self.engine.queries - q0,
+                )
             progress.append((u, max(f_res, m_res)))
             window = self.stall_steps
             if start is not None and len(progress) > window:

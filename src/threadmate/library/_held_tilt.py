@@ -22,7 +22,7 @@ The rows follow the state record of :mod:`threadmate.contact` (``STATE_COLUMNS``
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -121,16 +121,33 @@ class _Tilt:
         return sorted(c.regions for c in s.touching if c.force > self.floor)
 
     def same(self, a: MechanicalState, b: MechanicalState) -> bool:
-        """One state reached twice: same load-carrying contacts, same pose within the
-        join tolerances."""
-        if a.classification != b.classification:
-            return False
+        """One state reached twice: same class (below), load-carrying contacts and pose
+        within the join tolerances."""
+        return a.classification == b.classification and self._joins(a, b)
+
+    def _joins(self, a: MechanicalState, b: MechanicalState) -> bool:
+        """Same load-carrying contacts, pose within the join tolerances."""
         if self.carrying(a) != self.carrying(b):
             return False
         if math.dist(a.centre, b.centre) > self.join_distance:
             return False
         cos = float(np.clip(_axis(a) @ _axis(b), -1.0, 1.0))
         return math.degrees(math.acos(cos)) <= JOIN_TILT
+
+    def arrival(self, known: list[str]) -> Callable[[MechanicalState], MechanicalState | None]:
+        """For a continuation's last descent to a grid phase: the rest state among
+        ``known`` (ids of the states at that phase, read when asked) that a pose of the
+        descent has reached (:meth:`_joins`). The descent is then in its basin, and the
+        state it would end at would be joined to it."""
+
+        def arrive(s: MechanicalState) -> MechanicalState | None:
+            for o in known:
+                t = self.states[o]
+                if t.classification in ("stable", "quasi-stable") and self._joins(t, s):
+                    return t
+            return None
+
+        return arrive
 
     def known_event(self, s: MechanicalState, phase_tolerance: float) -> str | None:
         """A state already known either side of a jump, within ``phase_tolerance`` of
@@ -251,7 +268,9 @@ def _continue(
     while tilt.states[sid].classification != "in-phase" and turned < 360.0 * MAX_TURNS:
         k = (j + 1) % n
         try:
-            legs, _, _ = walk.advance(tilt.states[sid], phase, turns[j])
+            legs, _, _ = walk.advance(
+                tilt.states[sid], phase, turns[j], arrive=tilt.arrival(at_phase[k])
+            )
         except Exception as exc:  # noqa: BLE001 - keep the states found so far
             tilt.rows[sid]["error"] = f"{type(exc).__name__}: {exc}"
             return
