@@ -714,14 +714,15 @@ def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
         assert full.classification == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
 
 
-@pytest.mark.parametrize("held, phase", [((2, -3), 40.0), ((0, 0), 100.0), ((-3, -2), 50.0)])
+@pytest.mark.parametrize("held, phase", [((2, -3), 40.0), ((-2, 2), 355.0), ((-3, -2), 50.0)])
 def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
     mech, quarter_20, held, phase
 ):
     """The library's continuation stops its descent to a grid phase once a pose reaches a
     rest state already there (the next start's): same load-carrying contacts, compliance
     centre within pitch / 1000, axis within 0.05 degree. Carried on to its end without
-    that, the descent ends at a state those tolerances join to the same one."""
+    that, the descent ends at a state those tolerances join to the same one. The leg's
+    friction work is the trapezoid rule over the 5 degrees turned (also past 360)."""
     floor = 1e-4 * DEFAULT.force
 
     def joins(a, b):
@@ -734,12 +735,15 @@ def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
         )
 
     start = mech.settle(*held, phase).state
-    known = mech.settle(*held, phase + 5.0).state
+    known = mech.settle(*held, (phase + 5.0) % 360.0).state
     walk = Continuation(mech, *held, contact_changes=False)
     legs, _, _ = walk.advance(
         start, phase, 5.0, arrive=lambda s: known if joins(known, s) else None
     )
-    assert legs[-1].after is known  # it arrived
+    # It arrived: the known state, at the phase turned to.
+    assert legs[-1].after.centre == known.centre and legs[-1].after.phase == phase + 5.0
+    trapezoid = 0.5 * (start.friction_torque + known.friction_torque) * math.radians(5.0)
+    assert legs[-1].work_friction == pytest.approx(1e3 * trapezoid, rel=1e-12)
     full, _, _ = walk.advance(start, phase, 5.0)
     assert joins(known, full[-1].after)
     assert full[-1].after.classification == known.classification

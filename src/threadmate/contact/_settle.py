@@ -94,8 +94,9 @@ MAX_STEPS = 60
 #: phase) that neither lowered the potential by more than the mesh's noise nor its least
 #: equilibrium residual by 1 % has stalled. It stops there: at the thread starts, where
 #: both bodies' run-outs meet edge to edge, such descents went on to ``MAX_STEPS`` without
-#: moving, in a third of a sweep's bisection time. (A descent from first contact can wander
-#: that long before it finds its support, an upright point settling on a ring of edges.)
+#: moving, in a third of a sweep's bisection time. (Not while tipping into a seat, nor from
+#: first contact: an upright point settling on the countersink's ring of edges can wander
+#: that long before it finds its support.)
 STALL_STEPS = 20
 #: Descent steps after the bolt drops in phase. A descent in the thread seldom balances
 #: (it is reported ``converged 0``); by this many steps its compliance centre lies within
@@ -1007,6 +1008,8 @@ class Mechanics:
             if arrive is not None and not snapped:
                 known = arrive(self.state("rest", "unstable", d, near, phase, held, tilt, forces))
             if known is not None:
+                # At this phase as turned (a continuation's phases keep growing past 360).
+                known = replace(known, phase=float(phase))
                 return RestState(
                     self.units,
                     float(roll),
@@ -1021,7 +1024,7 @@ class Mechanics:
                 )
             progress.append((u, max(f_res, m_res)))
             window = self.stall_steps
-            if start is not None and len(progress) > window:
+            if start is not None and len(progress) > window and not self._seating(near, tilt):
                 u_then = progress[-window - 1][0]
                 best_then = min(r for _, r in progress[:-window])
                 if u_then - u <= noise and min(r for _, r in progress[-window:]) > (
