@@ -992,6 +992,21 @@ class Mechanics:
         # load times the bolt's radius against it: beyond that no seat can be a rest state.
         seat_tried = float(np.hypot(*(k[1:3] * held))) > f * arm_m
         touching = _signature(near, self.touching)
+
+        def result(state: MechanicalState, balance: dict[str, float]) -> RestState:
+            return RestState(
+                self.units,
+                float(roll),
+                float(pitch),
+                float(phase),
+                comp.to_dict(),
+                state,
+                tuple(path),
+                balance,
+                steps,
+                self.engine.queries - q0,
+            )
+
         while (
             not departed
             and steps < MAX_STEPS
@@ -1010,18 +1025,8 @@ class Mechanics:
             if known is not None:
                 # At this phase as turned (a continuation's phases keep growing past 360).
                 known = replace(known, phase=float(phase))
-                return RestState(
-                    self.units,
-                    float(roll),
-                    float(pitch),
-                    float(phase),
-                    comp.to_dict(),
-                    known,
-                    tuple(path),
-                    {"force": f_res, "moment": m_res, "converged": 0.0, "arrived": 1.0},
-                    steps,
-                    self.engine.queries - q0,
-                )
+                balance = {"force": f_res, "moment": m_res, "converged": 0.0, "arrived": 1.0}
+                return result(known, balance)
             progress.append((u, max(f_res, m_res)))
             window = self.stall_steps
             if start is not None and len(progress) > window and not self._seating(near, tilt):
@@ -1186,17 +1191,9 @@ class Mechanics:
                         )
         centre = np.array([d.xy[0], d.xy[1], d.zc])
         if departed:
-            return RestState(
-                self.units,
-                float(roll),
-                float(pitch),
-                float(phase),
-                comp.to_dict(),
+            return result(
                 self.state("departed", "unstable", d, [], phase, held, tilt),
-                tuple(path),
                 {"force": math.nan, "moment": math.nan, "converged": 0.0},
-                steps,
-                self.engine.queries - q0,
             )
         forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
         axis = d.rotation[:, 2]
@@ -1218,19 +1215,8 @@ class Mechanics:
         )
         # The first state is a rest state already when the descent did not move.
         if path and path[0].kind == "first-contact" and steps == 0:
-            path = []
-        return RestState(
-            self.units,
-            float(roll),
-            float(pitch),
-            float(phase),
-            comp.to_dict(),
-            final,
-            tuple(path),
-            {"force": f_res, "moment": m_res, "converged": float(converged)},
-            steps,
-            self.engine.queries - q0,
-        )
+            path.clear()
+        return result(final, {"force": f_res, "moment": m_res, "converged": float(converged)})
 
 
 def axis_turn(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
