@@ -744,12 +744,14 @@ def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
     assert legs[-1].after.centre == known.centre and legs[-1].after.phase == phase + 5.0
     trapezoid = 0.5 * (start.friction_torque + known.friction_torque) * math.radians(5.0)
     assert legs[-1].work_friction == pytest.approx(1e3 * trapezoid, rel=1e-12)
-    full, _, _ = walk.advance(start, phase, 5.0)
-    assert joins(known, full[-1].after)
-    assert full[-1].after.classification == known.classification
+    full_legs, _, _ = walk.advance(start, phase, 5.0)
+    assert joins(known, full_legs[-1].after)
+    assert full_legs[-1].after.classification == known.classification
 
 
-def test_a_stalled_descent_ends_where_the_longer_one_does(mech, quarter_20, monkeypatch):
+def test_a_stalled_descent_stays_unbalanced_near_where_the_longer_one_ends(
+    mech, quarter_20, monkeypatch
+):
     """Where the thread starts meet edge to edge (held (1, 4), 348.5 to 348.8 degrees) some
     descents of the continuation stall: they stop after ``stall_steps`` without progress.
     Carried on to the step limit, each stays unbalanced (no rest state was given up), and

@@ -191,8 +191,8 @@ class Continuation:
     ) -> tuple[float, float, MechanicalState, MechanicalState]:
         """Close in on where ``same(s_lo, state)`` stops holding, from the side before
         (``lo``, ``hi``: turns from ``phase``; ``s_hi`` was settled from ``hi_from``). An
-        in-phase or departed ``s_hi`` (a probe) is settled in full: settles depend only on the state
-        they leave, so this is the same computation carried to its end."""
+        in-phase or departed ``s_hi`` (a probe) is settled in full: settles depend only on
+        the state they leave, so this is the same computation carried to its end."""
         while hi - lo > self.phase_tolerance:
             mid = 0.5 * (lo + hi)
             s_mid = self._settle(phase + self.sign * mid, s_lo)

@@ -11,10 +11,12 @@ For one held tilt and the grid's phases, in this order:
    between grid phases by bisection;
 3. a continuation that reaches, at a grid phase, a state already there (same load-carrying
    contacts, compliance centre within ``pitch / 1000``, axis within 0.05 degree) joins it:
-   the quasi-static dynamics are deterministic, so from there on the paths are one. So
-   does one that reaches, either side of a jump between grid phases, a state another
-   continuation passed (the same, and within the continuation's phase tolerance). A
-   continuation that neither snaps nor joins stops after ``MAX_TURNS`` turns.
+   the quasi-static dynamics are deterministic, so from there on the paths are one. Its
+   descent to the grid phase stops as soon as a pose of it reaches such a rest state
+   (:meth:`_Tilt.arrival`): it is then in that state's basin. So does one that reaches,
+   either side of a jump between grid phases, a state another continuation passed (the
+   same, and within the continuation's phase tolerance). A continuation that neither
+   snaps nor joins stops after ``MAX_TURNS`` turns.
 
 The rows follow the state record of :mod:`threadmate.contact` (``STATE_COLUMNS``).
 """
