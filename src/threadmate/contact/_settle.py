@@ -1019,17 +1019,16 @@ class Mechanics:
             if f_res <= BALANCE / 10 and m_res <= BALANCE / 10:
                 converged = True
                 break
-            known = None
             if arrive is not None and not snapped:
                 known = arrive(self.state("rest", "unstable", d, near, phase, held, tilt, forces))
-            if known is not None:
-                # At this phase as turned (a continuation's phases keep growing past 360).
-                known = replace(known, phase=float(phase))
-                balance = {"force": f_res, "moment": m_res, "converged": 0.0, "arrived": 1.0}
-                return result(known, balance)
+                if known is not None:
+                    # At this phase as turned (a continuation's phases run past 360).
+                    balance = {"force": f_res, "moment": m_res, "converged": 0.0, "arrived": 1.0}
+                    return result(replace(known, phase=float(phase)), balance)
+            seating = self._seating(near, tilt)
             progress.append((u, max(f_res, m_res)))
             window = self.stall_steps
-            if start is not None and len(progress) > window and not self._seating(near, tilt):
+            if start is not None and len(progress) > window and not seating:
                 u_then = progress[-window - 1][0]
                 best_then = min(r for _, r in progress[:-window])
                 if u_then - u <= noise and min(r for _, r in progress[-window:]) > (
@@ -1038,7 +1037,7 @@ class Mechanics:
                     # Stalled: a rest state if it balances (as when nothing is left to gain).
                     converged = f_res <= BALANCE and m_res <= BALANCE
                     break
-            if not seat_tried and tilt.any() and self._seating(near, tilt):
+            if not seat_tried and tilt.any() and seating:
                 seat_tried = True
                 seat = self._seat(d, tilt, phase, held, u)
                 if seat is not None:
