@@ -73,7 +73,7 @@ def _bvh(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> fcl.BVHMode
     model = fcl.BVHModel()
     vertices = np.ascontiguousarray(vertices, dtype=np.float64)
     faces = np.ascontiguousarray(faces, dtype=np.int64)
-    model.beginModel(len(vertices), len(faces))
+    model.beginModel(len(faces), len(vertices))  # (triangles, vertices): capacity hints
     model.addSubModel(vertices, faces)
     model.endModel()
     return model

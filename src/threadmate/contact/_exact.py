@@ -126,6 +126,15 @@ def _radius(body: ThreadBody, t: NDArray[np.float64]) -> NDArray[np.float64]:
     a1, a2, a3, a4 = prof.breakpoints
     (hu, hr), (lu, lr) = prof.centre_hi, prof.centre_lo
     rh, rl = prof.fillet_hi, prof.fillet_lo
+    # The contact code asks short runs of points close together, mostly on one piece of
+    # the profile: that piece alone then, by the same formula as the chain below.
+    lo, hi = (float(u.min()), float(u.max())) if u.size else (0.0, 0.0)
+    if a2 < lo and hi <= a3:
+        return prof.pitch_diameter / 2 + SQRT3 * (prof.pitch / 4 - u)
+    if hi <= a1:
+        return np.full_like(u, prof.r_hi)
+    if a4 < lo:
+        return np.full_like(u, prof.r_lo)
     out = np.where(u <= a4, lr - np.sqrt(np.maximum(rl * rl - (u - lu) ** 2, 0.0)), prof.r_lo)
     out = np.where(u <= a3, prof.pitch_diameter / 2 + SQRT3 * (prof.pitch / 4 - u), out)
     out = np.where(u <= a2, hr + np.sqrt(np.maximum(rh * rh - (u - hu) ** 2, 0.0)), out)
@@ -741,9 +750,10 @@ def lowest_on_rim(
     theta0 = math.atan2(anchor[1], anchor[0])
     half = window / max(math.hypot(anchor[0], anchor[1]), 1e-300)
     best = theta0
+    up = pose.rotation[2]  # only heights are compared: the transform's third row
     for _ in range(3):
         angles = best + np.linspace(-half, half, 17)
-        heights = pose.to_fixed(_edge_points(bolt, rim, anchor, angles))[:, 2]
+        heights = _edge_points(bolt, rim, anchor, angles) @ up
         best = float(angles[int(np.argmin(heights))])
         half /= 8
     return pose.to_fixed(_edge_points(bolt, rim, anchor, np.array([best])))[0]
