@@ -12,7 +12,7 @@ import numpy as np
 def bvh(mesh: Any) -> fcl.BVHModel:
     """A python-fcl BVH of a trimesh mesh, whole."""
     model = fcl.BVHModel()
-    model.beginModel(len(mesh.vertices), len(mesh.faces))
+    model.beginModel(len(mesh.faces), len(mesh.vertices))  # (triangles, vertices)
     model.addSubModel(np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64))
     model.endModel()
     return model

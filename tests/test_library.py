@@ -16,12 +16,14 @@ import os
 import sys
 from collections import Counter
 
+import fcl
 import numpy as np
 import pandas as pd
 import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 import pytest
 
+from _fcl import bvh
 from threadmate._errors import InputError, LibraryError
 from threadmate.contact import (
     ROLES,
@@ -34,7 +36,7 @@ from threadmate.contact import (
     record_schema,
     search,
 )
-from threadmate.geometry import ThreadSpec
+from threadmate.geometry import ThreadSpec, thread_meshes
 from threadmate.library import (
     METADATA_FILE,
     Grid,
@@ -553,6 +555,30 @@ def test_passive_transitions_keep_the_held_tilt(mech_rows):
     # States without a successor are where a search ends: the snap's in-phase state.
     ends = mech_rows[mech_rows["next_id"] == ""]
     assert set(ends["classification"]) == {"in-phase"}
+
+
+def test_every_rest_state_rests_on_the_nut_without_entering_it(mech_rows, quarter_20):
+    """Every rest state the library stores (the starts, the continued states, both sides
+    of a jump, the snap's landing) touches the nut and does not enter it, by python-fcl BVHs
+    of the whole meshes built here: free once lifted by the descent's length tolerance
+    (1e-7 in), colliding 1e-6 in lower."""
+    bolt_mesh, nut_mesh = thread_meshes(quarter_20)
+    bolt = fcl.CollisionObject(bvh(bolt_mesh.mesh), fcl.Transform())
+    nut = fcl.CollisionObject(bvh(nut_mesh.mesh), fcl.Transform())
+
+    def collides(rotation: np.ndarray, origin: np.ndarray) -> bool:
+        bolt.setTransform(fcl.Transform(rotation, origin))
+        request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
+        return fcl.collide(bolt, nut, request, fcl.CollisionResult()) > 0
+
+    rest = mech_rows[mech_rows["classification"].isin(["stable", "quasi-stable", "in-phase"])]
+    assert len(rest) >= M_SIZE
+    up = np.array([0.0, 0.0, 1.0])
+    for _, row in rest.iterrows():
+        rotation = np.reshape(np.asarray(row["rotation"], dtype=float), (3, 3))
+        origin = np.array([row[f"origin_{a}"] for a in "xyz"], dtype=float)
+        assert not collides(rotation, origin + 1e-7 * up), row["state_id"]
+        assert collides(rotation, origin - 1e-6 * up), row["state_id"]
 
 
 def test_passive_path_from_every_start_ends_in_the_snap(mech_rows):
