@@ -1,12 +1,16 @@
 """python-fcl objects the tests build themselves, as the independent reference: one BVH
-of a whole mesh (no sectors, none of the engine's strategy)."""
+of a whole mesh (no sectors, none of the engine's strategy), and the bolt and nut of a
+spec's generated meshes as such (:func:`collider`, one per spec)."""
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import fcl
 import numpy as np
+
+from threadmate.geometry import thread_meshes
 
 
 def bvh(mesh: Any) -> fcl.BVHModel:
@@ -16,3 +20,36 @@ def bvh(mesh: Any) -> fcl.BVHModel:
     model.addSubModel(np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64))
     model.endModel()
     return model
+
+
+class Collider:
+    """python-fcl BVHs of the spec's generated meshes, built here, whole (no sectors)."""
+
+    def __init__(self, spec):
+        bolt, nut = thread_meshes(spec)
+        self.bolt = fcl.CollisionObject(bvh(bolt.mesh), fcl.Transform())
+        self.nut = fcl.CollisionObject(bvh(nut.mesh), fcl.Transform())
+
+    def collides(self, rotation, origin):
+        """Whether the bolt at (rotation, origin) intersects the nut (yes/no query)."""
+        self.bolt.setTransform(
+            fcl.Transform(np.asarray(rotation, dtype=float), np.asarray(origin, dtype=float))
+        )
+        request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
+        return fcl.collide(self.bolt, self.nut, request, fcl.CollisionResult()) > 0
+
+    def contacts(self, rotation, origin):
+        """Where the bolt at (rotation, origin) intersects the nut (empty: it does not)."""
+        self.bolt.setTransform(
+            fcl.Transform(np.asarray(rotation, dtype=float), np.asarray(origin, dtype=float))
+        )
+        request = fcl.CollisionRequest(num_max_contacts=100000, enable_contact=True)
+        result = fcl.CollisionResult()
+        fcl.collide(self.bolt, self.nut, request, result)
+        return np.array([c.pos for c in result.contacts], dtype=float).reshape(-1, 3)
+
+
+@functools.lru_cache(maxsize=8)
+def collider(spec):
+    """The :class:`Collider` of ``spec`` (built once per test process)."""
+    return Collider(spec)

@@ -16,14 +16,13 @@ import os
 import sys
 from collections import Counter
 
-import fcl
 import numpy as np
 import pandas as pd
 import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 import pytest
 
-from _fcl import bvh
+from _fcl import collider
 from threadmate._errors import InputError, LibraryError
 from threadmate.contact import (
     ROLES,
@@ -36,7 +35,7 @@ from threadmate.contact import (
     record_schema,
     search,
 )
-from threadmate.geometry import ThreadSpec, thread_meshes
+from threadmate.geometry import ThreadSpec
 from threadmate.library import (
     METADATA_FILE,
     Grid,
@@ -562,15 +561,7 @@ def test_every_rest_state_rests_on_the_nut_without_entering_it(mech_rows, quarte
     of a jump, the snap's landing) touches the nut and does not enter it, by python-fcl BVHs
     of the whole meshes built here: free once lifted by the descent's length tolerance
     (1e-7 in), colliding 1e-6 in lower."""
-    bolt_mesh, nut_mesh = thread_meshes(quarter_20)
-    bolt = fcl.CollisionObject(bvh(bolt_mesh.mesh), fcl.Transform())
-    nut = fcl.CollisionObject(bvh(nut_mesh.mesh), fcl.Transform())
-
-    def collides(rotation: np.ndarray, origin: np.ndarray) -> bool:
-        bolt.setTransform(fcl.Transform(rotation, origin))
-        request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
-        return fcl.collide(bolt, nut, request, fcl.CollisionResult()) > 0
-
+    collides = collider(quarter_20).collides
     rest = mech_rows[mech_rows["classification"].isin(["stable", "quasi-stable", "in-phase"])]
     assert len(rest) >= M_SIZE
     up = np.array([0.0, 0.0, 1.0])

@@ -25,13 +25,12 @@ from __future__ import annotations
 import functools
 import math
 
-import fcl
 import numpy as np
 import pytest
 from scipy.optimize import nnls
 
 from _exact_geometry import exact_centre_height, rot
-from _fcl import bvh
+from _fcl import collider
 from threadmate.contact import BALANCE, MAX_STEPS, Compliance, Continuation, Mechanics, search
 from threadmate.geometry import (
     BoltSpec,
@@ -150,38 +149,6 @@ def soft_rests(mech_soft):
 
 
 # -- independent collision checks -----------------------------------------------------------
-
-
-class Collider:
-    """python-fcl BVHs of the spec's generated meshes, built here, whole (no sectors)."""
-
-    def __init__(self, spec):
-        bolt, nut = thread_meshes(spec)
-        self.bolt = fcl.CollisionObject(bvh(bolt.mesh), fcl.Transform())
-        self.nut = fcl.CollisionObject(bvh(nut.mesh), fcl.Transform())
-
-    def collides(self, rotation, origin):
-        """Whether the bolt at (rotation, origin) intersects the nut (yes/no query)."""
-        self.bolt.setTransform(
-            fcl.Transform(np.asarray(rotation, dtype=float), np.asarray(origin, dtype=float))
-        )
-        request = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
-        return fcl.collide(self.bolt, self.nut, request, fcl.CollisionResult()) > 0
-
-    def contacts(self, rotation, origin):
-        """Where the bolt at (rotation, origin) intersects the nut (empty: it does not)."""
-        self.bolt.setTransform(
-            fcl.Transform(np.asarray(rotation, dtype=float), np.asarray(origin, dtype=float))
-        )
-        request = fcl.CollisionRequest(num_max_contacts=100000, enable_contact=True)
-        result = fcl.CollisionResult()
-        fcl.collide(self.bolt, self.nut, request, result)
-        return np.array([c.pos for c in result.contacts], dtype=float).reshape(-1, 3)
-
-
-@functools.lru_cache(maxsize=8)
-def collider(spec):
-    return Collider(spec)
 
 
 # -- the mechanics recomputed from a state ----------------------------------------------------
