@@ -643,6 +643,12 @@ def test_a_continuation_step_depends_on_the_state_it_leaves_alone(mech, q20_rest
     assert [c.force for c in again.contacts] == [c.force for c in first.contacts]
 
 
+def _axis_angle(a, b):
+    """Angle between the bolt axes of two states (degrees)."""
+    cos = np.array(a.rotation)[:, 2] @ np.array(b.rotation)[:, 2]
+    return math.degrees(math.acos(min(1.0, float(cos))))
+
+
 def _settles_of_a_continuation(mech, monkeypatch, held, phase, turn):
     """Every settle (arguments and result) of the continuation from the start at
     ``phase`` over ``turn`` degrees (the library's: folds only)."""
@@ -676,8 +682,7 @@ def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
         before = kwargs["start"]
         full = mech.settle(*args, start=before).state
         fall = before.centre[2] - full.centre[2]
-        axes = np.array(before.rotation)[:, 2] @ np.array(full.rotation)[:, 2]
-        turned = math.degrees(math.acos(min(1.0, float(axes))))
+        turned = _axis_angle(before, full)
         assert full.classification == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
 
 
@@ -694,11 +699,10 @@ def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
 
     def joins(a, b):
         carrying = [sorted(c.regions for c in s.touching if c.force > floor) for s in (a, b)]
-        axes = np.array(a.rotation)[:, 2] @ np.array(b.rotation)[:, 2]
         return (
             carrying[0] == carrying[1]
             and math.dist(a.centre, b.centre) <= quarter_20.pitch / 1000
-            and math.degrees(math.acos(min(1.0, float(axes)))) <= 0.05
+            and _axis_angle(a, b) <= 0.05
         )
 
     start = mech.settle(*held, phase).state
@@ -741,9 +745,8 @@ def test_a_stalled_descent_stays_unbalanced_near_where_the_longer_one_ends(
         assert longer.classification == rest.classification
         assert max(longer.balance["force"], longer.balance["moment"]) > BALANCE
         a, b = rest.state, longer.state
-        axes = np.array(a.rotation)[:, 2] @ np.array(b.rotation)[:, 2]
         assert math.dist(a.centre, b.centre) <= quarter_20.pitch / 400
-        assert math.degrees(math.acos(min(1.0, float(axes)))) <= 0.05
+        assert _axis_angle(a, b) <= 0.05
 
 
 @pytest.mark.parametrize(

@@ -953,14 +953,17 @@ class Mechanics:
                 f"pitch {pitch:g}, phase {phase:g}"
             )
 
+        start_axis = None if start is None else np.array(start.rotation)[:, 2]
+
         def gone(d: _Drop) -> bool:
             # (See ``leave``.)
             return (
                 leave is not None
                 and start is not None
+                and start_axis is not None
                 and (
                     start.centre[2] - d.zc > leave[0]
-                    or axis_turn(d.rotation[:, 2], np.array(start.rotation)[:, 2]) > leave[1]
+                    or axis_turn(d.rotation[:, 2], start_axis) > leave[1]
                 )
             )
 
