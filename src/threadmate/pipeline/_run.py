@@ -389,7 +389,10 @@ def _report(
         "turn; *turn* and *work*, to the snap, over those that snap; *click*, the drop of "
         "the compliance centre at the snap; *torque peak*, the largest driver torque; "
         "*share unstable*, starts whose search jumps or passes an unstable state before "
-        "the snap.",
+        "the snap. The starts of a held tilt share their search once their continuations "
+        "join, so this share moves by many starts at once: one continuation step that "
+        "does not balance (most often where the thread starts meet) marks every start "
+        "whose search passes it, often most of a held tilt's.",
         "",
         "## Settings ranked",
         "",
