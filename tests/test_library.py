@@ -572,6 +572,26 @@ def test_every_rest_state_rests_on_the_nut_without_entering_it(mech_rows, quarte
         assert collides(rotation, origin - 1e-6 * up), row["state_id"]
 
 
+def test_every_stored_jump_leaves_the_branch(mech_rows, quarter_20):
+    """Every jump and snap the library stores joins two different states that are a jump by
+    the continuation's own thresholds, recomputed from the stored poses: the landing in
+    phase, or the compliance centre fallen more than pitch / 40, or the bolt axis turned
+    more than 0.5 degree."""
+    by_id = mech_rows.set_index("state_id")
+    jumps = mech_rows[mech_rows["transition"].isin(["jump", "snap"])]
+    assert len(jumps)
+    for _, row in jumps.iterrows():
+        after = by_id.loc[row["next_id"]]
+        assert row["next_id"] != row["state_id"]
+        fall = row["centre_z"] - after["centre_z"]
+        a = np.reshape(np.asarray(row["rotation"], dtype=float), (3, 3))[:, 2]
+        b = np.reshape(np.asarray(after["rotation"], dtype=float), (3, 3))[:, 2]
+        turned = math.degrees(math.acos(min(1.0, float(a @ b))))
+        assert (
+            after["classification"] == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
+        ), (row["state_id"], fall, turned)
+
+
 def test_passive_path_from_every_start_ends_in_the_snap(mech_rows):
     by_id = mech_rows.set_index("state_id")
     for _, start in mech_rows[mech_rows["role"] == "start"].iterrows():

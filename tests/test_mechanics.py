@@ -667,6 +667,27 @@ def _settles_of_a_continuation(mech, monkeypatch, held, phase, turn):
     return settled
 
 
+@pytest.mark.parametrize("held", [(4, 4), (4, -4)])
+def test_every_jump_of_the_continuation_leaves_the_branch(mech, quarter_20, held):
+    """Where the thread starts meet (345 to 350 degrees), a probe of the bisection can
+    leave the branch while the descent carried to its end comes back to it (before this was
+    checked, two of the four jumps reported at each of these held tilts joined states a
+    hair apart). Every jump or snap the continuation reports is one by its own
+    thresholds, recomputed here from the states' poses: in phase, or the compliance centre
+    fallen more than pitch / 40, or the bolt axis turned more than 0.5 degree."""
+    start = mech.settle(*held, 345.0).state
+    walk = Continuation(mech, *held, contact_changes=False)
+    legs, _, _ = walk.advance(start, 345.0, 5.0)
+    jumps = [leg for leg in legs if leg.kind in ("jump", "snap")]
+    assert jumps
+    for leg in jumps:
+        fall = leg.before.centre[2] - leg.after.centre[2]
+        turned = _axis_angle(leg.before, leg.after)
+        assert (
+            leg.after.classification == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
+        ), (leg.before.phase, fall, turned)
+
+
 def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
     mech, quarter_20, monkeypatch
 ):

@@ -301,6 +301,16 @@ class Continuation:
                 continue
             # A fold within (at, nxt]: close in on it from the side before.
             lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, self._continuous, prev)
+            if self._continuous(s_lo, s_hi):
+                # The probe left the branch, but its descent carried to its end came back
+                # to it (where the thread starts meet, a descent can wander that far along
+                # a nearly flat valley): no fold here. Carry on from the state at ``hi``.
+                integrate(prev, s_lo)
+                integrate(s_lo, s_hi)
+                states += [s_lo, s_hi]
+                branch += [s_lo, s_hi]
+                prev, at = s_hi, hi
+                continue
             integrate(prev, s_lo)
             branch.append(s_lo)
             close_branch(lo)
