@@ -23,6 +23,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from _fcl import collider
+from _poses import axis_angle, leaves_branch
 from threadmate._errors import InputError, LibraryError
 from threadmate.contact import (
     ROLES,
@@ -584,12 +585,9 @@ def test_every_stored_jump_leaves_the_branch(mech_rows, quarter_20):
         after = by_id.loc[row["next_id"]]
         assert row["next_id"] != row["state_id"]
         fall = row["centre_z"] - after["centre_z"]
-        a = np.reshape(np.asarray(row["rotation"], dtype=float), (3, 3))[:, 2]
-        b = np.reshape(np.asarray(after["rotation"], dtype=float), (3, 3))[:, 2]
-        turned = math.degrees(math.acos(min(1.0, float(a @ b))))
-        assert (
-            after["classification"] == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
-        ), (row["state_id"], fall, turned)
+        turned = axis_angle(row["rotation"], after["rotation"])
+        in_phase = after["classification"] == "in-phase"
+        assert leaves_branch(fall, turned, in_phase, quarter_20.pitch), (row["state_id"], fall)
 
 
 def test_passive_path_from_every_start_ends_in_the_snap(mech_rows):

@@ -31,6 +31,7 @@ from scipy.optimize import nnls
 
 from _exact_geometry import exact_centre_height, rot
 from _fcl import collider
+from _poses import axis_angle, leaves_branch
 from threadmate.contact import BALANCE, MAX_STEPS, Compliance, Continuation, Mechanics, search
 from threadmate.geometry import (
     BoltSpec,
@@ -643,12 +644,6 @@ def test_a_continuation_step_depends_on_the_state_it_leaves_alone(mech, q20_rest
     assert [c.force for c in again.contacts] == [c.force for c in first.contacts]
 
 
-def _axis_angle(a, b):
-    """Angle between the bolt axes of two states (degrees)."""
-    cos = np.array(a.rotation)[:, 2] @ np.array(b.rotation)[:, 2]
-    return math.degrees(math.acos(min(1.0, float(cos))))
-
-
 def _settles_of_a_continuation(mech, monkeypatch, held, phase, turn):
     """Every settle (arguments and result) of the continuation from the start at
     ``phase`` over ``turn`` degrees (the library's: folds only)."""
@@ -682,10 +677,9 @@ def test_every_jump_of_the_continuation_leaves_the_branch(mech, quarter_20, held
     assert jumps
     for leg in jumps:
         fall = leg.before.centre[2] - leg.after.centre[2]
-        turned = _axis_angle(leg.before, leg.after)
-        assert (
-            leg.after.classification == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
-        ), (leg.before.phase, fall, turned)
+        turned = axis_angle(leg.before.rotation, leg.after.rotation)
+        in_phase = leg.after.classification == "in-phase"
+        assert leaves_branch(fall, turned, in_phase, quarter_20.pitch), (leg.before.phase, fall)
 
 
 def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
@@ -703,8 +697,8 @@ def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
         before = kwargs["start"]
         full = mech.settle(*args, start=before).state
         fall = before.centre[2] - full.centre[2]
-        turned = _axis_angle(before, full)
-        assert full.classification == "in-phase" or fall > quarter_20.pitch / 40 or turned > 0.5
+        turned = axis_angle(before.rotation, full.rotation)
+        assert leaves_branch(fall, turned, full.classification == "in-phase", quarter_20.pitch)
 
 
 @pytest.mark.parametrize("held, phase", [((2, -3), 40.0), ((-2, 2), 355.0), ((-3, -2), 50.0)])
@@ -723,7 +717,7 @@ def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
         return (
             carrying[0] == carrying[1]
             and math.dist(a.centre, b.centre) <= quarter_20.pitch / 1000
-            and _axis_angle(a, b) <= 0.05
+            and axis_angle(a.rotation, b.rotation) <= 0.05
         )
 
     start = mech.settle(*held, phase).state
@@ -767,7 +761,7 @@ def test_a_stalled_descent_stays_unbalanced_near_where_the_longer_one_ends(
         assert max(longer.balance["force"], longer.balance["moment"]) > BALANCE
         a, b = rest.state, longer.state
         assert math.dist(a.centre, b.centre) <= quarter_20.pitch / 400
-        assert _axis_angle(a, b) <= 0.05
+        assert axis_angle(a.rotation, b.rotation) <= 0.05
 
 
 @pytest.mark.parametrize(

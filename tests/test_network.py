@@ -34,6 +34,7 @@ from _libraries import (
     synthetic_rows,
     walk_starts,
 )
+from _poses import axis_angle
 from threadmate import LibraryError, NoPathError
 from threadmate._errors import InputError
 from threadmate.contact import TRANSITION_LABELS, search, thesis_schema
@@ -159,9 +160,7 @@ def test_one_state_is_one_node(real_lib, real_rows, real_graph):
                     for r, f in zip(b.contact_regions, b.contact_forces, strict=True)
                     if f > 1e-4 * force
                 )
-                axis_a = np.reshape(a.rotation, (3, 3))[:, 2]
-                axis_b = np.reshape(b.rotation, (3, 3))[:, 2]
-                angle = math.degrees(math.acos(min(1.0, float(axis_a @ axis_b))))
+                angle = axis_angle(a.rotation, b.rotation)
                 gap = math.dist(
                     (a.centre_x, a.centre_y, a.centre_z), (b.centre_x, b.centre_y, b.centre_z)
                 )
