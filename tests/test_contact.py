@@ -91,6 +91,58 @@ def test_distinct_contacts_are_linked_by_segment_ends():
     np.testing.assert_allclose(cluster_location(sub), [0.1, 0, 0], atol=1e-12)
 
 
+def test_vertical_touch_is_the_least_drop_of_a_linear_program():
+    """The drop at which a lowered bolt triangle first meets a nut triangle, against the
+    linear program it is: over barycentric weights ``l`` (bolt) and ``m`` (nut), minimise
+    ``l . a_z - m . b_z`` with the two points' XY equal (scipy's HiGHS; infeasible: the
+    projections do not overlap, ``inf``). Random pairs, tilted and near-vertical ones
+    included, in one call (the function's rows are independent)."""
+    from scipy.optimize import linprog
+
+    from threadmate.contact._vertical import vertical_touch
+
+    rng = np.random.default_rng(7)
+    n = 400
+    bolt = rng.uniform(-1, 1, (n, 3, 3))
+    nut = rng.uniform(-1, 1, (n, 3, 3))
+    bolt[:40, :, 2] = 0.5  # flat faces: the least drop along a whole region
+    nut[:40, :, 2] = -0.25
+    bolt[40:60, :, 0] = 0.1  # seen edge-on from above: no area to land on
+    drop, point = vertical_touch(bolt, nut)
+    for i in range(n):
+        a, b = bolt[i], nut[i]
+        res = linprog(
+            np.concatenate([a[:, 2], -b[:, 2]]),
+            A_eq=np.vstack(
+                [
+                    np.concatenate([a[:, :2].T, -b[:, :2].T], axis=1),
+                    [1, 1, 1, 0, 0, 0],
+                    [0, 0, 0, 1, 1, 1],
+                ]
+            ),
+            b_eq=[0, 0, 1, 1],
+            bounds=(0, None),
+            method="highs",
+        )
+        if res.status == 2:  # infeasible: the projections do not overlap
+            assert drop[i] == np.inf and np.isnan(point[i]).all()
+            continue
+        assert res.status == 0
+        edge_on = 40 <= i < 60
+        if edge_on and drop[i] == np.inf:  # the function's own answer for no area
+            continue
+        assert drop[i] == pytest.approx(res.fun, abs=1e-9)
+        # The point lies on the nut triangle and, but for an edge-on bolt triangle (whose
+        # projection is a segment), under the bolt triangle at that drop.
+        m = np.linalg.lstsq(np.vstack([b.T, np.ones(3)]), [*point[i], 1.0], rcond=None)[0]
+        assert m.min() >= -1e-9 and np.allclose(m @ b, point[i], atol=1e-12)
+        if not edge_on:
+            xy1 = np.vstack([a[:, :2].T, np.ones(3)])
+            lo = np.linalg.solve(xy1, [*point[i, :2], 1.0])
+            assert lo.min() >= -1e-9
+            assert lo @ a[:, 2] - point[i, 2] == pytest.approx(drop[i], abs=1e-9)
+
+
 @pytest.mark.parametrize("seed", range(6))
 def test_dense_contact_patches_cluster_as_brute_force_single_linkage(seed):
     """Many pairs (the two-level path): the same partition as linking every pair of
