@@ -682,6 +682,34 @@ def test_every_jump_of_the_continuation_leaves_the_branch(mech, quarter_20, held
         assert leaves_branch(fall, turned, in_phase, quarter_20.pitch), (leg.before.phase, fall)
 
 
+def test_every_change_of_the_load_carrying_contacts_is_reported(mech):
+    """The search's walk (contact changes located) from held (1, 4) over the thread starts'
+    folds (345 to 350 degrees). Between any two states it returns, one after the other on
+    a branch (no jump or snap between them), whose load-carrying contacts differ, a
+    contact change is reported. Those contacts are recomputed here from the states: the
+    touching contacts carrying more than 1e-4 of the load. (Before this was checked, the
+    changes on a step that a probe had left and come back to, and those on the way to a
+    jump within a step, went unreported: all but one of the five here.)"""
+    floor = 1e-4 * DEFAULT.force
+
+    def carrying(s):
+        return sorted(c.regions for c in s.touching if c.force > floor)
+
+    start = mech.settle(1, 4, 345.0).state
+    _, events, states = Continuation(mech, 1, 4).advance(start, 345.0, 5.0)
+    tol = 0.01  # the events' phase tolerance
+    states = [start, *states]
+    changes = 0
+    for a, b in zip(states, states[1:], strict=False):
+        lo, hi = a.phase - tol, b.phase + tol
+        between = [e for e in events if lo <= e.phase <= hi]
+        if any(e.kind in ("jump", "snap") for e in between) or carrying(a) == carrying(b):
+            continue
+        changes += 1
+        assert any(e.kind == "contact-change" for e in between), (a.phase, b.phase)
+    assert changes >= 3
+
+
 def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
     mech, quarter_20, monkeypatch
 ):

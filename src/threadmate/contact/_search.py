@@ -263,6 +263,37 @@ class Continuation:
         def signature(s: MechanicalState) -> tuple[str, ...]:
             return _signature(s, self.floor)
 
+        def follow(a: MechanicalState, at_a: float, b: MechanicalState, at_b: float) -> None:
+            """Extend the branch from ``a`` (at turn ``at_a``) to ``b``, continuous with it,
+            locating a change of the load-carrying contacts between them."""
+            if self.contact_changes and signature(b) != signature(a):
+                before = signature(a)
+
+                def same(
+                    x: MechanicalState, y: MechanicalState, before: tuple[str, ...] = before
+                ) -> bool:
+                    return signature(y) == before and self._continuous(x, y)
+
+                lo, hi, s_lo, s_hi = self._bisect(phase, at_a, at_b, a, b, same, a)
+                events.append(
+                    SearchEvent(
+                        phase + sign * 0.5 * (lo + hi),
+                        "contact-change",
+                        a.region_combination,
+                        s_hi.region_combination,
+                        s_lo.centre[2] - s_hi.centre[2],
+                        _tilt_between(s_lo, s_hi),
+                    )
+                )
+                for x, y in ((a, s_lo), (s_lo, s_hi), (s_hi, b)):
+                    integrate(x, y)
+                states.extend([s_lo, s_hi])
+                branch.extend([s_lo, s_hi])
+            else:
+                integrate(a, b)
+            states.append(b)
+            branch.append(b)
+
         prev, at = state, 0.0
         while at < turn - 1e-12:
             if progress is not None:
@@ -270,49 +301,22 @@ class Continuation:
             nxt = min(at + self.step, turn)
             cur = self._settle(phase + sign * nxt, prev, arrive=arrive if nxt == turn else None)
             if self._continuous(prev, cur):
-                if self.contact_changes and signature(cur) != signature(prev):
-                    before = signature(prev)
-
-                    def same(
-                        a: MechanicalState, b: MechanicalState, before: tuple[str, ...] = before
-                    ) -> bool:
-                        return signature(b) == before and self._continuous(a, b)
-
-                    lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, same, prev)
-                    events.append(
-                        SearchEvent(
-                            phase + sign * 0.5 * (lo + hi),
-                            "contact-change",
-                            prev.region_combination,
-                            s_hi.region_combination,
-                            s_lo.centre[2] - s_hi.centre[2],
-                            _tilt_between(s_lo, s_hi),
-                        )
-                    )
-                    for a, b in ((prev, s_lo), (s_lo, s_hi), (s_hi, cur)):
-                        integrate(a, b)
-                    states += [s_lo, s_hi]
-                    branch += [s_lo, s_hi]
-                else:
-                    integrate(prev, cur)
-                states.append(cur)
-                branch.append(cur)
+                follow(prev, at, cur, nxt)
                 prev, at = cur, nxt
                 continue
             # A fold within (at, nxt]: close in on it from the side before.
             lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, self._continuous, prev)
+            # The branch up to the last state on it (``prev`` itself when the fold lies
+            # within the tolerance of it), its contact changes located.
+            if s_lo is not prev:
+                follow(prev, at, s_lo, lo)
             if self._continuous(s_lo, s_hi):
                 # The probe left the branch, but its descent carried to its end came back
                 # to it (where the thread starts meet, a descent can wander that far along
                 # a nearly flat valley): no fold here. Carry on from the state at ``hi``.
-                integrate(prev, s_lo)
-                integrate(s_lo, s_hi)
-                states += [s_lo, s_hi]
-                branch += [s_lo, s_hi]
+                follow(s_lo, lo, s_hi, hi)
                 prev, at = s_hi, hi
                 continue
-            integrate(prev, s_lo)
-            branch.append(s_lo)
             close_branch(lo)
             kind = "snap" if s_hi.classification == "in-phase" else "jump"
             legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, "unstable"))
@@ -326,7 +330,7 @@ class Continuation:
                     _tilt_between(s_lo, s_hi),
                 )
             )
-            states += [s_lo, s_hi]
+            states.append(s_hi)
             if kind == "snap":
                 return legs, events, states
             prev, at = s_hi, hi
