@@ -392,7 +392,9 @@ def _report(
         "the snap. The starts of a held tilt share their search once their continuations "
         "join, so this share moves by many starts at once: one continuation step that "
         "does not balance (most often where the thread starts meet) marks every start "
-        "whose search passes it, often most of a held tilt's.",
+        "whose search passes it, often most of a held tilt's. It is also the column the "
+        "continuation's step moves most (docs/mechanics.md, Accuracy): read it as a "
+        "warning, not a ranking.",
         "",
         "## Settings ranked",
         "",
