@@ -159,6 +159,8 @@ def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
     rc, out, err = run_cli(capsys, *args)
     if not w["reaches"]:
         assert rc == 3 and "no path" in one_error(err)
+        doc = json.loads(out)
+        assert doc["snap"] is None and doc["start"]["node"] == node
         return
     assert rc == 0, err
     doc = json.loads(out)
@@ -222,8 +224,17 @@ def test_no_path_exits_3(synth_lib, capsys):
     rc, out, err = run_cli(
         capsys, "path", synth_lib, "--roll", "0", "--pitch", "1", "--phase", "180", "--json"
     )
-    assert rc == 3 and out == ""
-    assert one_error(err).startswith("threadmate: no path:")
+    assert rc == 3
+    message = one_error(err)
+    assert message.startswith("threadmate: no path:")
+    # A design tool still gets one document on stdout, as from `threadmate search`: the
+    # keys of a path's, nothing reached, and why.
+    doc = json.loads(out)
+    assert doc["snap"] is None and doc["path"] is None and doc["cost"] is None
+    assert doc["units"]["cost"] == "mJ" and doc["units"]["length"] == "in"
+    assert doc["start"]["roll"] == 0 and doc["start"]["moved"] is False
+    assert doc["start"]["node"] in message and doc["reason"] in message
+    assert doc["within_one_turn"] is False and doc["active"] is False
     rc, out, err = run_cli(
         capsys, "path", synth_lib, "--roll", "1", "--pitch", "-1", "--phase", "180"
     )

@@ -9,7 +9,7 @@ from typing import Any
 
 import click
 
-from .._errors import InputError
+from .._errors import InputError, NoPathError
 from .._io import atomic_write_text
 from ..contact import MAX_TILT
 from ..network import (
@@ -18,6 +18,7 @@ from ..network import (
     format_recommendation,
     from_library,
     k_best_paths,
+    no_path_document,
     plot_recommendation,
     recommend,
     start_outcomes,
@@ -215,7 +216,8 @@ def path_command(
     """The least-resistance path from a start of LIBRARY to the snap.
 
     Without --active it is the passive search from that start (as `threadmate search`
-    computes it). Exit status 3 when no path reaches the snap.
+    computes it). Exit status 3 when no path reaches the snap (with --json, the document
+    still, its path and snap null).
     """
     check_angle("roll", roll, MAX_TILT)
     check_angle("pitch", pitch, MAX_TILT)
@@ -223,7 +225,14 @@ def path_command(
     graph = from_library(
         library, active=active, jump_penalty=jump_penalty, move_penalty=move_penalty
     )
-    best = k_best_paths(graph, k, roll, pitch, phase, active=active, nearest=nearest)
+    try:
+        best = k_best_paths(graph, k, roll, pitch, phase, active=active, nearest=nearest)
+    except NoPathError as exc:
+        if as_json:  # a design tool still gets its document (snap null), as from search
+            emit_json(
+                no_path_document(graph, roll, pitch, phase, exc, active=active, nearest=nearest)
+            )
+        raise
     if as_json:
         emit_json(best.to_dict())
         return

@@ -44,6 +44,7 @@ from ._paths import (
     PathResult,
     k_best_paths,
     least_resistance_path,
+    no_path_document,
     snap_targets,
     start_outcomes,
 )
@@ -71,6 +72,7 @@ __all__ = [
     "from_library",
     "k_best_paths",
     "least_resistance_path",
+    "no_path_document",
     "plot_click_signature",
     "plot_click_vs_tilt",
     "plot_recommendation",

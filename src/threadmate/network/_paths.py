@@ -28,6 +28,7 @@ __all__ = [
     "PathResult",
     "k_best_paths",
     "least_resistance_path",
+    "no_path_document",
     "snap_targets",
     "start_outcomes",
 ]
@@ -108,7 +109,7 @@ class PathResult:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document of ``threadmate path --json``."""
         return {
-            "units": {"length": self.units, "angle": "deg", "cost": "mJ", "work": "mJ"},
+            "units": _units(self.units),
             "start": {"node": self.start, **self.requested, "moved": self.moved},
             "path": list(self.path),
             "kinds": list(self.kinds),
@@ -123,6 +124,49 @@ class PathResult:
             "snap": dict(self.snap),
             "alternatives": [a.to_dict() for a in self.alternatives],
         }
+
+
+def _units(length: str) -> dict[str, str]:
+    return {"length": length, "angle": "deg", "cost": "mJ", "work": "mJ"}
+
+
+def no_path_document(
+    graph: nx.DiGraph,
+    roll: float,
+    pitch: float,
+    phase: float,
+    error: NoPathError,
+    *,
+    active: bool = False,
+    nearest: bool = False,
+) -> dict[str, Any]:
+    """The JSON document of ``threadmate path --json`` for a start from which no path
+    reaches the snap (``error``, as :func:`least_resistance_path` raised it): the keys of
+    :meth:`PathResult.to_dict`, with no path, cost, turn or snap, and the ``reason``."""
+    start, moved = start_node(graph, roll, pitch, phase, nearest=nearest)
+    return {
+        "units": _units(graph.graph.get("units", "in")),
+        "start": {
+            "node": start,
+            "roll": float(roll),
+            "pitch": float(pitch),
+            "phase": float(phase),
+            "moved": moved,
+        },
+        "path": None,
+        "kinds": [],
+        "labels": [],
+        "weights": [],
+        "cost": None,
+        "turn": None,
+        "within_one_turn": False,
+        "passes_unstable": None,
+        "active": active,
+        "active_moves": 0,
+        "snap": None,
+        "alternatives": [],
+        "reason": str(error),
+    }
 
 
 def snap_targets(graph: nx.DiGraph) -> list[str]:
