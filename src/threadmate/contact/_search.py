@@ -266,8 +266,8 @@ class Continuation:
         def follow(a: MechanicalState, at_a: float, b: MechanicalState, at_b: float) -> None:
             """Extend the branch from ``a`` (at turn ``at_a``) to ``b``, continuous with it,
             locating a change of the load-carrying contacts between them."""
-            if self.contact_changes and signature(b) != signature(a):
-                before = signature(a)
+            before = signature(a)
+            if self.contact_changes and signature(b) != before:
 
                 def same(
                     x: MechanicalState, y: MechanicalState, before: tuple[str, ...] = before

@@ -110,7 +110,7 @@ class PathResult:
         """The JSON document of ``threadmate path --json``."""
         return {
             "units": _units(self.units),
-            "start": {"node": self.start, **self.requested, "moved": self.moved},
+            "start": _start(self.start, self.requested, self.moved),
             "path": list(self.path),
             "kinds": list(self.kinds),
             "labels": list(self.labels),
@@ -130,6 +130,10 @@ def _units(length: str) -> dict[str, str]:
     return {"length": length, "angle": "deg", "cost": "mJ", "work": "mJ"}
 
 
+def _start(node: str, requested: dict[str, float], moved: bool) -> dict[str, Any]:
+    return {"node": node, **requested, "moved": moved}
+
+
 def no_path_document(
     graph: nx.DiGraph,
     roll: float,
@@ -146,13 +150,9 @@ def no_path_document(
     start, moved = start_node(graph, roll, pitch, phase, nearest=nearest)
     return {
         "units": _units(graph.graph.get("units", "in")),
-        "start": {
-            "node": start,
-            "roll": float(roll),
-            "pitch": float(pitch),
-            "phase": float(phase),
-            "moved": moved,
-        },
+        "start": _start(
+            start, {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)}, moved
+        ),
         "path": None,
         "kinds": [],
         "labels": [],
