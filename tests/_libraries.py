@@ -95,6 +95,7 @@ class _Rows:
             phase=ph % 360.0,
             role=role,
             classification=cls,
+            engaged=cls == "in-phase",  # every in-phase state here is a proved snap
             roll=r,
             pitch=p,
             origin_z=z - 0.2,

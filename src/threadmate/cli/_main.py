@@ -26,7 +26,7 @@ def _register() -> None:
     from . import _thread  # noqa: F401, I001  (registers: thread)
     from . import _planar  # noqa: F401  (registers: planar)
     from . import _contact  # noqa: F401  (registers: contact)
-    from . import _mechanics  # noqa: F401  (registers: settle, search)
+    from . import _mechanics  # noqa: F401  (registers: settle, search, screw)
     from . import _library  # noqa: F401  (registers: sweep, library)
     from . import _mesh  # noqa: F401  (registers: mesh)
     from . import _network  # noqa: F401  (registers: network, path, recommend)

@@ -22,11 +22,14 @@ from .._figures import new_figure, save_figure
 from ..contact import (
     CONTINUATION_STEP,
     MAX_TILT,
+    SCREW_IN,
     Compliance,
     ContactAnalyzer,
     Mechanics,
     RestState,
+    ScrewResult,
     SearchResult,
+    screw,
     search,
     settle,
 )
@@ -54,7 +57,7 @@ from ._options import (
     parts_option,
 )
 
-__all__ = ["search_command", "settle_command", "plot_search"]
+__all__ = ["search_command", "settle_command", "screw_command", "plot_search", "plot_screw"]
 
 #: File suffixes ``--plot`` writes, and their matplotlib formats.
 _FIGURE_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
@@ -273,7 +276,34 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
 
     Written atomically as PNG, PDF or SVG by the file's suffix.
     """
+    outcome = (
+        f"no snap within {run.turns:g} turn(s)"
+        if run.snap is None
+        else f"snap at {run.snap.phase:.2f} deg after {run.snap_turn:.2f} deg"
+    )
+    torque = np.array([s.driver_torque for s in run.states])
+    return _plot_turn(spec, run, "search", outcome, torque, "snap", path)
 
+
+def plot_screw(spec: ThreadSpec, run: ScrewResult, path: str | Path) -> Path:
+    """A clockwise start: height of the compliance centre, tilt of the bolt axis and the
+    tightening torque against phase, events and the decision marked."""
+    where = "" if run.decided_phase is None else f" at {run.decided_phase:.2f} deg"
+    torque = np.array([2.0 * s.friction_torque - s.driver_torque for s in run.states])
+    return _plot_turn(spec, run, "clockwise start", f"{run.outcome}{where}", torque, "", path)
+
+
+def _plot_turn(
+    spec: ThreadSpec,
+    run: SearchResult | ScrewResult,
+    what: str,
+    outcome: str,
+    torque: np.ndarray,
+    marked: str,
+    path: str | Path,
+) -> Path:
+    """Height, tilt and driver torque of a turn's states against phase, its events
+    marked (those of kind ``marked`` in bold red, with their drop)."""
     path = Path(path)
     states = run.states
     phase = np.array([s.phase for s in states])
@@ -282,7 +312,6 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
     pitch = np.radians([s.pitch for s in states])
     # The bolt axis is Rx(roll) Ry(pitch) Z: its vertical component is cos(roll) cos(pitch).
     tilt = np.degrees(np.arccos(np.clip(np.cos(roll) * np.cos(pitch), -1.0, 1.0)))
-    torque = np.array([s.driver_torque for s in states])
 
     fig = new_figure((8.0, 8.0))
     axes = fig.subplots(3, 1, sharex=True)
@@ -296,18 +325,18 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
         ax.set_ylabel(label)
         ax.grid(True, color="0.9")
         for e in run.events:
-            snap = e.kind == "snap"
+            bold = e.kind == marked
             ax.axvline(
                 e.phase,
-                color="#d62728" if snap else "0.55",
-                lw=2.0 if snap else 0.8,
-                ls="-" if snap else "--",
+                color="#d62728" if bold else "0.55",
+                lw=2.0 if bold else 0.8,
+                ls="-" if bold else "--",
                 zorder=0,
             )
     top = axes[0]
     for e in run.events:
-        snap = e.kind == "snap"
-        text = f"snap: click {e.drop:.4g} {run.units}" if snap else e.kind
+        bold = e.kind == marked
+        text = f"{e.kind}: click {e.drop:.4g} {run.units}" if bold else e.kind
         top.annotate(
             text,
             (e.phase, 1.0),
@@ -317,22 +346,17 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
             rotation=90,
             va="top",
             ha="left",
-            fontsize="small" if snap else "x-small",
-            fontweight="bold" if snap else "normal",
-            color="#d62728" if snap else "0.35",
+            fontsize="small" if bold else "x-small",
+            fontweight="bold" if bold else "normal",
+            color="#d62728" if bold else "0.35",
         )
     axes[-1].set_xlabel("phase [deg]")
-    if spec.handedness < 0:
-        axes[-1].invert_xaxis()  # the search turns clockwise: time runs right to left
+    if phase.size > 1 and phase[-1] < phase[0]:
+        axes[-1].invert_xaxis()  # turned clockwise: time runs right to left
     p = run.parameters
     k = p["stiffness"]
-    outcome = (
-        f"no snap within {run.turns:g} turn(s)"
-        if run.snap is None
-        else f"snap at {run.snap.phase:.2f} deg after {run.snap_turn:.2f} deg"
-    )
     fig.suptitle(
-        f"{_name(spec)}: search from roll {run.held_roll:g}, pitch "
+        f"{_name(spec)}: {what} from roll {run.held_roll:g}, pitch "
         f"{run.held_pitch:g}, phase {run.start_phase:g} deg - {outcome}\n"
         f"F {p['force']:g} N, k {k['roll']:g}/{k['pitch']:g} N m/rad, "
         f"mu {p['friction']:g}, work {run.work:.4g} mJ",
@@ -342,6 +366,28 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
 
 
 # -- commands --------------------------------------------------------------------------------
+_torque_limit_option = click.option(
+    "--torque-limit",
+    "torque_limit",
+    type=float,
+    default=None,
+    help="Tightening torque in N m (> 0) past which the bolt counts as jammed (default: the "
+    "axial force times the bolt's major radius).",
+)
+
+
+def _check_turning(turns: float, step: float) -> None:
+    if not (math.isfinite(turns) and 0 < turns <= MAX_TURNS):
+        raise InputError(f"--turns {turns:g} is out of range: give turns within (0, {MAX_TURNS:g}]")
+    if not (math.isfinite(step) and 0 < step <= MAX_STEP):
+        raise InputError(f"--step {step:g} is out of range: give degrees within (0, {MAX_STEP:g}]")
+
+
+def _check_torque_limit(torque_limit: float | None) -> None:
+    if torque_limit is not None and not (math.isfinite(torque_limit) and torque_limit > 0):
+        raise InputError(f"--torque-limit {torque_limit:g} is out of range: give N m above 0")
+
+
 @cli.command(
     "settle",
     help=f"""The rest state of a bolt held through a compliance.
@@ -446,6 +492,17 @@ N/m, lengths in the spec's units, angles in degrees, work in mJ.
     "axis, driver torque against phase, events marked) to this .png, .pdf "
     "or .svg file.",
 )
+@click.option(
+    "--screw-in",
+    "screw_in",
+    type=float,
+    default=SCREW_IN,
+    show_default=True,
+    help="Turn (degrees, within [0, 720]; 0: none) of the clockwise continuation that "
+    "proves each snap: a landing in phase that does not then descend at the lead is a "
+    "jump, and says why.",
+)
+@_torque_limit_option
 def search_command(
     spec_text: str,
     roll: float,
@@ -462,14 +519,16 @@ def search_command(
     turns: float,
     step: float,
     plot: Path | None,
+    screw_in: float,
+    torque_limit: float | None,
     parts: Parts,
     meshes: MeshFiles,
 ) -> None:
     """The simulated search (see the command's help)."""
-    if not (math.isfinite(turns) and 0 < turns <= MAX_TURNS):
-        raise InputError(f"--turns {turns:g} is out of range: give turns within (0, {MAX_TURNS:g}]")
-    if not (math.isfinite(step) and 0 < step <= MAX_STEP):
-        raise InputError(f"--step {step:g} is out of range: give degrees within (0, {MAX_STEP:g}]")
+    _check_turning(turns, step)
+    if not (math.isfinite(screw_in) and 0 <= screw_in <= 720):
+        raise InputError(f"--screw-in {screw_in:g} is out of range: give degrees within [0, 720]")
+    _check_torque_limit(torque_limit)
     figure = _figure_path(plot)
     spec, compliance = _setup(
         spec_text,
@@ -496,6 +555,8 @@ def search_command(
             step=step,
             phase_tolerance=min(PHASE_TOLERANCE, step),
             progress=callback,
+            screw_in=screw_in,
+            torque_limit=torque_limit,
         )
     if figure is not None:
         plot_search(spec, run, figure)
@@ -511,4 +572,144 @@ def search_command(
         raise NoPathError(
             f"no snap within {turns:g} turn(s) from roll {roll:g}, pitch "
             f"{pitch:g}, phase {phase:g} deg"
+        )
+
+
+def _screw_text(spec: ThreadSpec, run: ScrewResult, step: float) -> str:
+    u = run.units
+    sense = "clockwise" if spec.handedness > 0 else "counter-clockwise"
+    start = run.states[0]
+    lines = [
+        f"{_name(spec)}: {sense} (tightening) start from roll {run.held_roll:g}, pitch "
+        f"{run.held_pitch:g} deg, phase {run.start_phase:g} deg ({run.turns:g} turn(s), "
+        f"step {step:g} deg; lengths in {u})",
+        *_parameters(run.parameters, u),
+        f"Start: {start.classification} on {start.region_combination or '-'}, "
+        f"compliance centre height {start.centre[2]:.6f} {u}",
+        f"Outcome: {run.outcome}"
+        + ("" if run.decided_phase is None else f" at phase {run.decided_phase:.4f} deg"),
+        f"  {run.reason}",
+        f"Descent over the last 90 deg turned: {_num(run.descent, '.6g')} {u} per turn "
+        f"(lead {run.lead:g} {u})",
+        f"Work: total {run.work:.6g} mJ (friction {run.work_friction:.6g} mJ, potential "
+        f"{run.work_potential:.6g} mJ)",
+        f"Peak tightening torque: {_num(run.torque_peak, '.6g')} N m "
+        f"(limit {run.torque_limit:.6g} N m)",
+        f"Events ({len(run.events)}):",
+    ]
+    for e in run.events:
+        lines.append(
+            f"  {e.phase:10.4f}  {e.kind:<14} {e.drop:11.6f} "
+            f"{e.tilt_change:12.4f}  {e.before or '-'} -> {e.after or '-'}"
+        )
+    return "\n".join(lines)
+
+
+@cli.command(
+    "screw",
+    help=f"""Turn the bolt clockwise (tightening) directly from a start.
+
+The thesis's clockwise question (its section 5.3): from the rest state at the held tilt
+ROLL, PITCH and PHASE the driver turns the bolt the way that screws it in (clockwise for
+a right-hand thread), and the bolt follows its rest state. It is engaged when it descends
+at the lead (within 10 %) over 90 degrees turned in phase, jammed when no rest state
+continues the turn (the bolt wedged: it could go on only by rising against the load) or
+the tightening torque passes --torque-limit, and riding when neither comes within
+--turns. Prints the outcome, the phase where it is decided, the descent per turn, the
+work and the peak torque. Exits 3 (after printing the result) unless engaged. Forces in
+N, stiffness in N m/rad, torque in N m, lengths in the spec's units, angles in degrees,
+work in mJ.
+
+{DEFAULTS_NOTE}
+
+{SPEC_HELP}""",
+)
+@_mechanics_options
+@click.option(
+    "--turns",
+    type=float,
+    default=1.0,
+    show_default=True,
+    help=f"How far to turn, in turns of 360 degrees (> 0, at most {MAX_TURNS:g}).",
+)
+@click.option(
+    "--step",
+    type=float,
+    default=CONTINUATION_STEP,
+    show_default=True,
+    help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).",
+)
+@click.option(
+    "--plot",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Write the compliance centre height, the tilt of the bolt axis and the "
+    "tightening torque against phase (events marked) to this .png, .pdf or .svg file.",
+)
+@_torque_limit_option
+def screw_command(
+    spec_text: str,
+    roll: float,
+    pitch: float,
+    phase: float,
+    force: float,
+    stiffness_text: str,
+    lateral_stiffness: float | None,
+    friction: float,
+    compliance_z: float,
+    chord: float | None,
+    condition: str,
+    as_json: bool,
+    turns: float,
+    step: float,
+    plot: Path | None,
+    torque_limit: float | None,
+    parts: Parts,
+    meshes: MeshFiles,
+) -> None:
+    """A clockwise start (see the command's help)."""
+    _check_turning(turns, step)
+    _check_torque_limit(torque_limit)
+    figure = _figure_path(plot)
+    spec, compliance = _setup(
+        spec_text,
+        roll,
+        pitch,
+        phase,
+        force,
+        stiffness_text,
+        lateral_stiffness,
+        friction,
+        compliance_z,
+        chord,
+        condition,
+        parts,
+    )
+    mech = _mechanics(spec, compliance, chord, meshes)
+    with _progress_bar("screw (deg)") as callback:
+        run = screw(
+            mech,
+            roll,
+            pitch,
+            phase,
+            turns=turns,
+            step=step,
+            phase_tolerance=min(PHASE_TOLERANCE, step),
+            torque_limit=torque_limit,
+            progress=callback,
+        )
+    if figure is not None:
+        plot_screw(spec, run, figure)
+    if as_json:
+        emit_json({**run.to_dict(), "mesh": mech.analyzer.mesh_info})
+    else:
+        click.echo(_screw_text(spec, run, step))
+        if meshes.given:
+            click.echo(mesh_summary(mech.analyzer.mesh_info, spec.units))
+        if figure is not None:
+            click.echo(f"wrote {figure}")
+    if run.outcome != "engaged":
+        raise NoPathError(
+            f"{run.outcome}: the bolt does not screw in from roll {roll:g}, pitch "
+            f"{pitch:g}, phase {phase:g} deg within {turns:g} turn(s)"
         )

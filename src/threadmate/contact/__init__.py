@@ -12,7 +12,11 @@ contact forces, the driver's torque and the unstable states passed on the way.
 :func:`search` simulates the counter-clockwise search: a quasi-static continuation in
 phase, its contact changes, jumps and the snap into the thread, with the driver's work.
 Classes: ``stable`` (the contacts alone hold the load), ``quasi-stable`` (a rest state
-that needs the compliance), ``unstable`` (not a rest state), ``in-phase`` (the snap).
+that needs the compliance), ``unstable`` (not a rest state), ``in-phase`` (engaged: every
+load-carrying contact lies on the helices). A snap is a jump into the in-phase state
+proved by screwing in: from it a clockwise continuation descends at the lead
+(:class:`Engagement`). :func:`screw` turns a start clockwise directly: ``engaged``,
+``riding`` or ``jammed`` (the thesis's clockwise question).
 
 **The thesis's fixed-pivot procedure** (:class:`ContactAnalyzer`, :func:`analyze`; its
 chapter 3 and section 4.2). The bolt, at a fixed tilt, comes down until it first touches
@@ -61,7 +65,9 @@ from ._records import (
     thesis_schema,
 )
 from ._rest_state import (
+    LEAD_TOLERANCE,
     REST_CLASSES,
+    Engagement,
     LoadedContact,
     MechanicalState,
     RestState,
@@ -69,7 +75,18 @@ from ._rest_state import (
     SearchResult,
 )
 from ._result import CLASSIFICATIONS, STAGES, Contact, ContactResult, StageResult, record_schema
-from ._search import CONTINUATION_STEP, Continuation, Leg, check_continuation, search
+from ._screw import OUTCOMES as SCREW_OUTCOMES
+from ._screw import ScrewResult, screw
+from ._search import (
+    CONTINUATION_STEP,
+    SCREW_IN,
+    Continuation,
+    Leg,
+    check_continuation,
+    check_screw,
+    default_torque_limit,
+    search,
+)
 from ._settle import BALANCE, MAX_STEPS, Mechanics, settle
 
 __all__ = [
@@ -92,6 +109,14 @@ __all__ = [
     "SearchResult",
     "search",
     "settle",
+    "screw",
+    "ScrewResult",
+    "SCREW_OUTCOMES",
+    "SCREW_IN",
+    "Engagement",
+    "LEAD_TOLERANCE",
+    "check_screw",
+    "default_torque_limit",
     "CONTINUATION_STEP",
     "Continuation",
     "Leg",

@@ -59,6 +59,7 @@ __all__ = [
     "edge_crossing",
     "lowest_on_rim",
     "engagement_outline",
+    "on_thread",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -256,17 +257,31 @@ def _bevel_feature(
     return None
 
 
+def _thread_distance(body: ThreadBody, p: NDArray[np.float64]) -> tuple[float, float, float]:
+    """The helix coordinate ``t`` of ``p`` (body frame), the profile radius there and the
+    distance to the thread in the axial section: the radial offset projected on the
+    profile's normal (exact on flats and flanks; contact points lie within a tolerance)."""
+    prof = body.profile
+    t = _t_of(body, math.atan2(p[1], p[0]), float(p[2]))
+    R = float(prof.radius(t))
+    return t, R, abs(math.hypot(p[0], p[1]) - R) / math.hypot(1.0, float(prof.slope(t)))
+
+
+def on_thread(body: ThreadBody, point: NDArray[np.float64], feature: Feature, tol: float) -> bool:
+    """Whether ``feature`` at ``point`` (body frame) belongs to the body's thread: a face
+    of the thread or a corner between two (the helix), or an edge where the thread meets
+    the end face or the point or countersink (a rim on the thread, a kink)."""
+    if feature.kind in ("thread", "corner", "kink"):
+        return True
+    return feature.kind == "rim" and _thread_distance(body, np.asarray(point, float))[2] <= tol
+
+
 def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feature:
     """The feature of ``body`` at ``point`` (body frame); see the module docstring."""
     p = np.asarray(point, dtype=float)
     prof = body.profile
     r = math.hypot(p[0], p[1])
-    theta = math.atan2(p[1], p[0])
-    t = _t_of(body, theta, float(p[2]))
-    R = float(prof.radius(t))
-    # Distance to the thread in the axial section: the radial offset projected on the
-    # profile's normal (exact on flats and flanks; contact points lie within ``tol``).
-    d_thread = abs(r - R) / math.hypot(1.0, float(prof.slope(t)))
+    t, R, d_thread = _thread_distance(body, p)
     d_cap = abs(p[2] - body.cap_z)
     if body.envelope is not None:
         found = _bevel_feature(body, p, tol, t, R, d_thread, d_cap)

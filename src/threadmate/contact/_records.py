@@ -110,6 +110,15 @@ STATE_COLUMNS: tuple[Column, ...] = (
     Column("torque_peak", _F, "N m", "largest driver torque along it (NaN: none)"),
     Column("drop", _F, "length", "fall of the compliance centre along it (the click at a snap)"),
     Column("tilt_change", _F, "deg", "angle between the bolt axes at its ends"),
+    Column(
+        "engaged",
+        _B,
+        "",
+        "an in-phase state proved by screwing in: turned clockwise it descends at the lead",
+    ),
+    Column("screw_descent", _F, "length", "descent per turn when screwed in from it (NaN: none)"),
+    Column("screw_tilt", _F, "deg", "angle between bolt and nut axes at the screw-in's end"),
+    Column("screw_note", _S, "", "why an in-phase state is not engaged ('' else)"),
     Column("error", _S, "", "the message when the configuration failed, else ''"),
 )
 
@@ -186,4 +195,12 @@ def state_row(
         contact_points=[float(v) for c in touching for v in c.point],
         contact_normals=[float(v) for c in touching for v in c.normal],
     )
+    proof = state.engagement
+    if proof is not None:
+        row.update(
+            engaged=proof.engaged,
+            screw_descent=float(proof.descent),
+            screw_tilt=float(proof.tilt),
+            screw_note=proof.reason,
+        )
     return row

@@ -15,6 +15,8 @@ from ..geometry import Pose
 from ._result import RegionPair, Vec
 
 __all__ = [
+    "Engagement",
+    "LEAD_TOLERANCE",
     "LoadedContact",
     "MechanicalState",
     "RestState",
@@ -23,8 +25,57 @@ __all__ = [
     "REST_CLASSES",
 ]
 
+#: Largest departure of a screwed-in bolt's descent per turn from the lead, relative to the
+#: lead, for the bolt to count as engaged (:class:`Engagement`).
+LEAD_TOLERANCE = 0.1
+
 #: Classes of a mechanical state (design/mechanics.md, "Classes of states").
 REST_CLASSES = ("stable", "quasi-stable", "unstable", "in-phase")
+
+
+@dataclass(frozen=True)
+class Engagement:
+    """The proof of a snap: the bolt turned clockwise (tightening) from a state.
+
+    Attributes
+    ----------
+    engaged : bool
+        It descends at the lead (within :data:`LEAD_TOLERANCE` of it) without the
+        driver's torque passing its limit: the bolt's thread is in the nut's.
+    turn : float
+        How far it was turned (degrees).
+    descent : float
+        Descent of the compliance centre per turn over the second half of the turn
+        (spec units per 360 degrees).
+    lead : float
+        The thread's lead (spec units per turn).
+    tilt : float
+        Angle between the bolt and nut axes at the end (degrees).
+    torque_peak : float
+        Largest tightening torque the driver applied (N m).
+    reason : str
+        Why it is not engaged ('' when it is).
+    """
+
+    engaged: bool
+    turn: float
+    descent: float
+    lead: float
+    tilt: float
+    torque_peak: float
+    reason: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain mapping for JSON."""
+        return {
+            "engaged": self.engaged,
+            "turn": self.turn,
+            "descent_per_turn": self.descent,
+            "lead": self.lead,
+            "tilt_at_end": self.tilt,
+            "torque_peak": self.torque_peak,
+            "reason": self.reason,
+        }
 
 
 @dataclass(frozen=True)
@@ -91,6 +142,13 @@ class MechanicalState:
         The part of :attr:`driver_torque` that overcomes friction (N m).
     turn : float
         Tilt of the bolt axis since the previous state on the way (degrees).
+    near_singular : bool
+        The rigid balance asks for contact forces far beyond what the load and the
+        spring can explain (two contacts' line through the compliance centre, a level
+        normal): the forces reported are bounded (mechanics.md, "Near-singular contacts").
+    engagement : Engagement or None
+        For an in-phase state a continuation or a sweep proved: its screw-in (None: not
+        proved). Not part of the state's identity.
     contact_curvature : 2 x 2 nested tuple or None
         The descent's model of the contacts' curvature about roll and pitch at a rest
         state (N m/rad, quasi-Newton): a continuation from this state starts its descent
@@ -111,9 +169,11 @@ class MechanicalState:
     driver_torque: float = float("nan")
     friction_torque: float = float("nan")
     turn: float = 0.0
+    near_singular: bool = False
     contact_curvature: tuple[tuple[float, float], tuple[float, float]] | None = field(
         default=None, repr=False, compare=False
     )
+    engagement: Engagement | None = field(default=None, repr=False, compare=False)
 
     @property
     def pose(self) -> Pose:
@@ -145,6 +205,7 @@ class MechanicalState:
             "driver_torque": self.driver_torque,
             "friction_torque": self.friction_torque,
             "turn": self.turn,
+            "near_singular": self.near_singular,
             "region_combination": self.region_combination,
             "contacts": [c.to_dict() for c in self.contacts],
         }
@@ -242,6 +303,10 @@ class SearchEvent:
         Fall of the compliance centre across the event (spec units; the click at a snap).
     tilt_change : float
         Angle between the bolt axes before and after (degrees).
+    note : str
+        Why a jump into a state whose contacts lie on the helices is not a snap ('' else).
+    engagement : Engagement or None
+        The screw-in proof of a landing in phase (None for other events).
     """
 
     phase: float
@@ -250,6 +315,8 @@ class SearchEvent:
     after: str
     drop: float = 0.0
     tilt_change: float = 0.0
+    note: str = ""
+    engagement: Engagement | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""
@@ -260,6 +327,8 @@ class SearchEvent:
             "after": self.after,
             "drop": self.drop,
             "tilt_change": self.tilt_change,
+            "note": self.note,
+            "engagement": None if self.engagement is None else self.engagement.to_dict(),
         }
 
 
@@ -328,7 +397,14 @@ class SearchResult:
             "turns": self.turns,
             "snap": None
             if self.snap is None
-            else {"phase": self.snap.phase, "turn": self.snap_turn, "drop": self.snap.drop},
+            else {
+                "phase": self.snap.phase,
+                "turn": self.snap_turn,
+                "drop": self.snap.drop,
+                "engagement": None
+                if self.snap.engagement is None
+                else self.snap.engagement.to_dict(),
+            },
             "work": {
                 "total": self.work,
                 "friction": self.work_friction,

@@ -28,17 +28,30 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._errors import InputError
 from .._validate import check_open_range
 from ..geometry import ThreadSpec
 from ._compliance import Compliance
-from ._rest_state import MechanicalState, SearchEvent, SearchResult
-from ._settle import Mechanics, axis_turn, mechanics
+from ._rest_state import LEAD_TOLERANCE, Engagement, MechanicalState, SearchEvent, SearchResult
+from ._settle import LOAD_CARRYING, Mechanics, axis_turn, mechanics
 
-__all__ = ["CONTINUATION_STEP", "Continuation", "Leg", "check_continuation", "search"]
+__all__ = [
+    "CONTINUATION_STEP",
+    "Continuation",
+    "Leg",
+    "SCREW_IN",
+    "SENSES",
+    "check_continuation",
+    "check_screw",
+    "default_torque_limit",
+    "engagement",
+    "search",
+    "wedged",
+]
 
 #: Tilt of the bolt axis within one step above which the step is a jump (degrees).
 JUMP_TILT = 0.5
@@ -46,6 +59,21 @@ JUMP_TILT = 0.5
 #: changes inside a step are located by bisection; a step this size is what the library's
 #: sweep and ``threadmate search`` both take by default, so that they agree.
 CONTINUATION_STEP = 5.0
+#: Senses a continuation turns the bolt in: ``unscrew`` (the search: counter-clockwise for a
+#: right-hand thread) or ``tighten`` (screwing in: clockwise).
+SENSES = ("unscrew", "tighten")
+#: Longest step of a tightening continuation (degrees). Its steps in the thread are
+#: predicted along the helix (the lead's share of the turn), so that a step the bolt
+#: follows in the thread is continuous whatever its length; the descent corrects the
+#: prediction, and is the dearer the farther it has to go.
+TIGHTEN_STEP = 10.0
+#: Default turn of the screw-in that proves a snap (degrees).
+SCREW_IN = 180.0
+#: Default limit of the tightening torque, in units of the axial force times the bolt's
+#: major radius (a contact force equal to the load acting tangentially at the crest): a
+#: driver that needs more is wedging the bolt, not screwing it in (the rigid form of
+#: jamming and cross-threading).
+TORQUE_LIMIT = 1.0
 #: A probe's descent stops once it has gone this many times the jump's thresholds (the
 #: fall ``pitch / 40``, the tilt ``JUMP_TILT``) from the state it leaves: far enough that
 #: the rest state it would reach is not near that state either.
@@ -84,6 +112,8 @@ class Leg:
     label : str
         ``stable`` when every state passed is a stable rest state, ``quasi-stable`` when
         one is quasi-stable, ``unstable`` for a jump or a snap.
+    engagement : Engagement or None
+        The screw-in proof of a landing in phase (a snap's, or a jump's that failed it).
     """
 
     kind: str
@@ -94,6 +124,7 @@ class Leg:
     work_potential: float
     torque_peak: float
     label: str
+    engagement: Engagement | None = None
 
     @property
     def drop(self) -> float:
@@ -104,6 +135,72 @@ class Leg:
     def tilt_change(self) -> float:
         """Angle between the bolt axes at its ends (degrees)."""
         return _tilt_between(self.before, self.after)
+
+
+def default_torque_limit(mech: Mechanics) -> float:
+    """The tightening torque past which a bolt counts as jammed (N m,
+    :data:`TORQUE_LIMIT`)."""
+    return TORQUE_LIMIT * mech.compliance.force * mech.radius * mech.metres
+
+
+def engagement(
+    walk: Continuation,
+    start: MechanicalState,
+    legs: list[Leg],
+    events: list[SearchEvent],
+    states: list[MechanicalState],
+    turn: float,
+) -> Engagement:
+    """Judge a tightening continuation from ``start`` over ``turn`` degrees: engaged when
+    the compliance centre descends at the lead over its second half (after any settling
+    into the thread: a jump there is allowed) and the driver's torque stays within its
+    limit."""
+    lead = walk.mech.spec.lead
+    path = [start, *states]
+    end = path[-1]
+    turned = abs(end.phase - start.phase)
+    half = min(path, key=lambda s: abs(abs(s.phase - start.phase) - 0.5 * turned))
+    span = abs(end.phase - half.phase)
+    descent = (half.centre[2] - end.centre[2]) * 360.0 / span if span > 0 else math.nan
+    tilt = math.degrees(math.acos(min(1.0, abs(end.rotation[2][2]))))
+    torques = [t for t, _ in map(walk.torque, path) if math.isfinite(t)]
+    peak = max(torques, default=math.nan)
+    units = walk.mech.units
+    reason = ""
+    wedge = wedged(legs, events)
+    if wedge is not None:
+        e, leg = wedge
+        reason = (
+            f"no rest state continues the turn at phase {e.phase:.2f} deg: the bolt would "
+            f"have to rise {-leg.drop:.4g} {units} against the load (jammed)"
+        )
+    elif any(map(walk.jams, path)):
+        at = next(s for s in path if walk.jams(s))
+        reason = (
+            f"the tightening torque reaches {walk.torque(at)[0]:.3g} N m at phase "
+            f"{at.phase:.2f} deg, past the limit {walk.torque_limit:.3g} N m (jammed)"
+        )
+    elif not math.isfinite(descent) or abs(descent - lead) > LEAD_TOLERANCE * lead:
+        jumps = [e for e in events if e.kind == "jump"]
+        reason = (
+            f"turned clockwise {turned:g} deg it descends {descent:.4g} {units} per turn, "
+            f"not the lead {lead:.4g} {units}"
+            + (f" (it jumps at phase {jumps[0].phase:.2f} deg)" if jumps else "")
+        )
+    return Engagement(not reason, turned, descent, lead, tilt, peak, reason)
+
+
+def wedged(legs: list[Leg], events: list[SearchEvent]) -> tuple[SearchEvent, Leg] | None:
+    """The first fold of a continuation that the bolt can leave only upwards, against the
+    load, with its event: no rest state continues the turn there (the bolt wedged between
+    the threads), and the driver stalls. ``legs`` and ``events`` as
+    :meth:`Continuation.advance` returns them (one jump or snap leg per such event)."""
+    folds = [e for e in events if e.kind != "contact-change"]
+    jumps = [leg for leg in legs if leg.kind != "turning"]
+    for e, leg in zip(folds, jumps, strict=True):
+        if leg.after.potential > leg.before.potential:
+            return e, leg
+    return None
 
 
 def _label(states: list[MechanicalState]) -> str:
@@ -143,14 +240,29 @@ class Continuation:
         step: float = CONTINUATION_STEP,
         phase_tolerance: float = 0.01,
         contact_changes: bool = True,
+        sense: str = "unscrew",
+        screw_in: float = SCREW_IN,
+        torque_limit: float | None = None,
     ) -> None:
+        if sense not in SENSES:
+            raise InputError(f"sense must be one of {', '.join(SENSES)}, got {sense!r}")
         self.mech = mech
         self.held_roll, self.held_pitch = float(roll), float(pitch)
-        self.step, self.phase_tolerance = float(step), float(phase_tolerance)
+        self.sense = sense
+        self.tightening = sense == "tighten"
+        # Turned clockwise the bolt descends at the lead on a continuous branch: a step
+        # short enough that it falls less than a jump's threshold (a ninth of a turn).
+        self.step = min(float(step), TIGHTEN_STEP) if self.tightening else float(step)
+        self.phase_tolerance = float(phase_tolerance)
         self.contact_changes = contact_changes
-        self.sign = mech.spec.handedness  # +1: counter-clockwise (increasing phase)
+        # +1: counter-clockwise (increasing phase), the unscrewing sense of a right-hand
+        # thread; tightening turns the other way.
+        self.sign = mech.spec.handedness * (-1 if self.tightening else 1)
         self.drop_limit = mech.spec.pitch / 40
-        self.floor = 1e-4 * mech.compliance.force
+        self.floor = LOAD_CARRYING * mech.compliance.force
+        #: Turn of the clockwise continuation that proves a snap (degrees; 0: none).
+        self.screw_in = float(screw_in)
+        self.torque_limit = default_torque_limit(mech) if torque_limit is None else torque_limit
 
     def _settle(
         self,
@@ -160,24 +272,39 @@ class Continuation:
         probe: bool = True,
         arrive: Callable[[MechanicalState], MechanicalState | None] | None = None,
     ) -> MechanicalState:
-        """The rest state at ``phase`` continued from ``before``; a ``probe`` stops at
-        the first pose in phase, or once departed from ``before`` (:data:`DEPARTURE`,
-        :meth:`Mechanics.settle`): the continuation asks only whether it snapped or left
-        the branch, and :meth:`_bisect` settles in full the jump it keeps."""
+        """The rest state at ``phase`` continued from ``before``; a ``probe`` stops once
+        departed from ``before`` (:data:`DEPARTURE`, :meth:`Mechanics.settle`): the
+        continuation asks only whether it left the branch, and :meth:`_bisect` settles in
+        full the jump it keeps."""
+        fall = self._helical_fall(before, abs(phase - before.phase))
+        if fall:
+            # Predicted along the helix: the descent starts where the thread takes the bolt,
+            # and its departure is measured from there.
+            x, y, z = before.centre
+            before = replace(before, centre=(x, y, z - fall))
         return self.mech.settle(
             self.held_roll,
             self.held_pitch,
             phase,
             start=before,
-            stop_in_phase=probe,
             leave=(DEPARTURE * self.drop_limit, DEPARTURE * JUMP_TILT) if probe else None,
             arrive=arrive,
         ).state
 
+    def _helical_fall(self, a: MechanicalState, turn: float) -> float:
+        """How far the compliance centre of ``a`` falls along the helix when turned by
+        ``turn`` degrees in this continuation's sense: the lead's share when ``a`` is in
+        phase (down tightening, up unscrewing), else nothing."""
+        if a.classification != "in-phase":
+            return 0.0
+        fall = self.mech.spec.lead * turn / 360.0
+        return fall if self.tightening else -fall
+
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
         if b.classification == "in-phase" and a.classification != "in-phase":
             return False
-        return a.centre[2] - b.centre[2] <= self.drop_limit and _tilt_between(a, b) <= JUMP_TILT
+        fall = a.centre[2] - b.centre[2] - self._helical_fall(a, abs(b.phase - a.phase))
+        return fall <= self.drop_limit and _tilt_between(a, b) <= JUMP_TILT
 
     def _bisect(
         self,
@@ -200,9 +327,41 @@ class Continuation:
                 lo, s_lo = mid, s_mid
             else:
                 hi, s_hi, hi_from = mid, s_mid, s_lo
-        if s_hi.classification == "in-phase" or s_hi.kind == "departed":
+        if s_hi.kind == "departed":
             s_hi = self._settle(phase + self.sign * hi, hi_from, probe=False)
         return lo, hi, s_lo, s_hi
+
+    def torque(self, s: MechanicalState) -> tuple[float, float]:
+        """The driver's torque at ``s`` in this continuation's sense, and its friction
+        part (N m). A state stores them in the unscrewing sense: turned the other way the
+        normal forces' moment changes sign, friction still resists."""
+        if not self.tightening:
+            return s.driver_torque, s.friction_torque
+        return 2.0 * s.friction_torque - s.driver_torque, s.friction_torque
+
+    def jams(self, s: MechanicalState) -> bool:
+        """Whether the driver's torque at ``s`` passes the limit. Not at a near-singular
+        state, whose forces (and so torque) are the model's bound, not the physics'."""
+        return not s.near_singular and self.torque(s)[0] > self.torque_limit
+
+    def prove(self, state: MechanicalState, phase: float) -> Engagement:
+        """Whether ``state`` (at ``phase``, degrees as turned) is engaged: turned
+        clockwise (tightening) by :attr:`screw_in` degrees from it, the bolt descends at
+        the lead (:func:`engagement`)."""
+        if self.screw_in <= 0.0:
+            return Engagement(True, 0.0, math.nan, self.mech.spec.lead, math.nan, math.nan)
+        walk = Continuation(
+            self.mech,
+            self.held_roll,
+            self.held_pitch,
+            step=self.step,
+            phase_tolerance=self.phase_tolerance,
+            contact_changes=False,
+            sense="tighten",
+            torque_limit=self.torque_limit,
+        )
+        legs, events, states = walk.advance(state, phase, self.screw_in)
+        return engagement(walk, state, legs, events, states, self.screw_in)
 
     def advance(
         self,
@@ -237,16 +396,15 @@ class Continuation:
 
         def integrate(a: MechanicalState, b: MechanicalState) -> None:
             dphi = math.radians(abs(b.phase - a.phase))
-            if not (math.isfinite(a.driver_torque) and math.isfinite(b.driver_torque)):
+            (ta, fa), (tb, fb) = self.torque(a), self.torque(b)
+            if not (math.isfinite(ta) and math.isfinite(tb)):
                 return
-            total = 0.5 * (a.driver_torque + b.driver_torque) * dphi
-            fric = 0.5 * (a.friction_torque + b.friction_torque) * dphi
-            work[0] += 1e3 * fric
-            work[1] += 1e3 * (total - fric)
+            work[0] += 1e3 * 0.5 * (fa + fb) * dphi
+            work[1] += 1e3 * 0.5 * ((ta - fa) + (tb - fb)) * dphi
 
         def close_branch(at: float) -> None:
             if at > branch_start or len(branch) > 1:
-                torques = [s.driver_torque for s in branch if math.isfinite(s.driver_torque)]
+                torques = [t for t, _ in map(self.torque, branch) if math.isfinite(t)]
                 legs.append(
                     Leg(
                         "turning",
@@ -318,8 +476,13 @@ class Continuation:
                 prev, at = s_hi, hi
                 continue
             close_branch(lo)
-            kind = "snap" if s_hi.classification == "in-phase" else "jump"
-            legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, "unstable"))
+            proof, note = None, ""
+            if s_hi.classification == "in-phase" and not self.tightening:
+                proof = self.prove(s_hi, phase + sign * hi)
+                note = "" if proof.engaged else f"not a snap: {proof.reason}"
+                s_hi = replace(s_hi, engagement=proof)
+            kind = "snap" if proof is not None and proof.engaged else "jump"
+            legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, "unstable", proof))
             events.append(
                 SearchEvent(
                     phase + sign * hi,
@@ -328,6 +491,8 @@ class Continuation:
                     s_hi.region_combination,
                     s_lo.centre[2] - s_hi.centre[2],
                     _tilt_between(s_lo, s_hi),
+                    note,
+                    proof,
                 )
             )
             states.append(s_hi)
@@ -351,6 +516,8 @@ def search(
     phase_tolerance: float = 0.01,
     chord: float | None = None,
     progress: Callable[[int, int], None] | None = None,
+    screw_in: float = SCREW_IN,
+    torque_limit: float | None = None,
 ) -> SearchResult:
     """Simulate the counter-clockwise search from a start (see the module docstring).
 
@@ -375,6 +542,13 @@ def search(
         How closely events are located in phase (degrees, within (0, step]).
     progress : callable, optional
         Called as ``progress(done, total)`` with the whole degrees turned and to turn.
+    screw_in : float
+        Turn of the clockwise continuation that proves each snap (degrees, within
+        [0, 720]; 0: no proof): a landing in phase that does not then descend at the
+        lead is a jump, and its event says why.
+    torque_limit : float, optional
+        Tightening torque past which the proof counts the bolt jammed (N m, > 0; default
+        :func:`default_torque_limit`).
 
     Returns
     -------
@@ -382,19 +556,47 @@ def search(
         ``snap`` is None when no snap came within ``turns``.
     """
     check_continuation(turns=turns, step=step, phase_tolerance=phase_tolerance)
+    check_screw(screw_in=screw_in, torque_limit=torque_limit)
     mech = mechanics(target, compliance, chord)
     q0 = mech.engine.queries
     start = mech.settle(roll, pitch, phase).state
     end = 360.0 * turns  # turn from the start, degrees
     legs: list[Leg] = []
     events: list[SearchEvent] = []
+    walk = Continuation(
+        mech,
+        roll,
+        pitch,
+        step=step,
+        phase_tolerance=phase_tolerance,
+        screw_in=screw_in,
+        torque_limit=torque_limit,
+    )
+    proof = walk.prove(start, float(phase)) if start.classification == "in-phase" else None
+    if proof is not None:
+        start = replace(start, engagement=proof)
     states = [start]
-    if start.classification == "in-phase":
-        events.append(SearchEvent(float(phase), "snap", "", start.region_combination, 0.0, 0.0))
+    if proof is not None and proof.engaged:
+        events.append(
+            SearchEvent(float(phase), "snap", "", start.region_combination, 0.0, 0.0, "", proof)
+        )
     else:
-        walk = Continuation(mech, roll, pitch, step=step, phase_tolerance=phase_tolerance)
+        if proof is not None:
+            events.append(
+                SearchEvent(
+                    float(phase),
+                    "jump",
+                    "",
+                    start.region_combination,
+                    0.0,
+                    0.0,
+                    f"not a snap: {proof.reason}",
+                    proof,
+                )
+            )
         tick = None if progress is None else (lambda at: progress(int(at), int(math.ceil(end))))
-        legs, events, more = walk.advance(start, float(phase), end, progress=tick)
+        legs, more_events, more = walk.advance(start, float(phase), end, progress=tick)
+        events += more_events
         states += more
     if progress is not None:
         progress(int(math.ceil(end)), int(math.ceil(end)))
@@ -413,6 +615,14 @@ def search(
         sum(leg.work_potential for leg in legs),
         mech.engine.queries - q0,
     )
+
+
+def check_screw(*, screw_in: float = SCREW_IN, torque_limit: float | None = None) -> None:
+    """Refuse screw-in settings out of range (InputError naming the setting)."""
+    if not (math.isfinite(screw_in) and 0.0 <= screw_in <= 720.0):
+        raise InputError(f"screw_in must be within [0, 720] degrees, got {screw_in!r}")
+    if torque_limit is not None and not (math.isfinite(torque_limit) and torque_limit > 0):
+        raise InputError(f"torque_limit must be a positive torque (N m), got {torque_limit!r}")
 
 
 def check_continuation(

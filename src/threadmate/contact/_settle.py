@@ -36,7 +36,10 @@ yes/no queries above it, find what the pairs at the bracket's foot missed.
 
 Classes (mechanics.md), from the forces and the minimum, never from the way there:
 
-- ``in-phase``: the whole tip face is below the nut's top face (the snap);
+- ``in-phase`` (engaged): every contact that carries the load lies on the helices
+  (:func:`on_helix`: a bolt flank on the nut's thread or on the edge where it meets the
+  nut's entry, or the bolt's end on a nut flank), so that turning moves the bolt along
+  the helix (the snap lands here);
 - ``stable``: the touching contacts alone hold the load: the load's generalised force
   ``(F, 0, 0)`` (and ``(0, 0)`` laterally when x, y are free) lies inside the cone of the
   contact rows with a margin: each of it pushed by ``F/100`` in height or by ``F`` times
@@ -58,7 +61,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import nnls
+from scipy.optimize import lsq_linear, nnls
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError, cKDTree
@@ -73,8 +76,8 @@ from ._compliance import Compliance
 from ._exact import (
     contact_normal,
     edge_crossing,
-    engagement_outline,
     lowest_on_rim,
+    on_thread,
     refined_contact,
     region_at,
 )
@@ -88,6 +91,10 @@ __all__ = ["Mechanics", "BALANCE", "MAX_STEPS", "mechanics", "settle"]
 #: Largest residual of the equilibrium at a rest state, relative to the load (force: F;
 #: moment: F times the bolt's major radius).
 BALANCE = 1e-6
+#: Largest contact force the model reports, in units of what the load and the spring can
+#: press a contact with (:meth:`Mechanics.force_bound`): beyond it the rigid balance is
+#: near-singular and the forces are bounded (:meth:`Mechanics.bounded`).
+NEAR_SINGULAR = 3.0
 #: Descent steps before a rest state is given up as not converged.
 MAX_STEPS = 60
 #: Descent steps over which a continued descent (one leaving a rest state at a nearby
@@ -98,16 +105,41 @@ MAX_STEPS = 60
 #: first contact: an upright point settling on the countersink's ring of edges can wander
 #: that long before it finds its support.)
 STALL_STEPS = 20
-#: Descent steps after the bolt drops in phase. A descent in the thread seldom balances
-#: (it is reported ``converged 0``); by this many steps its compliance centre lies within
-#: about 2e-5 in of where 60 leave it (1/4-20, measured), and the 40 steps beyond took an
-#: in-phase start of a sweep, or each in-phase settle of a snap's bisection, about 2 s.
-IN_PHASE_STEPS = 20
 #: Tilt (degrees) within which a bolt touching the nut's entry with its end only is tried
 #: seated upright (:meth:`Mechanics._seat`), and the regions of such contacts.
 SEAT_TILT = 3.0
 SEAT_BOLT_REGIONS = frozenset({"base", "chamfer", "round"})
 SEAT_NUT_REGIONS = frozenset({"surface", "countersink"})
+#: Force above which a contact carries the load (relative to the axial load): one below it
+#: touches without load, or hovers at the touching threshold, and changes nothing a driver
+#: or a sensor sees.
+LOAD_CARRYING = 1e-4
+#: Arc (degrees about the axis) of a contact along the helices that one point of it stands
+#: for (:meth:`Mechanics._along_helix`).
+HELIX_ARC = 30.0
+#: Features that lie on a body's helix: its thread's faces and the sharp corners between
+#: them (:class:`threadmate.contact._exact.Feature`).
+HELICAL_FEATURES = frozenset({"thread", "corner"})
+
+
+def on_helix(bolt_feature: str, nut_feature: str, nut_thread: bool) -> bool:
+    """Whether a contact lies on the helices (mechanics.md, "in-phase"): a bolt flank (its
+    thread's face or corner) on the nut's flank or on the edge where the nut's thread
+    meets its top face or countersink, or the bolt's end on the nut's flank.
+    ``nut_thread``: the nut's feature belongs to its thread (:func:`on_thread`).
+
+    Such a contact moves along the helix as the bolt turns. Where the bolt's thread
+    touches, its surface there is carried into itself by the screw motion, so the contact
+    neither opens nor closes as the bolt turns and moves along its axis by the lead; where
+    the bolt's end touches a nut flank, the end's point slides along the nut's helix. A
+    contact of the bolt's end on the nut's entry (tip face on top face, point on
+    countersink, rim on the bore's edge), or of a bolt flank on the nut's top face or
+    countersink away from its thread, does not: turning slides it round or lifts the bolt
+    off it.
+    """
+    if not nut_thread:
+        return False
+    return nut_feature in HELICAL_FEATURES or bolt_feature in HELICAL_FEATURES
 
 
 @dataclass
@@ -140,6 +172,7 @@ class _Near:
     nut_region: str
     bolt_feature: str
     nut_feature: str
+    helical: bool = False  # on the helices (:func:`on_helix`)
 
 
 class Mechanics:
@@ -224,9 +257,6 @@ class Mechanics:
         self.separation = spec.pitch / 4
         self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
         self._floor = analyzer.nut.z_min - 2 * analyzer.bolt.z_max - spec.pitch
-        # The bolt is in phase when its teeth have passed below the nut's (see
-        # :meth:`in_phase` and :func:`engagement_outline`).
-        self._engagement, self._nut_engagement = engagement_outline(analyzer.bolt, analyzer.nut)
         # Vertices that can pass whole into the other body: the nut's in its top pitch,
         # the bolt's in its first (the thread's run-outs on the end faces are wedges),
         # counted from where the full thread begins.
@@ -381,13 +411,13 @@ class Mechanics:
             drop,
         )
 
-    def _touching(self, d: _Drop) -> _Drop:
+    def _touching(self, d: _Drop, depth: float | None = None) -> _Drop:
         """``d`` with its touch raised to the first of its pairs' (when higher), and the
-        gaps and points of its pairs within ``near`` below it."""
+        gaps and points of its pairs within ``depth`` (default ``near``) below it."""
         ok = np.isfinite(d.drops)
         first = min(d.top - d.zc, float(d.drops[ok].min(initial=math.inf)))
         gaps = d.drops - first
-        keep = ok & (gaps <= self.near)
+        keep = ok & (gaps <= (self.near if depth is None else depth))
         return replace(
             d,
             zc=d.top - first,
@@ -442,6 +472,16 @@ class Mechanics:
             if found is None:  # pragma: no cover - the bolt touched from this start before
                 raise RuntimeError("lowering the bolt passed the nut on a second try")
             d = found
+
+    def _deepened(self, d: _Drop, depth: float) -> _Drop:
+        """``d`` knowing every contact within ``depth`` (more than ``near``) below its
+        touch."""
+        if depth <= self.near:
+            return d
+        pairs, drops, touches, _ = self._with_pairs_at(
+            d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, d.zc - depth
+        )
+        return self._touching(replace(d, pairs=pairs, drops=drops, touches=touches), depth)
 
     def _nudged(self, d: _Drop, rotation: NDArray[np.float64], xy: NDArray[np.float64]) -> _Drop:
         """``d`` turned to ``rotation`` over ``xy`` by a motion that moves no bolt point
@@ -511,15 +551,22 @@ class Mechanics:
                 return True
         return False
 
-    def in_phase(self, d: _Drop) -> bool:
-        """Whether the bolt has dropped into the nut's thread (the snap): the whole of its
-        engagement outline is below the nut's engagement plane (:func:`engagement_outline`).
-        For the thesis's flat ends: the whole tip face below the nut's top face."""
-        pose = self._pose(d.rotation, d.xy, d.zc)
-        return bool(
-            pose.origin[2] + float((self._engagement @ d.rotation[2]).max())
-            < self._nut_engagement - self.analyzer.feature_tolerance
-        )
+    def engaged(self, near: list[_Near], forces: NDArray[np.float64] | None = None) -> bool:
+        """Whether the bolt's thread is in the nut's (in phase, mechanics.md): every
+        contact that carries the load lies on a helix (:func:`on_helix`), so that turning
+        moves the bolt along the helix.
+
+        With ``forces`` (a rest state's), the contacts carrying more than
+        :data:`LOAD_CARRYING` times the load; without (a pose on the way), the touching
+        ones. Nothing here depends on the tilt or on where the bolt is: only on what
+        carries it.
+        """
+        if forces is None:
+            carrying = [c for c in near if c.gap <= self.touching]
+        else:
+            floor = LOAD_CARRYING * self.compliance.force
+            carrying = [c for c, f in zip(near, forces, strict=True) if f > floor]
+        return bool(carrying) and all(c.helical for c in carrying)
 
     # -- the seated tip -------------------------------------------------------------------
     def _seating(self, near: list[_Near], tilt: NDArray[np.float64]) -> bool:
@@ -609,6 +656,7 @@ class Mechanics:
             str(region_at(an.nut, point, fn, an.off_spec_tolerance)),
             fb.kind,
             fn.kind,
+            on_helix(fb.kind, fn.kind, on_thread(an.nut, point, fn, an.feature_tolerance)),
         )
 
     def _rim_modes(self, d: _Drop, c: _Near) -> list[_Near]:
@@ -687,7 +735,33 @@ class Mechanics:
                     self._contact(d, pts[flat][c], float(gaps[flat][c]), refine=False)
                     for c in corners
                 )
+            if first.helical:
+                out.extend(self._along_helix(d, pts, gaps, j))
         out.sort(key=lambda c: c.gap)
+        return out
+
+    def _along_helix(
+        self, d: _Drop, pts: NDArray[np.float64], gaps: NDArray[np.float64], j: int
+    ) -> list[_Near]:
+        """The rest of a contact along the helices: where one flank lies along the other
+        (the bolt in the thread), the pairs within ``near`` run round the axis as one
+        group; its least gap in each :data:`HELIX_ARC` of it (beyond the one holding
+        ``j``, the group's least) is a contact of its own, so that the descent knows
+        the whole line it may tip onto, not its lowest point alone."""
+        theta = np.arctan2(pts[:, 1], pts[:, 0])
+        rel = (theta - theta[j] + math.pi) % (2 * math.pi) - math.pi
+        arc = math.radians(HELIX_ARC)
+        if float(rel.max() - rel.min()) <= arc:
+            return []
+        # Arcs counted from the least gap's, each way.
+        bins = np.floor(rel / arc + 0.5).astype(np.int64)
+        out = []
+        for b in np.unique(bins):
+            if b == 0:
+                continue
+            inside = np.flatnonzero(bins == b)
+            i = int(inside[np.argmin(gaps[inside])])
+            out.append(self._contact(d, pts[i], float(gaps[i])))
         return out
 
     # -- mechanics ------------------------------------------------------------------------
@@ -780,6 +854,46 @@ class Mechanics:
         moment = float(np.abs(resid[1:]).max()) if len(resid) > 1 else 0.0
         return forces, float(abs(resid[0])), moment
 
+    def force_bound(self, tilt: NDArray[np.float64], held: NDArray[np.float64]) -> float:
+        """The largest contact force the model reports (N): :data:`NEAR_SINGULAR` times
+        what the load and the spring can press a contact with (the axial force, and the
+        spring's moment over the bolt's major radius)."""
+        k = self._stiffness()[1:3]
+        moment = float(np.abs(k * (tilt - held)).max())
+        return NEAR_SINGULAR * (self.compliance.force + moment / (self.radius * self.metres))
+
+    def bounded(
+        self,
+        near: list[_Near],
+        forces: NDArray[np.float64],
+        centre: NDArray[np.float64],
+        tilt: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        held: NDArray[np.float64],
+    ) -> tuple[NDArray[np.float64], bool]:
+        """``forces`` of a rest state, and whether its rigid balance is near-singular.
+
+        Where two contacts' line passes (nearly) through the compliance centre, or a
+        contact's normal lies (nearly) level, the rigid balance asks for forces hundreds of
+        times the load: the rigid model cannot tell them (a hair of contact compliance or
+        friction would carry the load instead). The model bounds them: each contact force
+        at most :meth:`force_bound`, the balance met as closely as the bound lets it
+        (bounded least squares), and the state marked near-singular. Reported forces,
+        the driver's torque and its work then come from the bounded forces.
+        """
+        bound = self.force_bound(tilt, held)
+        if not len(forces) or float(np.max(forces)) <= bound:
+            return forces, False
+        on = [i for i, c in enumerate(near) if c.gap <= self.touching]
+        G, _ = self._rows([near[i] for i in on], centre, tilt)
+        grad = self._gradient(tilt, xy, held)
+        scale = np.ones(len(grad))
+        scale[1:3] = 1.0 / (self.radius * self.metres)
+        fit = lsq_linear((G * scale).T, grad * scale, bounds=(0.0, bound))
+        out = np.zeros(len(near))
+        out[on] = np.clip(fit.x, 0.0, bound)
+        return out, True
+
     def holds_without_compliance(
         self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64]
     ) -> bool:
@@ -854,9 +968,11 @@ class Mechanics:
         pose = self._pose(d.rotation, d.xy, d.zc)
         centre = np.array([d.xy[0], d.xy[1], d.zc])
         torque = friction = math.nan
+        singular = False
         if forces is None:
             forces = np.full(len(near), math.nan)
         else:
+            forces, singular = self.bounded(near, forces, centre, tilt, d.xy, held)
             torque, friction = self.driver_torque(near, forces, d.rotation, centre)
         # A support given twice (the tip rim at the bore edge, as face and as edge) is
         # reported once: the one that carries the force.
@@ -898,6 +1014,7 @@ class Mechanics:
             torque,
             friction,
             turn,
+            singular,
         )
 
     def settle(
@@ -907,7 +1024,6 @@ class Mechanics:
         phase: float,
         *,
         start: MechanicalState | None = None,
-        stop_in_phase: bool = False,
         leave: tuple[float, float] | None = None,
         arrive: Callable[[MechanicalState], MechanicalState | None] | None = None,
     ) -> RestState:
@@ -915,13 +1031,10 @@ class Mechanics:
         ``phase`` (degrees), reached from first contact (or from ``start``, a state at a
         nearby phase: the continuation of the search).
 
-        With ``stop_in_phase`` the descent stops at the first pose in phase, which is
-        then returned unbalanced: the continuation's bisection asks only whether the
-        bolt snaps there (a descent in the thread takes many steps), and settles the
-        snap it keeps in full. With ``leave = (fall, turn)`` the descent from ``start``
-        stops, unbalanced (kind ``departed``), once the compliance centre has fallen more
-        than ``fall`` (spec units) below ``start``'s or the bolt axis has turned more than
-        ``turn`` degrees from ``start``'s: the bisection asks only whether the rest state
+        With ``leave = (fall, turn)`` the descent from ``start`` stops, unbalanced (kind
+        ``departed``), once the compliance centre has fallen more than ``fall`` (spec
+        units) below ``start``'s or the bolt axis has turned more than ``turn`` degrees
+        from ``start``'s: the bisection asks only whether the rest state
         is near the state it leaves, and a descent that has gone this far on its way down
         the potential does not come back; it settles in full the jump it keeps.
         ``arrive`` (the library's sweep) is asked at each pose of the descent, as a state
@@ -954,6 +1067,12 @@ class Mechanics:
             )
 
         start_axis = None if start is None else np.array(start.rotation)[:, 2]
+        if start is not None:
+            # The turn may lift the bolt off some of the contacts it rested on (a flank
+            # riding onto an edge lifts it off the face beside): those contacts still bound
+            # the motion, and a descent that does not know them can tip past them into
+            # another basin. It knows every contact within the lift, and ``near`` beyond.
+            d = self._deepened(d, self.near + max(0.0, d.zc - start.centre[2]))
 
         def gone(d: _Drop) -> bool:
             # (See ``leave``.)
@@ -967,9 +1086,9 @@ class Mechanics:
                 )
             )
 
-        departed = gone(d) and not self.in_phase(d)
-        path: list[MechanicalState] = []
+        departed = gone(d)
         near = [] if departed else self.contacts(d)
+        path: list[MechanicalState] = []
         if start is None:
             path.append(self.state("first-contact", "unstable", d, near, phase, held, tilt))
         last_axis = d.rotation[:, 2].copy()
@@ -993,8 +1112,7 @@ class Mechanics:
             curvature, prox = np.array(start.contact_curvature, dtype=float), prox * 1e-2
         u = self.potential(d.zc, tilt, xy, held)
         noise = 2.0 * f * max(self.analyzer.deviation, self.tolerance) * self.metres
-        snapped = self.in_phase(d)
-        snap_step = 0  # the descent step at which it dropped in phase
+        engaged = self.engaged(near)  # the pose in phase (the descent's path records it)
         last_step = np.zeros(2)
         nudged = 0.0  # bolt motion since python-fcl last lowered the bolt (see _nudged)
         ahead: list[_Near] = []  # contacts met by rejected steps (see below)
@@ -1021,24 +1139,20 @@ class Mechanics:
                 self.engine.queries - q0,
             )
 
-        while (
-            not departed
-            and steps < MAX_STEPS
-            and not (snapped and (stop_in_phase or steps - snap_step >= IN_PHASE_STEPS))
-        ):
+        while not departed and steps < MAX_STEPS:
             centre = np.array([d.xy[0], d.xy[1], d.zc])
             G, gap = self._rows(near + ahead, centre, tilt)
             grad = self._gradient(tilt, d.xy, held)
             forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
-            if f_res <= BALANCE / 10 and m_res <= BALANCE / 10:
-                converged = True
-                break
-            if arrive is not None and not snapped:
+            if arrive is not None and not engaged:
                 known = arrive(self.state("rest", "unstable", d, near, phase, held, tilt, forces))
                 if known is not None:
                     # At this phase as turned (a continuation's phases run past 360).
                     balance = {"force": f_res, "moment": m_res, "converged": 0.0, "arrived": 1.0}
                     return result(replace(known, phase=float(phase)), balance)
+            if f_res <= BALANCE / 10 and m_res <= BALANCE / 10:
+                converged = True
+                break
             seating = self._seating(near, tilt)
             progress.append((u, max(f_res, m_res)))
             window = self.stall_steps
@@ -1129,26 +1243,21 @@ class Mechanics:
                 u_new = self.potential(trial.zc, new_tilt, new_xy, held)
             step_q = np.concatenate([[(trial.zc - d.zc) * self.metres], dq[1:]])
             if kept(u_new):
-                if self.in_phase(trial) and not snapped:
-                    snapped, snap_step = True, steps
-                    path.append(
-                        self.state(
-                            "in-phase",
-                            "unstable",
-                            trial,
-                            self.contacts(trial),
-                            phase,
-                            held,
-                            new_tilt,
-                        )
-                    )
                 old_rows, old_sig = G[: len(near), 1:3], _signature(near, self.touching)
+                near = self.contacts(trial)
+                # In phase as long as the pose's contacts lie on the helices: a contact
+                # that leaves them (the bolt rolls back onto its end) ends the snap.
+                if self.engaged(near) != engaged:
+                    engaged = not engaged
+                    if engaged and not any(p.kind == "in-phase" for p in path):
+                        path.append(
+                            self.state("in-phase", "unstable", trial, near, phase, held, new_tilt)
+                        )
                 d, tilt, u = trial, new_tilt, u_new
-                if not snapped and gone(d):
+                if gone(d):
                     departed = True
                     break
                 nudged = nudged + moved if nudge else 0.0
-                near = self.contacts(d)
                 ahead = []
                 if _signature(near, self.touching) == old_sig and len(near) == len(old_rows):
                     # The contacts' moment changes with the tilt as their points slide (a
@@ -1170,7 +1279,7 @@ class Mechanics:
                     # Same contacts: the model is good, trust it more.
                     prox = np.maximum(prox / (10 if now == touching else 3), prox0[: len(k)] * 1e-8)
                 last_step = dq[1:3].copy()
-                if now != touching and not self.in_phase(d) and not snapped:
+                if now != touching and not engaged:
                     kind = "new-contact" if len(now) >= len(touching) else "rolling"
                     axis = d.rotation[:, 2]
                     turn = axis_turn(axis, last_axis)
@@ -1192,15 +1301,7 @@ class Mechanics:
                     opening = -float(row[0] @ step_q)
                     if opening > 0:
                         ahead.append(
-                            _Near(
-                                c.point,
-                                c.normal,
-                                opening / (self.metres * max(c.normal[2], 0.05)),
-                                c.bolt_region,
-                                c.nut_region,
-                                c.bolt_feature,
-                                c.nut_feature,
-                            )
+                            replace(c, gap=opening / (self.metres * max(c.normal[2], 0.05)))
                         )
         centre = np.array([d.xy[0], d.xy[1], d.zc])
         if departed:
@@ -1211,13 +1312,13 @@ class Mechanics:
         forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
         axis = d.rotation[:, 2]
         turn = axis_turn(axis, last_axis)
-        if self.in_phase(d):
+        if self.engaged(near, forces):
             cls, kind = "in-phase", "in-phase"
         elif self.holds_without_compliance(near, centre, tilt):
             cls, kind = "stable", "rest"
         else:
             cls, kind = "quasi-stable", "rest"
-        if not converged and cls != "in-phase":
+        if not converged:
             cls = "unstable"
         final = replace(
             self.state(kind, cls, d, near, phase, held, tilt, forces, turn),

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -48,6 +49,11 @@ MAX_TURNS = 2.0
 JOIN_TILT = 0.05
 #: Largest distance between compliance centres, in pitches, of two states taken as one.
 JOIN_DISTANCE = 1e-3
+
+
+def engaged(s: MechanicalState) -> bool:
+    """Whether ``s`` is a snap's end: in phase and proved by screwing in."""
+    return s.engagement is not None and s.engagement.engaged
 
 
 def _axis(s: MechanicalState) -> np.ndarray:
@@ -224,9 +230,17 @@ def states_of_held_tilt(
     tilt = _Tilt(mech, float(roll), float(pitch))
     at_phase: list[list[str]] = [[] for _ in grid]  # state ids at each grid phase
     starts: list[str | None] = []
+    walk = Continuation(
+        mech, roll, pitch, step=step, phase_tolerance=phase_tolerance, contact_changes=False
+    )
     for j, phase in enumerate(grid):
         try:
             rest = mech.settle(roll, pitch, phase)
+            if rest.state.classification == "in-phase":
+                # A start in phase is a snap only if it screws in (as a landing is).
+                rest = replace(
+                    rest, state=replace(rest.state, engagement=walk.prove(rest.state, phase))
+                )
         except Exception as exc:  # noqa: BLE001 - one bad configuration must not stop a sweep
             tilt.fail(ids[j], phase, "start", exc)
             starts.append(None)
@@ -243,9 +257,6 @@ def states_of_held_tilt(
         starts.append(sid)
         at_phase[j].append(sid)
 
-    walk = Continuation(
-        mech, roll, pitch, step=step, phase_tolerance=phase_tolerance, contact_changes=False
-    )
     for j, start in enumerate(starts):
         if start is not None:
             _continue(tilt, walk, start, j, grid, turns, ids[j], at_phase)
@@ -267,7 +278,7 @@ def _continue(
     n = len(grid)
     phase = grid[j]  # unwrapped: the continuation's phases keep growing
     turned = 0.0
-    while tilt.states[sid].classification != "in-phase" and turned < 360.0 * MAX_TURNS:
+    while not engaged(tilt.states[sid]) and turned < 360.0 * MAX_TURNS:
         k = (j + 1) % n
         try:
             legs, _, _ = walk.advance(

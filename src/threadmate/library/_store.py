@@ -60,7 +60,10 @@ METADATA_FILE = "_threadmate.json"
 SCHEMA_KEY = b"threadmate"
 #: Format tag and version of the metadata.
 FORMAT = "threadmate-contact-library"
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
+#: The oldest format version a mechanics library is read in: before it, snaps were not
+#: proved by screwing in (the ``engaged`` column).
+MECHANICS_SINCE = 3
 #: The models a library can hold: the mechanics' states, or the thesis's fixed-pivot rows.
 MODELS = ("mechanics", "thesis")
 _PART = re.compile(r"^part-(\d{5,})\.parquet$")
@@ -117,6 +120,11 @@ def read_metadata(path: str | os.PathLike[str]) -> dict[str, Any]:
         raise LibraryError(
             f"{meta_file}: format version {version!r} is not one this threadmate reads "
             f"(up to {FORMAT_VERSION}; written by a newer threadmate?)"
+        )
+    if doc["model"] == "mechanics" and version < MECHANICS_SINCE:
+        raise LibraryError(
+            f"{meta_file}: a mechanics library of format version {version}, written by an "
+            "older threadmate whose snaps were not proved by screwing in: sweep it again"
         )
     # The spec and grid every command reads: refuse a hand-edited one here, once.
     from ..contact import Compliance

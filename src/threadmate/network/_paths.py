@@ -169,9 +169,14 @@ def no_path_document(
     }
 
 
+def is_snapped(node: dict[str, Any]) -> bool:
+    """Whether a node's state ends a search: in phase and proved by screwing in."""
+    return node.get("classification") == "in-phase" and bool(node.get("engaged"))
+
+
 def snap_targets(graph: nx.DiGraph) -> list[str]:
-    """The in-phase states."""
-    return [n for n, d in graph.nodes(data=True) if d.get("classification") == "in-phase"]
+    """The in-phase states proved by screwing in."""
+    return [n for n, d in graph.nodes(data=True) if is_snapped(d)]
 
 
 def _result(
@@ -247,7 +252,7 @@ def least_resistance_path(
         )
     start, moved = start_node(graph, roll, pitch, phase, nearest=nearest)
     requested = {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)}
-    if graph.nodes[start].get("classification") == "in-phase":
+    if is_snapped(graph.nodes[start]):
         return _result(graph, [start], start, requested, moved, active)
     weight = _any if active else _passive
     targets = snap_targets(graph)
@@ -347,7 +352,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
         n = node
         while n not in memo:
             d = graph.nodes[n]
-            if d.get("classification") == "in-phase":
+            if is_snapped(d):
                 memo[n] = (True, 0.0, 0.0, 0.0, float(d["phase"]), nan, False)
                 break
             if n in seen:
