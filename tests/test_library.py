@@ -590,6 +590,24 @@ def test_every_stored_jump_leaves_the_branch(mech_rows, quarter_20):
         assert leaves_branch(fall, turned, in_phase, quarter_20.pitch), (row["state_id"], fall)
 
 
+def test_every_stored_snap_screws_in(mech_rows, quarter_20):
+    """Every snap the library stores lands on a state proved by screwing in: engaged,
+    descending per turn within 10 % of the lead, its axis within a degree of the nut's at
+    the end; an in-phase state that is not engaged says why."""
+    by_id = mech_rows.set_index("state_id")
+    snaps = mech_rows[mech_rows["transition"] == "snap"]
+    assert len(snaps)
+    for _, row in snaps.iterrows():
+        end = by_id.loc[row["next_id"]]
+        assert end["classification"] == "in-phase" and end["engaged"]
+        assert end["screw_descent"] == pytest.approx(quarter_20.lead, rel=0.1)
+        assert end["screw_tilt"] < 1.0
+    unproved = mech_rows[(mech_rows["classification"] == "in-phase") & ~mech_rows["engaged"]]
+    for _, row in unproved.iterrows():
+        if not math.isnan(row["screw_descent"]):  # proved, and failed
+            assert row["screw_note"], row["state_id"]
+
+
 def test_passive_path_from_every_start_ends_in_the_snap(mech_rows):
     by_id = mech_rows.set_index("state_id")
     for _, start in mech_rows[mech_rows["role"] == "start"].iterrows():

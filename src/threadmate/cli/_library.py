@@ -254,6 +254,13 @@ N/m, lengths in the spec's units, angles in degrees.
     "(degrees, > 0, at most --step).",
 )
 @click.option(
+    "--screw",
+    "clockwise",
+    is_flag=True,
+    help="Mechanics: also turn every start clockwise directly (threadmate screw, one turn) "
+    "and record whether it engages, rides or jams (columns clockwise, clockwise_phase).",
+)
+@click.option(
     "--workers",
     type=int,
     default=None,
@@ -297,6 +304,7 @@ def sweep_command(
     compliance_z: float,
     step: float,
     phase_tolerance: float,
+    clockwise: bool,
     workers: int | None,
     scheduler: str | None,
     chord: float | None,
@@ -308,6 +316,8 @@ def sweep_command(
 ) -> None:
     """Sweep the grid into a library."""
     _check_sweep_options(ctx, model, workers, chunk_size, step, phase_tolerance)
+    if clockwise and model != "mechanics":
+        raise InputError("--screw is for the mechanics model only")
     compliance = compliance_from_options(
         force, stiffness_text, lateral_stiffness, friction, compliance_z
     )
@@ -346,6 +356,7 @@ def sweep_command(
                 step=step,
                 phase_tolerance=phase_tolerance,
                 progress=callback,
+                clockwise=clockwise,
                 **meshes.arguments(),
             )
     except SweepInterrupted as exc:

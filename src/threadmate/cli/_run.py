@@ -91,6 +91,13 @@ on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["pha
     show_default=True,
     help="Continuation step of the search [deg].",
 )
+@click.option(
+    "--screw",
+    "clockwise",
+    is_flag=True,
+    help="Also turn every start clockwise directly (threadmate screw); the report gives "
+    "the share that engages against the held tilt.",
+)
 @click.option("--workers", type=int, default=None, help="Worker processes (default: all cores).")
 @click.option("--scheduler", default=None, help="Dask scheduler address, or 'local'.")
 @chord_option
@@ -118,6 +125,7 @@ def run_command(
     compare_stiffness: str | None,
     compare_force: str | None,
     step: float,
+    clockwise: bool,
     workers: int | None,
     scheduler: str | None,
     chord: float | None,
@@ -159,6 +167,7 @@ def run_command(
             roll_spread=roll_spread,
             step=step,
             progress=callback,
+            clockwise=clockwise,
             **meshes.arguments(),
         )
     echo_mesh_notes(result.meshes, spec.units)

@@ -119,6 +119,13 @@ STATE_COLUMNS: tuple[Column, ...] = (
     Column("screw_descent", _F, "length", "descent per turn when screwed in from it (NaN: none)"),
     Column("screw_tilt", _F, "deg", "angle between bolt and nut axes at the screw-in's end"),
     Column("screw_note", _S, "", "why an in-phase state is not engaged ('' else)"),
+    Column(
+        "clockwise",
+        _S,
+        "",
+        "a start turned clockwise directly: engaged, riding or jammed ('' not asked)",
+    ),
+    Column("clockwise_phase", _F, "deg", "where the clockwise start is decided (NaN: riding)"),
     Column("error", _S, "", "the message when the configuration failed, else ''"),
 )
 

@@ -67,6 +67,9 @@ SENSES = ("unscrew", "tighten")
 #: follows in the thread is continuous whatever its length; the descent corrects the
 #: prediction, and is the dearer the farther it has to go.
 TIGHTEN_STEP = 10.0
+#: Tilts (degrees) from the last state of a branch at which a rest state continuing it is
+#: looked for where the turn wedges the bolt at its own tilt (:meth:`Continuation._tilted`).
+TILT_PROBES = (0.02, 0.1)
 #: Default turn of the screw-in that proves a snap (degrees).
 SCREW_IN = 180.0
 #: Default limit of the tightening torque, in units of the axial force times the bolt's
@@ -291,6 +294,23 @@ class Continuation:
             arrive=arrive,
         ).state
 
+    def _tilted(self, before: MechanicalState, phase: float) -> MechanicalState | None:
+        """A rest state at ``phase`` continuous with ``before``, settled from ``before``
+        tilted by :data:`TILT_PROBES` in each of eight directions; None when there is
+        none (no rest state continues the branch: the bolt is wedged)."""
+        for size in TILT_PROBES:
+            for k in range(8):
+                a = math.radians(45.0 * k)
+                start = replace(
+                    before,
+                    roll=before.roll + size * math.cos(a),
+                    pitch=before.pitch + size * math.sin(a),
+                )
+                found = self._settle(phase, start, probe=False)
+                if found.classification != "unstable" and self._continuous(before, found):
+                    return found
+        return None
+
     def _helical_fall(self, a: MechanicalState, turn: float) -> float:
         """How far the compliance centre of ``a`` falls along the helix when turned by
         ``turn`` degrees in this continuation's sense: the lead's share when ``a`` is in
@@ -468,6 +488,12 @@ class Continuation:
             # within the tolerance of it), its contact changes located.
             if s_lo is not prev:
                 follow(prev, at, s_lo, lo)
+            if s_hi.potential > s_lo.potential:
+                # A landing above the branch's potential is no jump (a jump goes down U):
+                # turned at its tilt the bolt meets the nut at every height in the thread
+                # (wedged between the flanks), and the lowering climbed out. A rest state
+                # may continue the branch at a tilt nearby: look there first.
+                s_hi = self._tilted(s_lo, phase + sign * hi) or s_hi
             if self._continuous(s_lo, s_hi):
                 # The probe left the branch, but its descent carried to its end came back
                 # to it (where the thread starts meet, a descent can wander that far along

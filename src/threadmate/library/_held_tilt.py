@@ -36,6 +36,7 @@ from ..contact import (
     MechanicalState,
     Mechanics,
     blank_row,
+    screw,
     state_id,
     state_row,
     state_schema,
@@ -201,6 +202,7 @@ def states_of_held_tilt(
     *,
     step: float,
     phase_tolerance: float,
+    clockwise: bool = False,
 ) -> list[dict[str, Any]]:
     """State records of one held tilt over the grid's phases (module docstring).
 
@@ -216,6 +218,9 @@ def states_of_held_tilt(
         The configuration of each phase.
     step, phase_tolerance : float
         The continuation's step and event tolerance (degrees).
+    clockwise : bool
+        Also turn every start clockwise directly (:func:`threadmate.contact.screw`) and
+        record its outcome on the start's row.
 
     Returns
     -------
@@ -254,6 +259,16 @@ def states_of_held_tilt(
         sid = tilt.add(rest.state, "start", ids[j])
         if prev is not None:
             tilt.link(prev, sid, "settling", "unstable")
+        if clockwise:
+            try:
+                turned = screw(mech, roll, pitch, phase, step=step, phase_tolerance=phase_tolerance)
+                at = turned.decided_phase
+                tilt.rows[sid].update(
+                    clockwise=turned.outcome,
+                    clockwise_phase=math.nan if at is None else at % 360.0,
+                )
+            except Exception as exc:  # noqa: BLE001 - keep the start and its search
+                tilt.rows[sid]["error"] = f"clockwise: {type(exc).__name__}: {exc}"
         starts.append(sid)
         at_phase[j].append(sid)
 

@@ -41,7 +41,7 @@ from .._errors import InputError, LibraryError, ThreadmateError
 from .._io import remove_stale_temporaries
 from .._validate import check_whole, check_workers
 from .._version import __version__
-from ..contact import CONTINUATION_STEP, Compliance, blank_row, check_continuation
+from ..contact import CONTINUATION_STEP, SCREW_IN, Compliance, blank_row, check_continuation
 from ..geometry import ThreadSpec, check_chord
 from ._grid import Grid, Values
 from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_TURNS, states_of_held_tilt
@@ -103,6 +103,7 @@ class Job:
     bolt_mesh: MeshFile | None = None
     nut_mesh: MeshFile | None = None
     mesh_units: str | None = None
+    clockwise: bool = False
 
     @property
     def key(self) -> str:
@@ -219,6 +220,7 @@ def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]
             config_ids,
             step=job.step,
             phase_tolerance=job.phase_tolerance,
+            clockwise=job.clockwise,
         )
         return pa.Table.from_pylist(rows, schema=schema), _settings(worker.analyzer)
     blank = blank_row(schema)
@@ -459,6 +461,8 @@ def _request_metadata(job: Job) -> dict[str, Any]:
         meta["continuation"] = {
             "step": job.step,
             "phase_tolerance": job.phase_tolerance,
+            "screw_in": SCREW_IN,
+            "clockwise": job.clockwise,
             "max_turns": MAX_TURNS,
             "join_tilt": JOIN_TILT,
             "join_distance_pitches": JOIN_DISTANCE,
@@ -571,6 +575,7 @@ def sweep(
     bolt_mesh: str | os.PathLike[str] | None = None,
     nut_mesh: str | os.PathLike[str] | None = None,
     mesh_units: str | None = None,
+    clockwise: bool = False,
 ) -> Path | pd.DataFrame:
     """Build (or resume) the contact-state library of a thread pair over a grid.
 
@@ -635,6 +640,10 @@ def sweep(
         resumed sweep with other meshes (or none) is refused.
     mesh_units : {"in", "mm"}, optional
         Units of the mesh files (default: a threadmate STL header's, else the spec's).
+    clockwise : bool
+        Mechanics: also turn every start clockwise directly (:func:`threadmate.contact.
+        screw`, one turn) and record what it does on the start's row (``clockwise``:
+        engaged, riding or jammed; ``clockwise_phase``: where it is decided).
 
     Returns
     -------
@@ -681,6 +690,7 @@ def sweep(
         bolt_file,
         nut_file,
         mesh_units,
+        bool(clockwise),
     )
 
     if out is None:

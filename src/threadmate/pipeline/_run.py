@@ -26,7 +26,7 @@ from .._io import atomic_write_text, remove_stale_temporaries
 from .._version import __version__
 from ..contact import CONTINUATION_STEP, Compliance
 from ..geometry import ThreadSpec
-from ..library import Grid, info, sweep, write_figures
+from ..library import Grid, info, load, sweep, write_figures
 from ..network import (
     WEIGHT_FORMULA,
     Recommendation,
@@ -124,6 +124,7 @@ def run_pipeline(
     bolt_mesh: str | os.PathLike[str] | None = None,
     nut_mesh: str | os.PathLike[str] | None = None,
     mesh_units: str | None = None,
+    clockwise: bool = False,
 ) -> RunResult:
     """Run the whole pipeline into ``out`` (see the module docstring for the layout).
 
@@ -132,7 +133,9 @@ def run_pipeline(
     :data:`RUN_GRID`; ``compliances`` to the default :class:`Compliance` (give several to
     compare stiffnesses or forces: one library each, one recommendation over all).
     ``bolt_mesh``, ``nut_mesh`` and ``mesh_units``: meshes from CAD for the sweep (see
-    :func:`threadmate.library.sweep`); the report names them.
+    :func:`threadmate.library.sweep`); the report names them. ``clockwise``: also turn
+    every start clockwise directly (the sweep's ``clockwise``); the report gives the share
+    that engages against the held tilt.
     """
     out = Path(out)
     for folder in (out, out / "figures"):
@@ -160,6 +163,7 @@ def run_pipeline(
             bolt_mesh=bolt_mesh,
             nut_mesh=nut_mesh,
             mesh_units=mesh_units,
+            clockwise=clockwise,
         )
     graphs = [from_library(lib) for lib in libs]
     graph = graphs[0]
@@ -203,6 +207,8 @@ def run_pipeline(
         out,
         meshes,
     )
+    if clockwise:
+        report += "\n" + _clockwise_section(load(libs[0]))
     report_path = atomic_write_text(out / "report.md", report)
     recommended = dict(rec.best, units=spec.units)
     return RunResult(
@@ -219,6 +225,43 @@ def run_pipeline(
         rec.notes,
         meshes,
     )
+
+
+def _clockwise_section(rows: Any) -> str:
+    """The report's section on clockwise starts: the share of starts that engage when
+    turned clockwise directly, by held tilt (the thesis's clockwise question)."""
+    starts = rows[(rows["role"] == "start") & (rows["clockwise"] != "")]
+    lines = [
+        "## Clockwise starts",
+        "",
+        "Every start turned clockwise (tightening) directly, without a search first: "
+        "*engaged* when it then descends at the lead, *jammed* when no rest state continues "
+        "the turn or the torque passes its limit, *riding* otherwise (docs/mechanics.md, "
+        "Clockwise starts). Share of the start phases that engage, by held tilt:",
+        "",
+    ]
+    if starts.empty:
+        return "\n".join([*lines, "No start was turned clockwise."]) + "\n"
+    rolls = sorted(starts["held_roll"].unique())
+    lines += [
+        "| held pitch \\ roll deg | " + " | ".join(f"{r:+g}" for r in rolls) + " |",
+        "|---" * (len(rolls) + 1) + "|",
+    ]
+    for p in sorted(starts["held_pitch"].unique(), reverse=True):
+        cells = []
+        for r in rolls:
+            here = starts[(starts["held_pitch"] == p) & (starts["held_roll"] == r)]
+            share = (here["clockwise"] == "engaged").mean() if len(here) else math.nan
+            cells.append("-" if math.isnan(share) else f"{100 * share:.0f}%")
+        lines.append(f"| {p:+g} | " + " | ".join(cells) + " |")
+    by = starts["clockwise"].value_counts()
+    lines += [
+        "",
+        "Starts: "
+        + ", ".join(f"{k} {int(by.get(k, 0))}" for k in ("engaged", "riding", "jammed"))
+        + ".",
+    ]
+    return "\n".join(lines) + "\n"
 
 
 def _signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, float, float] | None:
@@ -381,7 +424,10 @@ def _report(
         "- **quasi-stable**: a rest state that needs the compliance to hold.",
         "- **unstable**: a contact state that is not at rest (first contact, a contact on "
         "the way, a state the bolt leaves by a jump).",
-        "- **in-phase**: the bolt has dropped into the nut's thread: the snap.",
+        "- **in-phase**: engaged: every contact that carries the load lies on the helices, so "
+        "that turning moves the bolt along the thread. A snap is a jump into such a state "
+        "that then screws in: turned clockwise half a turn it descends at the lead. A landing "
+        "in phase that jams when screwed in (a tilted bolt cross-threading) is not a snap.",
         "- A transition is *stable* when it stays on stable rest states, *quasi-stable* when "
         "it passes quasi-stable ones, *unstable* when it jumps or passes an unstable state "
         "(every snap is a jump).",
