@@ -233,6 +233,12 @@ def _search_text(spec: ThreadSpec, run: SearchResult, step: float) -> str:
             f"Snap: at phase {run.snap.phase:.4f} deg after a turn of "
             f"{run.snap_turn:.4f} deg; drop (click) {run.snap.drop:.6f} {u}"
         )
+        lo, hi = run.snap_window or (run.snap.phase, run.snap.phase)
+        if hi > lo:
+            lines.append(
+                f"  window: the bolt may drop anywhere from phase {lo:.2f} to {hi:.2f} deg "
+                "(a shallow basin before the snap)"
+            )
         over = "to the snap"
     lines.append(
         f"Work {over}: total {run.work:.6g} mJ (friction {run.work_friction:.6g} "

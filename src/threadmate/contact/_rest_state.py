@@ -355,6 +355,10 @@ class SearchResult:
         Driver's work to the snap (or over the turns searched) against friction and
         against the potential (mJ); their sum is :attr:`work`.
     queries : int
+    snap_window : (float, float) or None
+        The phases within which the bolt may drop into the thread (degrees, as turned;
+        both the snap's phase where the branch before it is no shallow basin): see
+        :meth:`Continuation.snap_window`. None without a snap.
     """
 
     units: str
@@ -369,6 +373,7 @@ class SearchResult:
     work_friction: float
     work_potential: float
     queries: int = 0
+    snap_window: tuple[float, float] | None = None
 
     @property
     def work(self) -> float:
@@ -401,6 +406,7 @@ class SearchResult:
                 "phase": self.snap.phase,
                 "turn": self.snap_turn,
                 "drop": self.snap.drop,
+                "window": None if self.snap_window is None else list(self.snap_window),
                 "engagement": None
                 if self.snap.engagement is None
                 else self.snap.engagement.to_dict(),

@@ -70,6 +70,10 @@ TIGHTEN_STEP = 10.0
 #: Tilts (degrees) from the last state of a branch at which a rest state continuing it is
 #: looked for where the turn wedges the bolt at its own tilt (:meth:`Continuation._tilted`).
 TILT_PROBES = (0.02, 0.1)
+#: How far before a snap its window is looked for, and the probe's turn (degrees;
+#: :meth:`Continuation.snap_window`).
+WINDOW = 15.0
+WINDOW_PROBE = 1.0
 #: Default turn of the screw-in that proves a snap (degrees).
 SCREW_IN = 180.0
 #: Default limit of the tightening torque, in units of the axial force times the bolt's
@@ -359,6 +363,36 @@ class Continuation:
             return s.driver_torque, s.friction_torque
         return 2.0 * s.friction_torque - s.driver_torque, s.friction_torque
 
+    def snap_window(self, states: list[MechanicalState], snap: SearchEvent) -> tuple[float, float]:
+        """The phases within which the bolt may drop into the thread: from the first rest
+        state of the branch before ``snap`` (within :data:`WINDOW` of it) whose settle
+        :data:`WINDOW_PROBE` further on falls in phase, to the snap itself.
+
+        Where that branch is a shallow basin (a point riding a crest, a countersink's
+        edge), a descent started a little further along it can fall out of it well before
+        the branch ends: where the drop comes then depends on how far the bolt is turned
+        between settles (or, on a robot, on vibration). The snap is that window, not one
+        phase; where no probe falls early the window is the snap's phase alone.
+        """
+        end = snap.phase
+        branch = [
+            s
+            for s in states
+            if s.classification in ("stable", "quasi-stable")
+            and 0.0 < self.sign * (end - s.phase) <= WINDOW
+        ]
+        for s in branch:
+            at = s.phase + self.sign * WINDOW_PROBE
+            if self.sign * (end - at) <= 0:
+                break
+            probe = self._settle(at, s, probe=False)
+            if (
+                probe.classification == "in-phase"
+                and s.centre[2] - probe.centre[2] > self.drop_limit
+            ):
+                return (min(at, end), max(at, end))
+        return (end, end)
+
     def jams(self, s: MechanicalState) -> bool:
         """Whether the driver's torque at ``s`` passes the limit. Not at a near-singular
         state, whose forces (and so torque) are the model's bound, not the physics'."""
@@ -627,6 +661,7 @@ def search(
     if progress is not None:
         progress(int(math.ceil(end)), int(math.ceil(end)))
     snap = next((e for e in events if e.kind == "snap"), None)
+    window = None if snap is None else walk.snap_window(states, snap)
     return SearchResult(
         mech.units,
         float(roll),
@@ -640,6 +675,7 @@ def search(
         sum(leg.work_friction for leg in legs),
         sum(leg.work_potential for leg in legs),
         mech.engine.queries - q0,
+        window,
     )
 
 
