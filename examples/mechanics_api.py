@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from threadmate.contact import Compliance, Mechanics, search, settle
+from threadmate.contact import Compliance, Mechanics, screw, search, settle
 from threadmate.geometry import spec_from_designation
 
 # The thesis's flat parts, whose example state (4, 0, 185) this follows; drop the two
@@ -39,10 +39,14 @@ print(
     f"{len(rest.path)} unstable state(s) on the way"
 )
 
-# The counter-clockwise search from phase 300: it snaps within a turn.
+# The counter-clockwise search from phase 300. Held 4 degrees off, the bolt reaches the
+# thread, but screwed in from there it cross-threads (jams): that landing is no snap.
 run = search(mech, 4, 0, 300, turns=1)
 if run.snap is None:
     print(f"search: no snap within {run.turns:g} turn")
+    for e in run.events:
+        if e.note:
+            print(f"  at phase {e.phase:.2f} deg, {e.note}")
 else:
     print(
         f"search from (4, 0, 300): snap at phase {run.snap.phase:.2f} deg after "
@@ -52,3 +56,7 @@ print(
     f"  work {run.work:.3f} mJ (friction {run.work_friction:.3f}, potential "
     f"{run.work_potential:.3f}); events: {', '.join(e.kind for e in run.events) or 'none'}"
 )
+
+# Turned clockwise directly from the same start: engaged, riding or jammed.
+turned = screw(mech, 4, 0, 300)
+print(f"screw from (4, 0, 300): {turned.outcome} ({turned.reason})")
