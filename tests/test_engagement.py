@@ -199,3 +199,21 @@ def test_cli_screw_json_and_exit(capsys):
     )
     assert code == 2 and "--torque-limit" in err and not out
     assert "Traceback" not in err
+
+
+@pytest.mark.slow
+def test_run_with_screw_reports_the_clockwise_starts(flat, tmp_path):
+    """threadmate run --screw (the pipeline's ``clockwise``): every start's row records what
+    it does turned clockwise directly, as ``screw`` from that start says, and the report
+    gives the share engaged by held tilt."""
+    from threadmate.library import load
+    from threadmate.pipeline import run_pipeline
+
+    result = run_pipeline(
+        flat, tmp_path / "run", roll="0", pitch="0", phase="100", workers=1, clockwise=True
+    )
+    rows = load(result.libraries[0])
+    starts = rows[rows["role"] == "start"].set_index("phase")
+    assert starts.loc[100.0, "clockwise"] == screw(flat, 0.0, 0.0, 100.0).outcome == "engaged"
+    report = result.report.read_text(encoding="utf-8")
+    assert "## Clockwise starts" in report and "| +0 | 100% |" in report
