@@ -77,7 +77,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
-from threadmate.contact import Compliance, search
+from threadmate.contact import Compliance, Mechanics, search
 from threadmate.geometry import ThreadSpec, bolt_body, nut_body, spec_from_designation
 from threadmate.geometry._body import ThreadBody
 
@@ -544,6 +544,8 @@ class SimResult:
         (``ride``, ``fall``, ``landing``, ``screw-in proof``; m).
     slips : list of (drop, phase)
         Falls too small to be jumps (spec units, degrees).
+    trace : list of (z, roll, pitch, phase)
+        The pose every 0.005 degree of the counter-clockwise turn.
     """
 
     start_phase: float
@@ -558,6 +560,7 @@ class SimResult:
     penetration_where: str = ""
     penetration_by_stage: dict[str, float] = field(default_factory=dict)
     slips: list[tuple[float, float]] = field(default_factory=list)
+    trace: list[tuple[float, float, float, float]] = field(default_factory=list, repr=False)
 
 
 def _penetration(d: Any) -> float:
@@ -604,9 +607,9 @@ def simulate(
         Axial force (N).
     dyn : Dynamics, optional
     jump_speed : float, optional
-        A fall of C faster than this (m/s) is a jump; default 0.3 of the free fall's
-        ``force / damping_z`` (the ride along the helix at one turn per 80 s rises or
-        falls at 1.6e-5 m/s on a 1/4-20).
+        A fall of C faster than this (m/s) is a jump; default five times the speed of
+        the ride along the helix (the lead per turn: 1.6e-5 m/s at one turn per 80 s on
+        a 1/4-20). A jump starts where C last fell slower than twice that speed.
     settle_speed : float
         A landing has settled when C and the contact points move slower than this
         (m/s; 2e-8: under 0.01 um over the valley's relaxation time of a few 0.1 s).
@@ -647,11 +650,15 @@ def simulate(
     stage = "ride"
     by_stage: dict[str, float] = {}
     slips: list[tuple[float, float]] = []
+    trace: list[tuple[float, float, float, float]] = []
+    trace_step = 0.005  # degrees
     pen_max = 0.0
     steps = 0
+    # the ride along the helix rises or falls at the lead per turn: a jump falls faster
+    lead_speed = spec.lead * scale / dyn.turn_period
     if jump_speed is None:
-        jump_speed = 0.3 * force / dyn.damping_z
-    slow = 0.1 * jump_speed
+        jump_speed = 5.0 * lead_speed
+    slow = 2.0 * lead_speed
 
     def step(target: float) -> None:
         nonlocal steps, pen_qs, pen_max, pen_where
@@ -699,6 +706,8 @@ def simulate(
         step(target)
         z, vz = float(d.qpos[0]), float(d.qvel[0])
         history.append((float(d.qpos[3]), z, vz, float(d.qpos[1]), float(d.qpos[2])))
+        if not trace or math.degrees(d.qpos[3]) - trace[-1][3] >= trace_step:
+            trace.append(_pose(d, scale))
         if len(history) > 20000:
             del history[:10000]
         if log and time.time() - last_report > 10:
@@ -796,6 +805,7 @@ def simulate(
         penetration_where=pen_where,
         penetration_by_stage=by_stage,
         slips=slips,
+        trace=trace,
     )
 
 
@@ -897,7 +907,8 @@ def run_case(
     dyn = dyn or Dynamics()
     comp = Compliance(force=10.0, stiffness=case.stiffness, friction=0.0)
     t0 = time.time()
-    run = search(spec, case.roll, case.pitch, case.phase, compliance=comp, turns=1)
+    mech = Mechanics(spec, comp)
+    run = search(mech, case.roll, case.pitch, case.phase, turns=1)
     t_tm = time.time() - t0
     tm_phase = run.snap.phase if run.snap else None
     tm_drop = run.snap.drop if run.snap else None
@@ -906,18 +917,12 @@ def run_case(
     tm_jumps = [e for e in run.events if e.kind in ("jump", "snap")]
     tm_jump = run.snap or max(tm_jumps, key=lambda e: e.drop, default=None)
     aim = tm_jump.phase if tm_jump is not None else case.phase + 360.0
-    # the fall as a sensor sees it: from the last state of the smooth ride before the
-    # jumps within half a degree before the snap (a cascade) to the landing
+    # the jumps within half a degree before the snap (a cascade) and the landing
     tm_cascade = [e for e in tm_jumps if tm_jump and tm_jump.phase - 0.5 <= e.phase <= aim]
-    tm_fall = tm_fall_start = tm_landing = None
-    if tm_cascade:
-        tm_fall_start = tm_cascade[0].phase
-        ride = [s for s in run.states if s.phase < tm_fall_start - 1e-9]
-        at = [s for s in run.states if abs(s.phase - aim) < 1e-9]
-        if ride and at:
-            land = min(at, key=lambda s: s.centre[2])
-            tm_fall = ride[-1].centre[2] - land.centre[2]
-            tm_landing = (land.centre[2], land.roll, land.pitch, land.phase)
+    tm_fall_start = tm_cascade[0].phase if tm_cascade else None
+    at = [s for s in run.states if abs(s.phase - aim) < 1e-9]
+    land = min(at, key=lambda s: s.centre[2]) if at else None
+    tm_landing = None if land is None else (land.centre[2], land.roll, land.pitch, land.phase)
     start_phase = max(case.phase, aim - case.lead_in)
     before = [s for s in run.states if s.phase <= start_phase + 1e-9]
     state = before[-1] if before else run.states[0]
@@ -958,7 +963,6 @@ def run_case(
         "threadmate_jump_phase": None if tm_jump is None else tm_jump.phase,
         "threadmate_jump_drop": None if tm_jump is None else tm_jump.drop,
         "threadmate_jump_note": None if tm_jump is None else tm_jump.note,
-        "threadmate_fall": tm_fall,
         "threadmate_fall_start": tm_fall_start,
         "threadmate_landing": tm_landing,
         "threadmate_events": [
@@ -988,22 +992,36 @@ def run_case(
     row["sim_jump_drop"] = None if sim_jump is None else sim_jump.drop
     row["sim_jump_in_phase"] = None if sim_jump is None else sim_jump.in_phase
     if sim_jump is not None:
-        # the jumps of a cascade (within half a degree before it) fall as one click
         cascade = [j for j in sim.jumps if sim_jump.phase - 0.5 <= j.phase <= sim_jump.phase]
-        row["sim_fall"] = sum(j.drop for j in cascade)
         row["sim_fall_start"] = cascade[0].phase
         row["sim_landing"] = sim.final_pose if sim.snap is not None else None
-    if row.get("sim_fall") and tm_fall:
-        row["fall_difference_pct"] = 100.0 * (row["sim_fall"] - tm_fall) / tm_fall
-        row["fall_start_difference"] = row["sim_fall_start"] - tm_fall_start
-    if row.get("sim_landing") and tm_landing:
+    if row.get("sim_landing") and tm_landing and tm_fall_start is not None:
         # the landings compared at the same phase: the in-phase bolt rises at the lead
         rise = spec.lead / 360.0 * (row["sim_landing"][3] - tm_landing[3])
-        row["landing_height_difference"] = row["sim_landing"][0] - (tm_landing[0] + rise)
+        sim_land = row["sim_landing"][0] - rise
+        row["landing_height_difference"] = sim_land - tm_landing[0]
         row["landing_tilt_difference"] = (
             row["sim_landing"][1] - tm_landing[1],
             row["sim_landing"][2] - tm_landing[2],
         )
+        # the whole fall a sensor sees, from one phase of the smooth ride before either
+        # model starts to fall (a cascade of jumps, or a steep slide the simulation splits
+        # into several, fall from there) to the landing at threadmate's landing phase.
+        # Threadmate's ride is read from its continuation's states (a fresh settle there
+        # can reach another rest state: at held (0, -3), 348.68 degrees, one 24 um higher)
+        ride = sorted((s.phase, s.centre[2]) for s in run.states if s.phase < tm_fall_start)
+        ref = min(ride[-1][0], row["sim_fall_start"] - 0.02) if ride else None
+        if ref is not None and sim.trace and sim.trace[0][3] <= ref and ride[0][0] <= ref:
+            tm_ref = float(np.interp(ref, [a for a, _ in ride], [b for _, b in ride]))
+            trace = np.array(sim.trace)
+            sim_ref = float(np.interp(ref, trace[:, 3], trace[:, 0]))
+            row["fall_reference_phase"] = ref
+            row["ride_height_difference"] = sim_ref - tm_ref
+            row["threadmate_fall"] = tm_ref - tm_landing[0]
+            row["sim_fall"] = sim_ref - sim_land
+            row["fall_difference_pct"] = (
+                100.0 * (row["sim_fall"] - row["threadmate_fall"]) / row["threadmate_fall"]
+            )
     row["threadmate_jump_is_snap"] = run.snap is not None
     if sim_jump is not None and tm_jump is not None and tm_jump.drop:
         row["phase_difference"] = sim_jump.phase - tm_jump.phase
@@ -1069,7 +1087,10 @@ def format_table(rows: list[dict[str, Any]]) -> str:
     "threadmate" is its snap, or (marked ``no snap``) the jump it located with the
     largest drop; "simulated" is the simulation's snap, or its largest jump (marked
     ``not in phase``). Each click is the jump's drop; "fall" is the whole fall of C from
-    the smooth ride to the landing where jumps within half a degree cascade.
+    one phase of the smooth ride, just before either model starts to fall, to the landing
+    (at threadmate's landing phase), the figure to compare where a model falls in a
+    cascade of jumps or a steep slide; "landing dz" is the simulated landing's height
+    less threadmate's at the same phase.
     """
     head = (
         "| case | held (roll, pitch) | k_r | threadmate snap / click (fall) | "
@@ -1086,7 +1107,7 @@ def format_table(rows: list[dict[str, Any]]) -> str:
         lines.append(
             f"| {r['case']} | ({r['held_roll']:g}, {r['held_pitch']:g}) | {r['stiffness']:g} "
             f"| {_fmt(r['threadmate_jump_phase'], '.2f')} / "
-            f"{_fmt(r['threadmate_jump_drop'], '.5f')} ({_fmt(r['threadmate_fall'], '.5f')})"
+            f"{_fmt(r['threadmate_jump_drop'], '.5f')} ({_fmt(r.get('threadmate_fall'), '.5f')})"
             f"{tm} "
             f"| {_fmt(r['sim_jump_phase'], '.2f')} / {_fmt(r['sim_jump_drop'], '.5f')} "
             f"({_fmt(r.get('sim_fall'), '.5f')}){sim} "
