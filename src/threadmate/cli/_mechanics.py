@@ -295,7 +295,7 @@ def plot_screw(spec: ThreadSpec, run: ScrewResult, path: str | Path) -> Path:
     """A clockwise start: height of the compliance centre, tilt of the bolt axis and the
     tightening torque against phase, events and the decision marked."""
     where = "" if run.decided_phase is None else f" at {run.decided_phase:.2f} deg"
-    torque = np.array([2.0 * s.friction_torque - s.driver_torque for s in run.states])
+    torque = np.array(run.torques)
     return _plot_turn(spec, run, "clockwise start", f"{run.outcome}{where}", torque, "", path)
 
 
@@ -380,6 +380,29 @@ _torque_limit_option = click.option(
     help="Tightening torque in N m (> 0) past which the bolt counts as jammed (default: the "
     "axial force times the bolt's major radius).",
 )
+
+
+def _emit(
+    run: SearchResult | ScrewResult,
+    text: str,
+    as_json: bool,
+    mech: Mechanics,
+    meshes: MeshFiles,
+    figure: Path | None,
+    plotter: Callable[[ThreadSpec, Any, Path], Path],
+) -> None:
+    """A turn's result out: its figure, then its JSON document or its text."""
+    spec = mech.spec
+    if figure is not None:
+        plotter(spec, run, figure)
+    if as_json:
+        emit_json({**run.to_dict(), "mesh": mech.analyzer.mesh_info})
+        return
+    click.echo(text)
+    if meshes.given:
+        click.echo(mesh_summary(mech.analyzer.mesh_info, spec.units))
+    if figure is not None:
+        click.echo(f"wrote {figure}")
 
 
 def _check_turning(turns: float, step: float) -> None:
@@ -564,16 +587,7 @@ def search_command(
             screw_in=screw_in,
             torque_limit=torque_limit,
         )
-    if figure is not None:
-        plot_search(spec, run, figure)
-    if as_json:
-        emit_json({**run.to_dict(), "mesh": mech.analyzer.mesh_info})
-    else:
-        click.echo(_search_text(spec, run, step))
-        if meshes.given:
-            click.echo(mesh_summary(mech.analyzer.mesh_info, spec.units))
-        if figure is not None:
-            click.echo(f"wrote {figure}")
+    _emit(run, _search_text(spec, run, step), as_json, mech, meshes, figure, plot_search)
     if run.snap is None:
         raise NoPathError(
             f"no snap within {turns:g} turn(s) from roll {roll:g}, pitch "
@@ -704,16 +718,7 @@ def screw_command(
             torque_limit=torque_limit,
             progress=callback,
         )
-    if figure is not None:
-        plot_screw(spec, run, figure)
-    if as_json:
-        emit_json({**run.to_dict(), "mesh": mech.analyzer.mesh_info})
-    else:
-        click.echo(_screw_text(spec, run, step))
-        if meshes.given:
-            click.echo(mesh_summary(mech.analyzer.mesh_info, spec.units))
-        if figure is not None:
-            click.echo(f"wrote {figure}")
+    _emit(run, _screw_text(spec, run, step), as_json, mech, meshes, figure, plot_screw)
     if run.outcome != "engaged":
         raise NoPathError(
             f"{run.outcome}: the bolt does not screw in from roll {roll:g}, pitch "

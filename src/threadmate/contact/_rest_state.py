@@ -15,6 +15,8 @@ from ..geometry import Pose
 from ._result import RegionPair, Vec
 
 __all__ = [
+    "tightening_torque",
+    "turn_units",
     "Engagement",
     "LEAD_TOLERANCE",
     "LoadedContact",
@@ -31,6 +33,25 @@ LEAD_TOLERANCE = 0.1
 
 #: Classes of a mechanical state (design/mechanics.md, "Classes of states").
 REST_CLASSES = ("stable", "quasi-stable", "unstable", "in-phase")
+
+
+def turn_units(length: str) -> dict[str, str]:
+    """The ``units`` of a turn's JSON document (a search's or a clockwise start's)."""
+    return {
+        "length": length,
+        "angle": "deg",
+        "force": "N",
+        "torque": "N m",
+        "work": "mJ",
+        "potential": "mJ",
+    }
+
+
+def tightening_torque(s: MechanicalState) -> tuple[float, float]:
+    """The driver's torque at ``s`` turned the tightening way, and its friction part (N m).
+    A state stores them in the unscrewing sense: turned the other way the normal forces'
+    moment changes sign, friction still resists."""
+    return 2.0 * s.friction_torque - s.driver_torque, s.friction_torque
 
 
 @dataclass(frozen=True)
@@ -389,14 +410,7 @@ class SearchResult:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document of ``threadmate search --json``."""
         return {
-            "units": {
-                "length": self.units,
-                "angle": "deg",
-                "force": "N",
-                "torque": "N m",
-                "work": "mJ",
-                "potential": "mJ",
-            },
+            "units": turn_units(self.units),
             "parameters": self.parameters,
             "start": {"roll": self.held_roll, "pitch": self.held_pitch, "phase": self.start_phase},
             "turns": self.turns,

@@ -24,7 +24,13 @@ from typing import Any
 
 from ..geometry import ThreadSpec
 from ._compliance import Compliance
-from ._rest_state import LEAD_TOLERANCE, MechanicalState, SearchEvent
+from ._rest_state import (
+    LEAD_TOLERANCE,
+    MechanicalState,
+    SearchEvent,
+    tightening_torque,
+    turn_units,
+)
 from ._search import (
     CONTINUATION_STEP,
     Continuation,
@@ -106,26 +112,19 @@ class ScrewResult:
         return self.work_friction + self.work_potential
 
     @property
+    def torques(self) -> list[float]:
+        """The tightening torque at each state (N m; NaN away from rest)."""
+        return [tightening_torque(s)[0] for s in self.states]
+
+    @property
     def torque_peak(self) -> float:
         """Largest tightening torque along the turn (N m; NaN without a rest state)."""
-        torques = [
-            2.0 * s.friction_torque - s.driver_torque
-            for s in self.states
-            if math.isfinite(s.driver_torque)
-        ]
-        return max(torques, default=math.nan)
+        return max((t for t in self.torques if math.isfinite(t)), default=math.nan)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON document of ``threadmate screw --json``."""
         return {
-            "units": {
-                "length": self.units,
-                "angle": "deg",
-                "force": "N",
-                "torque": "N m",
-                "work": "mJ",
-                "potential": "mJ",
-            },
+            "units": turn_units(self.units),
             "parameters": self.parameters,
             "start": {"roll": self.held_roll, "pitch": self.held_pitch, "phase": self.start_phase},
             "turns": self.turns,
@@ -145,6 +144,17 @@ class ScrewResult:
             "states": [s.to_dict() for s in self.states],
             "queries": self.queries,
         }
+
+
+def _descent(states: list[MechanicalState]) -> float:
+    """Descent of the compliance centre per turn over the last :data:`ENGAGED_TURN`
+    degrees of ``states`` (spec units per turn; NaN if they span less)."""
+    end = states[-1]
+    tail = [s for s in states if abs(s.phase - end.phase) <= ENGAGED_TURN + 1e-9]
+    turned = abs(end.phase - tail[0].phase)
+    if turned < ENGAGED_TURN - 1e-9:
+        return math.nan
+    return (tail[0].centre[2] - end.centre[2]) * 360.0 / turned
 
 
 def screw(
@@ -234,14 +244,8 @@ def screw(
             )
             break
         # Descending at the lead over the last piece, in phase at its end: engaged.
-        tail = [s for s in states if abs(s.phase - ph) <= ENGAGED_TURN + 1e-9]
-        fall = tail[0].centre[2] - tail[-1].centre[2]
-        turned = abs(tail[-1].phase - tail[0].phase)
-        if (
-            turned >= ENGAGED_TURN - 1e-9
-            and tail[-1].classification == "in-phase"
-            and abs(fall * 360.0 / turned - lead) <= LEAD_TOLERANCE * lead
-        ):
+        descent = _descent(states)
+        if states[-1].classification == "in-phase" and abs(descent - lead) <= LEAD_TOLERANCE * lead:
             # Where it entered the thread: the last rest state off the helices before.
             entered = len(states) - 1
             while entered > 0 and states[entered - 1].classification not in OFF_HELIX:
@@ -249,21 +253,14 @@ def screw(
             outcome, decided = "engaged", states[entered].phase
             reason = (
                 f"in phase from phase {decided:.2f} deg, it descends "
-                f"{fall * 360.0 / turned:.4g} {mech.units} per turn (the lead "
-                f"{lead:.4g} {mech.units})"
+                f"{descent:.4g} {mech.units} per turn (the lead {lead:.4g} {mech.units})"
             )
             break
     if progress is not None:
         progress(int(math.ceil(end)), int(math.ceil(end)))
     if outcome == "riding":
         reason = f"turned {at:g} deg clockwise it neither descends at the lead nor jams"
-    tail = [s for s in states if abs(s.phase - states[-1].phase) <= ENGAGED_TURN + 1e-9]
-    turned = abs(tail[-1].phase - tail[0].phase)
-    descent = (
-        (tail[0].centre[2] - tail[-1].centre[2]) * 360.0 / turned
-        if turned >= ENGAGED_TURN - 1e-9
-        else math.nan
-    )
+    descent = _descent(states)
     kept = [leg for leg in legs if walk.sign * (leg.after.phase - states[-1].phase) <= 0]
     return ScrewResult(
         mech.units,

@@ -36,7 +36,14 @@ from .._errors import InputError
 from .._validate import check_open_range
 from ..geometry import ThreadSpec
 from ._compliance import Compliance
-from ._rest_state import LEAD_TOLERANCE, Engagement, MechanicalState, SearchEvent, SearchResult
+from ._rest_state import (
+    LEAD_TOLERANCE,
+    Engagement,
+    MechanicalState,
+    SearchEvent,
+    SearchResult,
+    tightening_torque,
+)
 from ._settle import LOAD_CARRYING, Mechanics, axis_turn, mechanics
 
 __all__ = [
@@ -357,11 +364,10 @@ class Continuation:
 
     def torque(self, s: MechanicalState) -> tuple[float, float]:
         """The driver's torque at ``s`` in this continuation's sense, and its friction
-        part (N m). A state stores them in the unscrewing sense: turned the other way the
-        normal forces' moment changes sign, friction still resists."""
+        part (N m)."""
         if not self.tightening:
             return s.driver_torque, s.friction_torque
-        return 2.0 * s.friction_torque - s.driver_torque, s.friction_torque
+        return tightening_torque(s)
 
     def snap_window(self, states: list[MechanicalState], snap: SearchEvent) -> tuple[float, float]:
         """The phases within which the bolt may drop into the thread: from the first rest

@@ -829,6 +829,13 @@ class Mechanics:
             u += 0.5 * comp.lateral_stiffness * float(xy @ xy) * self.metres**2
         return float(u)
 
+    def _balance_scale(self, n: int) -> NDArray[np.float64]:
+        """Weights of the balance's ``n`` rows that make moments forces (over the bolt's
+        major radius), so that force and moment residuals compare."""
+        scale = np.ones(n)
+        scale[1:3] = 1.0 / (self.radius * self.metres)
+        return scale
+
     def forces(
         self,
         near: list[_Near],
@@ -842,8 +849,7 @@ class Mechanics:
         touching = [c for c in near if c.gap <= self.touching]
         grad = self._gradient(tilt, xy, held)
         f = self.compliance.force
-        scale = np.ones(len(grad))
-        scale[1:3] = 1.0 / (self.radius * self.metres)  # moments to forces
+        scale = self._balance_scale(len(grad))
         if not touching:
             return np.zeros(len(near)), 1.0, float(np.abs(grad[1:3]).max() * scale[1] / f)
         G, _ = self._rows(touching, centre, tilt)
@@ -887,8 +893,7 @@ class Mechanics:
         on = [i for i, c in enumerate(near) if c.gap <= self.touching]
         G, _ = self._rows([near[i] for i in on], centre, tilt)
         grad = self._gradient(tilt, xy, held)
-        scale = np.ones(len(grad))
-        scale[1:3] = 1.0 / (self.radius * self.metres)
+        scale = self._balance_scale(len(grad))
         fit = lsq_linear((G * scale).T, grad * scale, bounds=(0.0, bound))
         out = np.zeros(len(near))
         out[on] = np.clip(fit.x, 0.0, bound)
@@ -903,8 +908,7 @@ class Mechanics:
             return False
         G, _ = self._rows(touching, centre, tilt)
         f = self.compliance.force
-        scale = np.ones(G.shape[1])
-        scale[1:3] = 1.0 / (self.radius * self.metres)
+        scale = self._balance_scale(G.shape[1])
         A = (G * scale).T
         target = np.zeros(G.shape[1])
         target[0] = f
