@@ -217,3 +217,34 @@ def test_run_with_screw_reports_the_clockwise_starts(flat, tmp_path):
     assert starts.loc[100.0, "clockwise"] == screw(flat, 0.0, 0.0, 100.0).outcome == "engaged"
     report = result.report.read_text(encoding="utf-8")
     assert "## Clockwise starts" in report and "| +0 | 100% |" in report
+
+
+@pytest.mark.parametrize(
+    "cfg, engaged",
+    [
+        ((0, 0, 5), True),
+        ((1, 0.5, 10), True),
+        ((0, 0, 100), False),
+        ((0, 0, 200), False),
+        ((2, 1, 300), False),
+    ],
+)
+def test_in_phase_on_the_exact_bodies(quarter_20, cfg, engaged):
+    """The class against the exact bodies (``_exact_geometry``: the profile formula, no
+    mesh): at the rest state's own tilt, the bolt turned 0.5 degree either way and lowered
+    to first touch. Where the code says in phase, the exact height moves with the turn at
+    more than half the lead's share (the thread carries the bolt along the helix); where it
+    says out of phase, at less than a tenth of it (the end slides round on the nut's
+    entry). The height at the state's own phase is the exact one within 5e-6 in."""
+    from _exact_geometry import exact_centre_height, rot
+
+    mech = Mechanics(quarter_20, FRICTIONLESS)
+    rest = mech.settle(*cfg).state
+    assert (rest.classification == "in-phase") == engaged, rest.region_combination
+    roll, pitch, phase = rest.roll, rest.pitch, cfg[2]
+    here = exact_centre_height(quarter_20, rot(roll, pitch, phase))
+    assert here == pytest.approx(rest.centre[2], abs=5e-6)
+    up = exact_centre_height(quarter_20, rot(roll, pitch, phase + 0.5))
+    down = exact_centre_height(quarter_20, rot(roll, pitch, phase - 0.5))
+    rate = (up - down) / (quarter_20.lead / 360.0)
+    assert rate > 0.5 if engaged else abs(rate) < 0.1
