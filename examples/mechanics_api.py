@@ -2,7 +2,7 @@
 
 Run:  python examples/mechanics_api.py
 
-The same as ``threadmate settle`` and ``threadmate search`` (design/mechanics.md). A
+The same as ``threadmate settle`` and ``threadmate search`` (docs/mechanics.md). A
 :class:`Mechanics` builds the meshes once for a thread pair and a compliance; ``settle``
 and ``search`` accept it (or a spec, with a cached Mechanics behind it). Writes nothing.
 """

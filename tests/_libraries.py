@@ -311,14 +311,17 @@ def synthetic_library(
     """Write the hand-made rows (or a subset: ``rows`` on the held rolls ``roll`` and
     pitches ``pitch``) as a library with the public writer."""
     rows = synthetic_rows() if rows is None else rows
+    roll, pitch = roll or SYNTH_GRID["roll"], pitch or SYNTH_GRID["pitch"]
+    # Renumber the configurations for the subset's grid (the readers check that they fit).
+    full = Grid.parse(SYNTH_GRID["roll"], SYNTH_GRID["pitch"], SYNTH_GRID["phase"])
+    sub = Grid.parse(roll, pitch, SYNTH_GRID["phase"])
+    renumber = {}
+    for cid in rows["config_id"].unique():
+        r, p, ph = full.configuration(int(cid))
+        renumber[cid] = sub.config_id(sub.roll.index(r), sub.pitch.index(p), sub.phase.index(ph))
+    rows = rows.assign(config_id=rows["config_id"].map(renumber))
     return write_library(
-        rows,
-        out,
-        spec,
-        roll or SYNTH_GRID["roll"],
-        pitch or SYNTH_GRID["pitch"],
-        SYNTH_GRID["phase"],
-        compliance=SYNTH_COMPLIANCE,
+        rows, out, spec, roll, pitch, SYNTH_GRID["phase"], compliance=SYNTH_COMPLIANCE
     )
 
 

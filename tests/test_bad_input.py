@@ -115,3 +115,59 @@ def test_library_with_hand_edited_metadata(tmp_path, capsys, thesis_library, edi
     edit(doc)
     meta.write_text(json.dumps(doc))
     _refused(capsys, tmp_path, "library", "info", lib, message=message)
+
+
+# -- spec files: what a JSON reader would let through ---------------------------------------
+@pytest.mark.parametrize(
+    ("old", "new", "key"),
+    [
+        ('"pitch": 0.05', '"pitch": 0.05, "pitch": 0.0625', "'pitch'"),
+        ('"major": 0.25', '"major": 0.25, "major": 0.26', "'nut.major'"),
+    ],
+)
+def test_spec_file_key_given_twice(tmp_path, capsys, old, new, key):
+    path = tmp_path / "pair.json"
+    path.write_text(json.dumps(SPEC).replace(old, new))
+    _refused(capsys, tmp_path, "thread", path, message=f"key {key} is given twice")
+
+
+def test_spec_file_not_utf8_names_the_byte(tmp_path, capsys):
+    text = json.dumps({"designation": "Gewinde f\u00fcr Mutter", **SPEC}, ensure_ascii=False)
+    data = text.encode("latin-1")
+    path = tmp_path / "pair.json"
+    path.write_bytes(data)
+    offset = data.index(b"\xfc")  # the first byte that is no UTF-8
+    message = f"{path} is not UTF-8 text: byte 0xfc at offset {offset}"
+    _refused(capsys, tmp_path, "thread", path, message=message)
+
+
+@pytest.mark.parametrize("suffix", [".json", ".toml"])
+def test_spec_file_with_a_byte_order_mark_is_read(tmp_path, capsys, suffix):
+    plain = tmp_path / f"plain{suffix}"
+    if suffix == ".json":
+        plain.write_text(json.dumps(SPEC))
+    else:
+        lines = [f'units = "{SPEC["units"]}"', f"pitch = {SPEC['pitch']}"]
+        for body in ("bolt", "nut"):
+            lines += [f"[{body}]", *(f"{k} = {v}" for k, v in SPEC[body].items())]
+        plain.write_text("\n".join(lines) + "\n")
+    marked = tmp_path / f"marked{suffix}"
+    marked.write_bytes(b"\xef\xbb\xbf" + plain.read_bytes())
+    rc, out, err = run_cli(capsys, "thread", marked, "--json")
+    assert rc == 0, err
+    rc, ref, err = run_cli(capsys, "thread", plain, "--json")
+    assert rc == 0, err
+    assert json.loads(out)["spec"] == json.loads(ref)["spec"]
+    assert json.loads(out)["spec"]["nut"]["minor"] == SPEC["nut"]["minor"]
+
+
+@pytest.mark.parametrize("command", ["thread", "planar"])
+def test_spec_without_thread_overlap(tmp_path, capsys, command):
+    # A nut whose minor diameter (0.246 in) is above the bolt's major (0.24485 in): the
+    # crests never meet, though every other rule holds (PD and minor of the bolt below the
+    # nut's, thread depths within the 60-degree profile).
+    nut = {"major": 0.26, "pitch_diameter": 0.2475, "minor": 0.246}
+    path = tmp_path / "pair.json"
+    path.write_text(json.dumps({**SPEC, "nut": nut}))
+    message = "spec key 'nut.minor' (0.246 in) is not below 'bolt.major' (0.24485 in)"
+    _refused(capsys, tmp_path, command, path, message=message)

@@ -85,9 +85,10 @@ def test_output_that_is_a_file_leaves_nothing_half_written(capsys, tmp_path, spe
     assert sorted(p.name for p in tmp_path.iterdir()) == ["taken"]
 
 
-def test_existing_files_replaced_whole(capsys, tmp_path, spec_file):
+def test_existing_files_replaced_whole_with_force(capsys, tmp_path, spec_file):
     (tmp_path / "bolt.stl").write_text("old")
-    rc, _, _ = run(capsys, "mesh", str(spec_file), "-o", str(tmp_path), "--chord", CHORD)
+    args = ("mesh", str(spec_file), "-o", str(tmp_path), "--chord", CHORD, "--force")
+    rc, _, _ = run(capsys, *args)
     assert rc == 0
     data = (tmp_path / "bolt.stl").read_bytes()
     assert len(data) == 84 + 50 * struct.unpack("<I", data[80:84])[0]

@@ -5,6 +5,7 @@ bad input (exit 2, one message, no traceback) and no path (exit 3)."""
 from __future__ import annotations
 
 import json
+import shutil
 
 import networkx as nx
 import pandas as pd
@@ -23,6 +24,24 @@ from threadmate.contact import thesis_schema
 from threadmate.library import write_library
 from threadmate.network import METRICS
 
+#: The starts' CSV: every column with its unit (spec lengths in inches here).
+STARTS_CSV_COLUMNS = [
+    "node",
+    "held_roll_deg",
+    "held_pitch_deg",
+    "phase_deg",
+    "classification",
+    "snapped",
+    "reaches",
+    "turn_deg",
+    "work_mJ",
+    "click_in",
+    "snap_phase_deg",
+    "snap_window_deg",
+    "torque_peak_N_m",
+    "passes_unstable",
+    "failed",
+]
 SETTING_KEYS = (
     "share_snap",
     "turn_mean",
@@ -105,9 +124,21 @@ def test_network_json_and_files(request, which, tmp_path, capsys):
     assert graph.number_of_nodes() == len(rows)
     link = json.loads((tmp_path / "net.json").read_text())
     assert len(link["nodes"]) == len(rows)
-    csv = pd.read_csv(tmp_path / "starts.csv").set_index("node").loc[walked.index]
+    # Both files carry each state's rotation and contacts from the library.
+    by_id = rows.set_index("state_id")
+    linked = {n["id"]: n for n in link["nodes"]}
+    for n, d in graph.nodes(data=True):
+        for key in ("rotation", "contact_points", "contact_normals"):
+            want = [float(v) for v in by_id.loc[n, key]]
+            assert json.loads(d[key]) == linked[n][key] == want, key
+    # Every column of the CSV names its unit.
+    csv = pd.read_csv(tmp_path / "starts.csv")
+    assert list(csv.columns) == STARTS_CSV_COLUMNS
+    csv = csv.set_index("node").loc[walked.index]
     assert list(csv["snapped"]) == list(walked["snapped"])
-    assert csv["turn"].to_numpy() == pytest.approx(walked["turn"].to_numpy(), nan_ok=True)
+    assert csv["turn_deg"].to_numpy() == pytest.approx(walked["turn"].to_numpy(), nan_ok=True)
+    assert csv["work_mJ"].to_numpy() == pytest.approx(walked["work"].to_numpy(), nan_ok=True)
+    assert csv["click_in"].to_numpy() == pytest.approx(walked["click"].to_numpy(), nan_ok=True)
 
 
 def test_network_active_counts_the_moves(synth_lib, tmp_path, capsys):
@@ -185,6 +216,10 @@ def test_path_text_lists_each_transition(synth_lib, capsys):
     assert "least-resistance path: 7 transitions" in out
     assert "passes an unstable transition" in out
     assert out.count("->") == 7 and "jump" in out and "snap" in out
+    # The turn in degrees and in turns; the snap's phase as stored, in [0, 360).
+    turn = walk_starts(library_rows(synth_lib)).set_index(["held_roll", "held_pitch", "phase"])
+    t = float(turn.loc[(1.0, 0.0, 0.0), "turn"])
+    assert f"turn {t:.2f} deg ({t / 360:.2f} turns), snap at phase " in out
 
 
 def test_path_off_the_grid_needs_nearest(synth_lib, capsys):
@@ -324,6 +359,48 @@ def test_recommend_text_and_roll_spread(synth_lib, capsys):
         want = setting_figures(walked, s["held_pitch"], roll_spread=0.0)
         assert s["share_snap"] == pytest.approx(want["share_snap"])
         assert s["starts"] == want["starts"]
+
+
+def test_recommend_text_states_the_pick(request, capsys):
+    lib = request.getfixturevalue("synth_lib")
+    rc, out, err = run_cli(capsys, "recommend", lib)
+    assert rc == 0, err
+    rc, doc, err = run_cli(capsys, "recommend", lib, "--json")
+    best = json.loads(doc)["recommended"]
+    picked = [line for line in out.splitlines() if line.startswith("Recommended: ")]
+    assert picked == [
+        f"Recommended: held pitch {best['held_pitch']:+g} deg: {best['share_snap']:.0%} of "
+        f"{best['starts']} starts snap within one turn, after {best['turn_mean']:.0f} deg and "
+        f"{best['work_mean']:.3g} mJ on average."
+    ]
+
+
+def test_recommend_refuses_a_library_twice(synth_lib, tmp_path, capsys):
+    copy = tmp_path / "copy"
+    shutil.copytree(synth_lib, copy)
+    for args, words in (
+        ([synth_lib, synth_lib], "given twice"),
+        ([synth_lib, f"{synth_lib}/"], "given twice"),  # the same folder, spelt otherwise
+        ([synth_lib, copy], "hold the same compliance"),  # a copy: every row twice
+    ):
+        rc, out, err = run_cli(capsys, "recommend", *args, "-o", tmp_path / "r.json")
+        assert rc == 2 and out == ""
+        assert words in one_error(err)
+        assert not (tmp_path / "r.json").exists()
+
+
+def test_network_warns_of_starts_not_at_rest(synth_lib, tmp_path, quarter_20, capsys):
+    rows = library_rows(synth_lib)
+    pick = (rows["role"] == "start") & (rows["held_roll"] == 0) & (rows["held_pitch"] == -1)
+    node = rows.loc[pick & (rows["phase"] == 90.0), "state_id"].iloc[0]
+    rows.loc[rows["state_id"] == node, "classification"] = "unstable"  # did not converge
+    lib = synthetic_library(tmp_path / "lib", quarter_20, rows=rows)
+    rc, out, err = run_cli(capsys, "network", lib, "-o", tmp_path / "n.graphml", "--json")
+    assert rc == 0
+    assert json.loads(out)["not_at_rest"] == [node]
+    warning = one_error(err)
+    assert warning.startswith("threadmate: warning: 1 start(s) did not reach a rest state")
+    assert node in warning
 
 
 # -- refused libraries --------------------------------------------------------------------

@@ -12,6 +12,7 @@ import shutil
 from pathlib import Path
 
 import networkx as nx
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -24,6 +25,7 @@ from _libraries import (
     setting_figures,
     walk_starts,
 )
+from threadmate._errors import InputError
 from threadmate.cli import main
 
 SETTING_KEYS = (
@@ -138,10 +140,26 @@ def test_report_says_what_to_set_and_with_what(job):
         assert "edge of the range searched" in report
 
 
+#: starts.csv's columns with their units, by the outcome's name (spec lengths in inches).
+STARTS_UNITS = {
+    "held_roll": "held_roll_deg",
+    "held_pitch": "held_pitch_deg",
+    "phase": "phase_deg",
+    "turn": "turn_deg",
+    "work": "work_mJ",
+    "click": "click_in",
+    "snap_phase": "snap_phase_deg",
+    "torque_peak": "torque_peak_N_m",
+}
+
+
 def test_recommendation_and_starts_agree(job):
     out, doc, _ = job
     rec = json.loads((out / "recommendation.json").read_text())
     starts = pd.read_csv(out / "starts.csv", keep_default_na=True)
+    assert set(STARTS_UNITS.values()) <= set(starts.columns)
+    assert not set(STARTS_UNITS) & set(starts.columns)  # no column without its unit
+    starts = starts.rename(columns={v: k for k, v in STARTS_UNITS.items()})
     walked = walk_starts(library_rows(out / "library"))
     starts = starts.set_index("node").loc[walked.index]
     for col in ("snapped", "reaches", "failed", "passes_unstable"):
@@ -151,9 +169,11 @@ def test_recommendation_and_starts_agree(job):
             walked[col].to_numpy(float), nan_ok=True, rel=1e-9
         ), col
     assert sorted(s["held_pitch"] for s in rec["settings"]) == sorted(set(starts["held_pitch"]))
+    # The ranking leaves out the starts whose descent did not reach a rest state.
+    at_rest = starts[starts["classification"] != "unstable"]
     for s in rec["settings"]:
         assert set(SETTING_KEYS) <= set(s)
-        want = setting_figures(starts, s["held_pitch"])
+        want = setting_figures(at_rest, s["held_pitch"])
         for key in SETTING_KEYS:
             if want[key] is None:
                 assert s[key] is None, key
@@ -219,3 +239,115 @@ def test_run_refuses_bad_input(tmp_path, capsys, args):
     lines = [line for line in err.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("threadmate: error:"), err
     assert not out.exists()
+
+
+def test_report_counts_the_starts_not_at_rest(job):
+    """The line "N starts did not reach a rest state", N read off the library's rows (the
+    starts of class unstable: their descent did not converge), each of them named."""
+    out, _, _ = job
+    report = (out / "report.md").read_text()
+    rows = library_rows(out / "library")
+    stopped = rows[(rows["role"] == "start") & (rows["classification"] == "unstable")]
+    n = len(stopped)
+    assert re.search(rf"(^|\*\*){n} starts? did not reach a rest state", report, re.M), n
+    for r, p, ph in stopped[["held_roll", "held_pitch", "phase"]].itertuples(index=False):
+        assert f"({r:g}, {p:g}, {ph:g})" in report
+    assert f"{n} not at rest" in report
+
+
+def test_class_map_shows_the_phase_where_the_classes_differ_most(job):
+    """The class map's phase: where the held tilts' classes are most mixed (the largest
+    Shannon entropy of their shares, the first such grid phase), computed from the rows."""
+    out, _, _ = job
+    rows = library_rows(out / "library")
+    starts = rows[rows["role"] == "start"]
+    best, best_h = None, -1.0
+    for phase in sorted(starts["phase"].unique()):
+        counts = starts.loc[starts["phase"] == phase, "classification"].value_counts()
+        q = counts.to_numpy() / counts.sum()
+        h = float(-(q * np.log(q)).sum())
+        if h > best_h + 1e-12:
+            best, best_h = phase, h
+    caption = re.search(r"!\[library stability map\][^\n]*\n\n\*([^*]+)\*", report_of(out))
+    assert caption and f"at start phase {best:g} deg" in caption.group(1)
+
+
+def report_of(out: Path) -> str:
+    return (out / "report.md").read_text()
+
+
+def test_report_torque_is_in_newton_metres(job, monkeypatch, tmp_path):
+    """The click signature's torque axis is in N m, as the report and the library: the
+    values drawn are the states' driver torques as stored."""
+    import threadmate.network._figures as figures
+    from threadmate.network import from_library, least_resistance_path
+
+    out, _, _ = job
+    report = report_of(out)
+    assert "torques in N m" in report
+    m = re.search(r"from held roll (\S+), pitch (\S+), phase (\S+) deg", report)
+    assert m
+    graph = from_library(out / "library")
+    path = least_resistance_path(graph, *(float(v) for v in m.groups()))
+    drawn = []
+    monkeypatch.setattr(figures, "save_figure", lambda fig, path, fmt=None: drawn.append(fig))
+    figures.plot_click_signature(graph, path, tmp_path / "c.png")
+    torque_axes = drawn[0].axes[2]
+    assert torque_axes.get_ylabel() == "driver torque (N m)"
+    y = torque_axes.lines[0].get_ydata()
+    want = [graph.nodes[n]["driver_torque"] for n in path.path]
+    assert np.asarray(y) == pytest.approx(want, nan_ok=True)
+
+
+def test_planar_captions_say_they_take_flat_ends():
+    """The planar charts take flat ends: a run on chamfered, countersunk parts says so in
+    their captions; on the thesis's flat parts there is nothing to say."""
+    from threadmate.geometry import spec_from_designation
+    from threadmate.pipeline._run import _planar_note
+
+    chamfered = spec_from_designation(DESIGNATION)
+    note = _planar_note(chamfered)
+    assert "flat ends" in note
+    assert chamfered.bolt.point.describe("in") in note
+    assert chamfered.nut.countersink.describe("in") in note
+    assert _planar_note(spec_from_designation(DESIGNATION, point="flat", countersink=False)) == ""
+
+
+def test_run_refuses_a_folder_of_the_users(tmp_path, capsys):
+    """A non-empty folder that is not a run's is refused before any work: one message,
+    exit 2, the folder as it was. An empty folder is not refused (checked without
+    running: the folder rule itself)."""
+    from threadmate.pipeline import check_run_folder
+
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "thesis.docx").write_text("my words")
+    (mine / "library").mkdir()  # a folder of that name is not yet a library
+    rc, out, err = run_cli(capsys, "run", "-o", mine, "--roll", "0", "--pitch", "0")
+    assert rc == 2 and out == ""
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "Traceback" not in err
+    assert lines[0].startswith(f"threadmate: error: -o {mine} exists, is not empty")
+    assert "'thesis.docx'" in lines[0]
+    assert sorted(p.name for p in mine.iterdir()) == ["library", "thesis.docx"]
+    assert [p.name for p in (mine / "library").iterdir()] == []
+    (mine / "thesis.docx").unlink()
+    with pytest.raises(InputError, match="not a threadmate run's folder"):
+        check_run_folder(mine)  # an empty library folder alone
+    (mine / "library").rmdir()
+    (mine / ".DS_Store").write_text("")  # hidden entries are ignored, as the sweep does
+    assert check_run_folder(mine) == mine
+
+
+def test_run_resumes_a_previous_runs_folder(job, tmp_path):
+    """A previous run's folder is taken (to resume); the same with a file of the user's
+    beside the run's is refused."""
+    from threadmate.pipeline import check_run_folder
+
+    out, _, _ = job
+    assert check_run_folder(out) == out
+    again = tmp_path / "again"
+    shutil.copytree(out, again)
+    (again / "notes.txt").write_text("mine")
+    with pytest.raises(InputError, match="'notes.txt'"):
+        check_run_folder(again)

@@ -104,6 +104,11 @@ def meshes(specs, tmp_path_factory, capsys_module) -> dict[str, Path]:
     lifted.apply_translation([0.0, 0.0, 0.01])  # tip face at z = 0.01, not 0
     lifted.export(folder / "lifted.ply")
     files["lifted"] = folder / "lifted.ply"
+    files["furlong"] = write_stl(b, folder / "furlong.stl", "cad export units=furlong")
+    v = np.asarray(b.vertices, dtype=float).copy()
+    v[[5, 6]] = np.nan
+    trimesh.Trimesh(v, b.faces, process=False).export(folder / "nan.ply")
+    files["nan"] = folder / "nan.ply"
     return files
 
 
@@ -396,6 +401,9 @@ def test_run_passes_the_meshes_and_the_report_names_them(
         (["--nut-mesh", "{missing}"], "mesh file not found"),
         (["--bolt-mesh", "{bolt_obj_mm}"], "looks like mm"),
         (["--mesh-units", "mm"], "--mesh-units needs --bolt-mesh or --nut-mesh"),
+        (["--bolt-mesh", "{furlong}"], "declares units=furlong, which threadmate does not"),
+        (["--bolt-mesh", "{nan}"], "2 of its"),
+        (["--bolt-mesh", "{nan}"], "vertices are not finite numbers (NaN or inf)"),
     ],
 )
 @pytest.mark.parametrize("command", ["contact", "settle", "sweep"])
@@ -408,3 +416,22 @@ def test_bad_mesh_files_exit_2_with_one_line(specs, meshes, tmp_path, capsys, co
     assert rc == 2, err
     assert words in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
     assert stdout == "" and not out.exists()
+
+
+def test_a_mesh_warning_is_one_line_on_stderr(specs, meshes, tmp_path, capsys):
+    """A bolt mesh wound inside out is turned outward (its volume then positive) with a
+    warning: one ``threadmate: warning:`` line on stderr, not Python's source-line report,
+    and the command goes on."""
+    inverted = read_stl(meshes["bolt"])
+    inverted.invert()
+    assert inverted.volume < 0
+    path = write_stl(inverted, tmp_path / "inverted.stl", "threadmate units=in bolt")
+    rc, out, err = run_cli(
+        capsys, "settle", specs["flat"], "--roll", "1", "--pitch", "0", "--phase", "185",
+        "--bolt-mesh", path, "--chord", CHORD, "--json",
+    )  # fmt: skip
+    assert rc == 0, err
+    said = [line for line in err.splitlines() if "warning" in line.lower()]
+    assert said and all(line.startswith("threadmate: warning: ") for line in said), err
+    assert "MeshWarning" not in err and ".py:" not in err
+    assert json.loads(out)["classification"] in ("stable", "quasi-stable", "in-phase", "unstable")

@@ -3,7 +3,7 @@
 An upright, stiffly held bolt (k_r = 100 N m/rad) resting flat on the nut's top face is
 turned in MuJoCo over the last few degrees before the in-phase window opens; it must
 snap where the window opens (348.78 degrees for the flat 1/4-20) and drop by the axial
-clearance ``(nut pd - bolt pd) / sqrt(3)`` (design/mechanics.md, "Limits with closed
+clearance ``(nut pd - bolt pd) / sqrt(3)`` (docs/mechanics.md, "Limits with closed
 forms" and "Dynamics").
 """
 

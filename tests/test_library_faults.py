@@ -6,14 +6,18 @@ disk and in the process table.
 
 from __future__ import annotations
 
+import json
 import os
+import re
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+import pyarrow.parquet as pq
 import pytest
 
 from _cli import run_cli
@@ -225,3 +229,307 @@ def test_unwritable_library_and_figure_folders_are_refused(small_library, capsys
         code, out, err = run_cli(capsys, *args)
         assert code == 2, args
         assert err.startswith("threadmate: error: -o /proc/threadmate-x") and "Traceback" not in err
+
+
+# -- a library whose rows do not fit its grid ---------------------------------------------
+def _edit_grid(lib: Path, **grid) -> None:
+    meta_file = lib / library.METADATA_FILE
+    meta = json.loads(meta_file.read_text())
+    meta["grid"].update(grid)
+    meta_file.write_text(json.dumps(meta))
+
+
+def _refused(capsys, *args) -> str:
+    code, out, err = run_cli(capsys, *args)
+    assert code == 2 and out == "", (code, out, err)
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
+
+
+@pytest.mark.parametrize(
+    ("grid", "words"),
+    [
+        # The phase list cut short, its size kept: the size contradicts the values.
+        ({"phase": [0.0]}, "states a size of 2"),
+        # Cut short with the size to match: configuration 1 lies beyond a grid of 1.
+        ({"phase": [0.0], "size": 1}, "beyond the grid (first: 1)"),
+        # Same count, another value: configuration 1 (phase 180 in the rows) is phase 90.
+        ({"phase": [0.0, 90.0]}, "phase 180, where the grid"),
+    ],
+)
+def test_rows_that_do_not_fit_the_grid_are_refused(small_library, tmp_path, capsys, grid, words):
+    # small_library: roll 0, pitch 0, phases 0 and 180 (configurations 0 and 1, both done).
+    lib = tmp_path / "lib"
+    shutil.copytree(small_library, lib)
+    _edit_grid(lib, **grid)
+    for read in (library.info, library.load, library.progress, library.summary):
+        with pytest.raises(LibraryError, match=re.escape(words)):
+            read(lib)
+    with pytest.raises(LibraryError, match=re.escape(words)):
+        library.query(lib, 0, 0, 0)
+    for args in (
+        ["library", "info", lib],
+        ["library", "info", lib, "--json"],
+        ["library", "query", lib, "--roll", "0", "--pitch", "0", "--phase", "0"],
+        ["library", "summary", lib],
+    ):
+        assert words in _refused(capsys, *args)
+
+
+def test_a_state_away_from_its_starts_held_tilt_is_refused(tmp_path, quarter_20):
+    from _libraries import SYNTH_COMPLIANCE, SYNTH_GRID, synthetic_rows
+
+    rows = synthetic_rows()
+    # A continued state moved to another held tilt than its start's (config_id 0 is held
+    # roll 0, pitch -1 on this grid): the part was mixed by hand.
+    i = rows.index[(rows["config_id"] == 0) & (rows["role"] != "start")][0]
+    rows.loc[i, "held_pitch"] = 1.0
+    lib = library.write_library(
+        rows, tmp_path / "lib", quarter_20, **SYNTH_GRID, compliance=SYNTH_COMPLIANCE
+    )
+    with pytest.raises(LibraryError, match="a state of configuration 0 in its parts is at held"):
+        library.load(lib)
+
+
+def test_parts_carry_the_grid_shape_not_its_values(tmp_path, quarter_20, small_library):
+    # 36,000 phases (0.01 deg): before, every part carried all of them (and the roll
+    # values) in its schema; now its metadata is as small as for a grid of one phase.
+    lib = library.sweep(
+        quarter_20,
+        "0",
+        "0",
+        "0:359.99:0.01",
+        out=tmp_path / "lib",
+        workers=1,
+        model="thesis",
+        chunk_size=2,
+        max_chunks=1,
+    )
+    meta = json.loads((lib / library.METADATA_FILE).read_text())
+    assert len(meta["grid"]["phase"]) == 36_000  # the values, once, in the metadata file
+    (part,) = lib.glob("part-*.parquet")
+    carried = json.loads(pq.read_schema(part).metadata[b"threadmate"])
+    assert carried["grid"] == {
+        "shape": [1, 1, 36_000],
+        "size": 36_000,
+        "order": meta["grid"]["order"],
+        "values": "in _threadmate.json",
+    }
+    assert len(pq.read_schema(part).metadata[b"threadmate"]) < 4_000
+    doc = library.info(lib)
+    assert (doc["done"], doc["configurations"], doc["complete"]) == (2, 36_000, False)
+
+
+def test_a_library_whose_parts_carry_the_whole_grid_still_reads(small_library, tmp_path):
+    # The parts of libraries written before carried every grid value: the same format.
+    lib = tmp_path / "lib"
+    shutil.copytree(small_library, lib)
+    meta_text = (lib / library.METADATA_FILE).read_text()
+    full = json.dumps(json.loads(meta_text), sort_keys=True).encode()
+    for part in lib.glob("part-*.parquet"):
+        table = pq.read_table(part)
+        pq.write_table(table.replace_schema_metadata({b"threadmate": full}), part)
+    assert library.info(lib)["done"] == 2
+    assert len(library.load(lib)) == 2
+
+
+# -- an incomplete library ----------------------------------------------------------------
+@pytest.fixture(scope="module")
+def unfinished(tmp_path_factory, quarter_20):
+    """The synthetic mechanics library without its held tilt (1, 1): its sweep stopped
+    there. Returns (path, starts done, configurations)."""
+    from _libraries import SYNTH_COMPLIANCE, SYNTH_GRID, synthetic_rows
+
+    rows = synthetic_rows()
+    rows = rows[~((rows["held_roll"] == 1.0) & (rows["held_pitch"] == 1.0))]
+    path = library.write_library(
+        rows,
+        tmp_path_factory.mktemp("unfinished") / "lib",
+        quarter_20,
+        **SYNTH_GRID,
+        compliance=SYNTH_COMPLIANCE,
+    )
+    # Counted here from the rows and the grid's lists (2 x 3 x 4 configurations).
+    total = len(SYNTH_GRID["roll"]) * len(SYNTH_GRID["pitch"]) * len(SYNTH_GRID["phase"])
+    return path, rows.loc[rows["role"] == "start", "config_id"].nunique(), total
+
+
+def test_an_incomplete_library_says_how_far_it_got(unfinished, capsys, tmp_path):
+    lib, done, total = unfinished
+    assert (done, total) == (20, 24)
+    words = f"{done} of {total} starts done"
+    code, out, _ = run_cli(capsys, "library", "info", lib)
+    assert code == 0 and words in out and "INCOMPLETE" in out and "interrupted" in out
+    code, out, _ = run_cli(capsys, "library", "info", lib, "--json")
+    doc = json.loads(out)
+    assert (doc["done"], doc["configurations"], doc["complete"]) == (done, total, False)
+    assert doc["sweeping"] is None
+    code, out, _ = run_cli(capsys, "library", "summary", lib)
+    assert code == 0 and words in out
+    doc = json.loads(run_cli(capsys, "library", "summary", lib, "--json")[1])
+    assert (doc["done"], doc["configurations"], doc["complete"]) == (done, total, False)
+    out_file = tmp_path / "net.graphml"
+    code, out, _ = run_cli(capsys, "network", lib, "-o", out_file)
+    assert code == 0 and words in out
+    doc = json.loads(run_cli(capsys, "network", lib, "-o", out_file, "--json")[1])
+    assert (doc["done"], doc["configurations"], doc["complete"]) == (done, total, False)
+
+
+def test_recommend_refuses_an_incomplete_library_unless_partial(unfinished, capsys):
+    lib, done, total = unfinished
+    line = _refused(capsys, "recommend", lib)
+    assert f"library {lib}: {done} of {total} starts done" in line and "--partial" in line
+    with pytest.raises(InputError, match="incomplete"):
+        from threadmate.network import from_library, recommend
+
+        recommend(from_library(lib))
+    code, out, _ = run_cli(capsys, "recommend", lib, "--partial")
+    assert code == 0 and f"note: from an incomplete library: {done} of {total} starts" in out
+    doc = json.loads(run_cli(capsys, "recommend", lib, "--partial", "--json")[1])
+    assert doc["complete"] is False
+    assert doc["progress"] == [{"done": done, "configurations": total, "complete": False}]
+    # The held tilt missing is not ranked: held pitch +1 has starts at roll 0 only.
+    plus = next(s for s in doc["settings"] if s["held_pitch"] == 1.0)
+    assert plus["starts"] + plus["failed"] == 4
+
+
+# -- one sweep at a time ------------------------------------------------------------------
+_SWEEP = (
+    "import sys; from threadmate import library; "
+    "from threadmate.geometry import spec_from_designation as s; "
+    "library.sweep(s('1/4-20 UNC-2A/2B'), '-4:4:1', '-4:4:1', '0:355:5', out=sys.argv[1], "
+    "workers=2, model='thesis', chunk_size=4)"
+)
+
+
+def _parts(lib: Path) -> int:
+    return len(list(lib.glob("part-*.parquet")))
+
+
+def _wait_for(what, timeout: float = 120.0) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if what():
+            return
+        time.sleep(0.1)
+    raise AssertionError("timed out")
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc (Linux)")
+def test_a_second_sweep_is_refused_and_a_killed_ones_lock_does_not_block(tmp_path, capsys):
+    from threadmate.geometry import spec_from_designation
+
+    lib = tmp_path / "lib"
+    first = subprocess.Popen(
+        [sys.executable, "-c", _SWEEP, str(lib)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
+    try:
+        _wait_for(lambda: _parts(lib) >= 2 or first.poll() is not None)
+        assert first.poll() is None, first.stderr.read().decode() if first.stderr else ""
+        lock = json.loads((lib / ".threadmate-sweep.lock").read_text())
+        assert lock["pid"] == first.pid and lock["host"] == socket.gethostname()
+        assert library.info(lib)["sweeping"]["pid"] == first.pid
+        code, out, _ = run_cli(capsys, "library", "info", lib)
+        assert f"INCOMPLETE, a sweep (process {first.pid} on" in out
+        # A second sweep of the same library, as a real process: refused at once, by name.
+        t0 = time.monotonic()
+        second = subprocess.run(
+            [
+                sys.executable,
+                "-c",
+                "from threadmate.cli import main; main()",
+                "sweep",
+                DESIGNATION,
+                "--model",
+                "thesis",
+                "--roll",
+                "-4:4:1",
+                "--pitch",
+                "-4:4:1",
+                "--workers",
+                "1",
+                "--chunk-size",
+                "4",
+                "-o",
+                str(lib),
+            ],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        assert second.returncode == 2, second.stderr
+        lines = [x for x in second.stderr.splitlines() if x.strip()]
+        assert len(lines) == 1 and "Traceback" not in second.stderr, second.stderr
+        assert f"is being swept by process {first.pid} on {socket.gethostname()}" in lines[0]
+        assert second.stdout == ""
+        # The first goes on writing, unharmed (its temporary parts were left alone).
+        n = _parts(lib)
+        _wait_for(lambda: _parts(lib) > n + 1 or first.poll() is not None)
+        assert first.poll() is None, first.stderr.read().decode() if first.stderr else ""
+        assert time.monotonic() - t0 < 240
+        os.kill(first.pid, signal.SIGKILL)
+        first.wait()
+    finally:
+        if first.poll() is None:
+            first.kill()
+            first.wait()
+        if first.stderr is not None:
+            first.stderr.close()
+    # The killed sweep's lock file stays, naming a process that no longer runs: it does not
+    # block the resume, at once (while the killed sweep's pool workers are still exiting).
+    stale = json.loads((lib / ".threadmate-sweep.lock").read_text())
+    assert stale["pid"] == first.pid
+    before = _parts(lib)
+    library.sweep(
+        spec_from_designation(DESIGNATION),
+        "-4:4:1",
+        "-4:4:1",
+        "0:355:5",
+        out=lib,
+        workers=1,
+        model="thesis",
+        chunk_size=4,
+        max_chunks=1,
+    )
+    assert _parts(lib) == before + 1
+    doc = library.info(lib)
+    assert doc["sweeping"] is None and doc["done"] == 4 * (before + 1)  # chunks of 4
+    assert not (lib / ".threadmate-sweep.lock").exists()
+    assert not list(lib.glob(".*.tmp"))
+
+
+_FORK_AND_DIE = """
+import os, sys, time
+from threadmate.library import _store
+with _store.sweep_lock(sys.argv[1]):
+    child = os.fork()
+    if child == 0:  # as a pool worker forked by the sweep does
+        _store.release_inherited_locks()
+        os.close(1), os.close(2)  # the test reads the parent's output to its end
+        time.sleep(60)
+        os._exit(0)
+    print(child, flush=True)
+    os._exit(0)  # dies holding the lock: its file stays
+"""
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
+def test_a_forked_worker_does_not_keep_a_dead_sweeps_lock(tmp_path):
+    from threadmate.library._store import sweep_lock
+
+    lib = tmp_path / "lib"
+    lib.mkdir()
+    done = subprocess.run(
+        [sys.executable, "-c", _FORK_AND_DIE, str(lib)], capture_output=True, text=True
+    )
+    child = int(done.stdout.split()[0])
+    try:
+        assert _alive(child)  # the forked worker outlives the sweep ...
+        assert (lib / ".threadmate-sweep.lock").exists()
+        with sweep_lock(lib):  # ... but not its lock
+            assert json.loads((lib / ".threadmate-sweep.lock").read_text())["pid"] == os.getpid()
+    finally:
+        os.kill(child, signal.SIGKILL)

@@ -55,6 +55,9 @@ def test_single_values_and_comma_lists():
         ("0:50:5", "roll", "out of range"),
         ("-46", "pitch", "out of range"),
         ("nan", "phase", "not a finite angle"),
+        ("0:1:1e-7", "roll", "gives 10,000,001 values, more than the 100,000"),
+        ("0:1:0.1,0:10:0.0001", "pitch", "gives 100,001 values"),
+        ("0:180:0.002,180:359:0.002", "phase", "179,501 values, more than the 100,000"),
     ],
 )
 def test_bad_ranges_name_the_option(text, option, words):
@@ -98,3 +101,12 @@ def test_grid_round_trips_through_its_mapping():
     grid = Grid.parse("-2:2:0.5", "1", "10,20,200")
     assert Grid.from_dict(grid.to_dict()) == grid
     assert grid.to_dict()["size"] == 9 * 1 * 3
+
+
+def test_an_angle_holds_at_most_a_hundred_thousand_values():
+    # 0 .. 9.9999 by 1e-4: 99,999 steps and the start, exactly the limit.
+    assert len(parse_range("0:9.9999:0.0001", "roll")) == 100_000
+    grid = Grid.parse("0", "0:9.9999:0.0001", "0")
+    assert grid.size == 100_000
+    assert grid.describe(size=False) == "roll 0 x pitch 0..9.9999 (100000) x phase 0"
+    assert grid.describe() == "roll 0 x pitch 0..9.9999 (100000) x phase 0 = 100000 configurations"

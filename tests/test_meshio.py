@@ -19,6 +19,7 @@ from threadmate.geometry import (
     read_stl,
     write_stl,
 )
+from threadmate.geometry._meshio import MeshWarning
 
 CHORD = 1e-4  # coarse meshes keep these tests fast
 
@@ -107,12 +108,13 @@ def test_user_meshes_accepted(meshes, quarter_20, tmp_path, suffix):
         assert isinstance(load_mesh(path, kind), trimesh.Trimesh)  # no spec: no size check
 
 
-def test_inside_out_mesh_is_turned_outward(meshes, quarter_20, tmp_path):
+def test_inside_out_mesh_is_turned_outward_with_a_warning(meshes, quarter_20, tmp_path):
     inverted = meshes[0].mesh.copy()
     inverted.invert()
     assert inverted.volume < 0
     path = write_stl(inverted, tmp_path / "inverted.stl")
-    m = load_mesh(path, "bolt", spec=quarter_20)
+    with pytest.warns(MeshWarning, match=r"wound inward \(negative volume, -0\.00\d+ in\^3\)"):
+        m = load_mesh(path, "bolt", spec=quarter_20)
     assert m.volume == pytest.approx(meshes[0].mesh.volume, rel=1e-6)
 
 
@@ -259,3 +261,135 @@ def _scaled(spec, k):
         "pitch": d["pitch"] * k,
         **{b: {key: v * k for key, v in d[b].items()} for b in ("bolt", "nut")},
     }
+
+
+# -- issue 26: faults in user meshes, each named with its count ---------------------------
+def _ply(mesh_or_parts, path):
+    """Write vertices and faces as given (no processing: trimesh would repair them)."""
+    vertices, faces = mesh_or_parts
+    trimesh.Trimesh(vertices, faces, process=False).export(path)
+    return path
+
+
+def test_non_finite_vertices_are_named_with_their_count(meshes, quarter_20, tmp_path):
+    m = meshes[0].mesh
+    v = np.asarray(m.vertices, dtype=float).copy()
+    f = np.asarray(m.faces)
+    bad = [3, 40, 41]
+    v[bad[0], 0] = np.nan
+    v[bad[1], 2] = np.inf
+    v[bad[2]] = -np.inf
+    path = _ply((v, f), tmp_path / "nan.ply")
+    touched = int(np.isin(f, bad).any(axis=1).sum())  # the triangles using them
+    text = _refused(path, "bolt", quarter_20, "not finite numbers")
+    assert f"3 of its {len(v)} vertices are not finite numbers (NaN or inf)" in text
+    assert f"in {touched} of its {len(f)} triangles" in text
+    assert "watertight" not in text
+    # A binary STL repeats each vertex per facet: the distinct points are counted.
+    stl = tmp_path / "nan.stl"
+    stl.write_bytes(stl_bytes_of(v, f))
+    text = _refused(stl, "bolt", quarter_20, "not finite numbers")
+    assert f"3 of its {len(v)} vertices" in text
+
+
+def stl_bytes_of(vertices, faces):
+    from threadmate.geometry._meshio import stl_bytes
+
+    with np.errstate(invalid="ignore"):  # the facet normals of the NaN corners
+        return stl_bytes(trimesh.Trimesh(vertices, faces, process=False), "cad export")
+
+
+def test_zero_area_triangles_are_dropped_with_a_warning(meshes, quarter_20, tmp_path):
+    m = meshes[0].mesh
+    v = np.asarray(m.vertices, dtype=float)
+    f = np.asarray(m.faces)
+    # A triangle with a repeated vertex (two corners welded into one).
+    path = _ply((v, np.vstack([f, [f[0, 0], f[0, 0], f[0, 1]]])), tmp_path / "repeated.ply")
+    with pytest.warns(MeshWarning, match="dropped 1 degenerate \\(zero-area\\) triangles"):
+        got = load_mesh(path, "bolt", spec=quarter_20)
+    assert len(got.faces) == len(f) and got.volume == pytest.approx(m.volume, rel=1e-6)
+    # Three vertices in a line: the face a b c split at the middle m of a b, and the
+    # sliver a b m closing the T-junction against the neighbour b a d.
+    a, b, c = f[0]
+    mid = len(v)
+    split = np.vstack([f[1:], [[a, mid, c], [mid, b, c], [a, b, mid]]])
+    vm = np.vstack([v, 0.5 * (v[a] + v[b])])
+    sliver = trimesh.Trimesh(vm, split, process=False)
+    assert sliver.is_watertight and sliver.is_winding_consistent  # closed with it
+    path = _ply((vm, split), tmp_path / "sliver.ply")
+    with pytest.warns(MeshWarning, match="dropped 1 degenerate"):
+        got = load_mesh(path, "bolt", spec=quarter_20)
+    assert got.is_watertight and got.volume == pytest.approx(m.volume, rel=1e-6)
+    # Without the neighbour across its long edge the sliver cannot be closed: refused.
+    neighbour = np.flatnonzero(
+        (np.roll(f[1:], -1, axis=1) == a).any(axis=1)
+        & ((f[1:] == b) & (np.roll(f[1:], -1, axis=1) == a)).any(axis=1)
+    )
+    open_ = np.delete(split, neighbour, axis=0)
+    path = _ply((vm, open_), tmp_path / "sliver_open.ply")
+    text = _refused(path, "bolt", quarter_20, "1 degenerate \\(zero-area\\) triangles")
+    assert "not closed" in text and "0 edges" not in text
+
+
+def test_too_many_triangles_are_refused_and_many_warned(meshes, quarter_20, tmp_path, monkeypatch):
+    import threadmate.geometry._meshio as meshio
+
+    n = len(meshes[0].mesh.faces)
+    path = write_stl(meshes[0].mesh, tmp_path / "bolt.stl")
+    with pytest.raises(MeshError) as info:
+        load_mesh(path, "bolt", spec=quarter_20, max_faces=n - 1)
+    assert f"has {n:,} triangles, more than the {n - 1:,}" in str(info.value)
+    assert "max_faces" in str(info.value)
+    # Read from the binary STL's header: refused before its triangles are read.
+    monkeypatch.setattr(meshio, "_read", lambda *a: pytest.fail("read"))
+    with pytest.raises(MeshError, match="triangles, more than"):
+        load_mesh(path, "bolt", spec=quarter_20, max_faces=n - 1)
+    monkeypatch.undo()
+    assert load_mesh(path, "bolt", spec=quarter_20, max_faces=n) is not None
+    assert meshio.WARN_FACES < meshio.MAX_FACES
+    monkeypatch.setattr(meshio, "WARN_FACES", n - 1)
+    with pytest.warns(MeshWarning, match=f"has {n:,} triangles \\(above {n - 1:,}\\)"):
+        load_mesh(path, "bolt", spec=quarter_20)
+
+
+@pytest.mark.parametrize(
+    "header, expected",
+    [("units=mm bolt", "mm"), ("UNITS=Inch", "in"), ("part units=millimetres", "mm")],
+)
+def test_units_words_of_binary_and_ascii_headers(meshes, tmp_path, header, expected):
+    from threadmate.geometry import stl_units
+
+    path = write_stl(meshes[0].mesh, tmp_path / "b.stl", header)
+    assert stl_units(path) == expected
+    ascii_stl = tmp_path / "a.stl"
+    text = trimesh.exchange.stl.export_stl_ascii(meshes[0].mesh)
+    ascii_stl.write_text(text.replace("solid", f"solid {header}", 1))
+    assert stl_units(ascii_stl) == expected
+
+
+def test_unknown_units_in_the_header_are_refused(meshes, quarter_20, tmp_path):
+    path = write_stl(meshes[0].mesh, tmp_path / "bolt.stl", "cad units=furlong")
+    text = _refused(path, "bolt", quarter_20, "declares units=furlong")
+    assert "in or mm" in text
+
+
+def test_two_bodies_and_a_void_are_refused_with_their_count(meshes, quarter_20, tmp_path):
+    bolt = meshes[0].mesh
+    twin = bolt.copy()
+    twin.apply_translation([0.0, 0.0, 1.0])
+    path = write_stl(trimesh.util.concatenate([bolt, twin]), tmp_path / "two.stl")
+    _refused(path, "bolt", quarter_20, "is 2 separate bodies \\(2 closed shells\\)")
+    # A hollow: a small ball inside the core, wound inward.
+    ball = trimesh.creation.icosphere(subdivisions=1, radius=0.3 * quarter_20.bolt.minor / 2)
+    ball.apply_translation([0.0, 0.0, 0.5 * bolt.bounds[1][2]])
+    ball.invert()
+    path = write_stl(trimesh.util.concatenate([bolt, ball]), tmp_path / "void.stl")
+    _refused(path, "bolt", quarter_20, "has 1 void inside it \\(2 closed shells")
+
+
+def test_open_and_non_manifold_edges_are_counted(meshes, quarter_20, tmp_path):
+    m = meshes[0].mesh
+    f = np.asarray(m.faces)
+    path = _ply((m.vertices, np.vstack([f, f[:1]])), tmp_path / "twice.ply")
+    text = _refused(path, "bolt", quarter_20, "not a closed volume")
+    assert "3 edges are shared by more than two triangles" in text

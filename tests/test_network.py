@@ -650,3 +650,116 @@ def test_build_network_needs_library_rows(synth_rows):
             "grid": {},
         }
         build_network(frame)
+
+
+# -- the geometry in the files ------------------------------------------------------------------
+def _rotation(roll: float, pitch: float, phase: float) -> np.ndarray:
+    """Rx(roll) Ry(pitch) Rz(phase), degrees (conventions.md)."""
+    r, p, s = np.radians([roll, pitch, phase])
+    rx = np.array([[1, 0, 0], [0, np.cos(r), -np.sin(r)], [0, np.sin(r), np.cos(r)]])
+    ry = np.array([[np.cos(p), 0, np.sin(p)], [0, 1, 0], [-np.sin(p), 0, np.cos(p)]])
+    rz = np.array([[np.cos(s), -np.sin(s), 0], [np.sin(s), np.cos(s), 0], [0, 0, 1]])
+    return rx @ ry @ rz
+
+
+def test_graphml_and_node_link_carry_the_pose_and_the_contacts(real_lib, real_rows, tmp_path):
+    """Given the library, both files put on every node the rotation (the conventions'
+    Rx(roll) Ry(pitch) Rz(phase) of the node's own angles) and the contacts' points and
+    normals (3 values per touching contact, normals of unit length); GraphML holds them as
+    string keys of JSON text, read back as lists."""
+    graph = from_library(real_lib)
+    path = write_graphml(graph, tmp_path / "net.graphml", library=real_lib)
+    root = ET.parse(path).getroot()
+    types = {
+        k.get("attr.name"): k.get("attr.type")
+        for k in root.iter(f"{GRAPHML_NS}key")
+        if k.get("for") == "node"
+    }
+    for key in ("rotation", "contact_points", "contact_normals"):
+        assert types[key] == "string", key  # one type per key, as Gephi wants
+    back = read_graphml(path)
+    plain = nx.read_graphml(path)
+    link = json.loads(write_node_link(graph, tmp_path / "net.json", library=real_lib).read_text())
+    linked = {n["id"]: n for n in link["nodes"]}
+    by_id = real_rows.set_index("state_id")
+    checked = 0
+    for n, d in back.nodes(data=True):
+        row = by_id.loc[n]
+        for key in ("rotation", "contact_points", "contact_normals"):
+            np.testing.assert_array_equal(d[key], np.asarray(row[key], float))
+            assert json.loads(plain.nodes[n][key]) == linked[n][key]
+        rot = np.asarray(d["rotation"]).reshape(3, 3)
+        if d["classification"] != "error":
+            want = _rotation(d["roll"], d["pitch"], d["phase"])
+            np.testing.assert_allclose(rot, want, atol=1e-9)
+            checked += 1
+        points, normals = np.asarray(d["contact_points"]), np.asarray(d["contact_normals"])
+        assert len(points) == len(normals) == 3 * int(row["n_contacts"])
+        if len(normals):
+            np.testing.assert_allclose(np.linalg.norm(normals.reshape(-1, 3), axis=1), 1, 1e-9)
+    assert checked > 100
+
+
+def test_without_the_library_the_files_leave_the_geometry_out(synth_graph, tmp_path):
+    back = read_graphml(write_graphml(synth_graph, tmp_path / "n.graphml"))
+    doc = json.loads(write_node_link(synth_graph, tmp_path / "n.json").read_text())
+    for d in [*(d for _, d in back.nodes(data=True)), *doc["nodes"]]:
+        assert not {"rotation", "contact_points", "contact_normals"} & set(d)
+
+
+# -- starts that did not reach a rest state, and the recommendation's words --------------------
+def _with_unsettled_start(rows: pd.DataFrame) -> tuple[pd.DataFrame, str]:
+    """The synthetic rows with the start (0, -1, 90) as a descent that did not converge
+    (the class the mechanics gives it: unstable)."""
+    rows = rows.copy()
+    pick = (rows["role"] == "start") & (rows["held_roll"] == 0) & (rows["held_pitch"] == -1)
+    node = rows.loc[pick & (rows["phase"] == 90.0), "state_id"].iloc[0]
+    rows.loc[rows["state_id"] == node, "classification"] = "unstable"
+    return rows, node
+
+
+def test_starts_not_at_rest_are_left_out_of_the_recommendation(synth_rows, tmp_path, quarter_20):
+    rows, node = _with_unsettled_start(synth_rows)
+    lib = synthetic_library(tmp_path / "lib", quarter_20, rows=rows)
+    rec = recommend(from_library(lib))
+    walked = walk_starts(rows)
+    kept = walked.drop(index=node)
+    for s in rec.settings:
+        want = setting_figures(kept, s["held_pitch"])
+        assert s["not_at_rest"] == (1 if s["held_pitch"] == -1 else 0)
+        assert s["starts"] == want["starts"]
+        for key in ("share_snap", "turn_mean", "work_mean", "share_unstable"):
+            if want[key] is None:
+                assert s[key] is None
+            else:
+                assert s[key] == pytest.approx(want[key]), key
+    # The start still snaps as the rows say: it is left out, not rewritten.
+    assert bool(walked.loc[node, "snapped"])
+
+
+def test_one_compliance_twice_is_refused(synth_lib):
+    graph = from_library(synth_lib)
+    with pytest.raises(InputError, match="libraries 1 and 2 hold the same compliance"):
+        recommend([graph, from_library(synth_lib)])
+
+
+def test_notes_name_the_compliance_of_each_setting(synth_lib, synth_rows, tmp_path, quarter_20):
+    """Two libraries of the same rows, stiffness 1 and 2 N m/rad: each held pitch of one
+    is equivalent to the same of the other, so the note must say which compliance."""
+    stiff = write_library(
+        synth_rows,
+        tmp_path / "stiff",
+        quarter_20,
+        SYNTH_GRID["roll"],
+        SYNTH_GRID["pitch"],
+        SYNTH_GRID["phase"],
+        compliance=type(SYNTH_COMPLIANCE)(force=10.0, stiffness=2.0),
+    )
+    rec = recommend([from_library(synth_lib), from_library(stiff)])
+    best = rec.best
+    (note,) = [n for n in rec.notes if "no better than" in n]
+    k = best["stiffness"][0]
+    other = 2.0 if k == 1.0 else 1.0
+    p = best["held_pitch"]
+    assert f"the pick (held pitch {p:+g} deg at 10 N, {k:g}/{k:g} N m/rad)" in note
+    assert f"held pitch {p:+g} deg at 10 N, {other:g}/{other:g} N m/rad" in note

@@ -2,7 +2,7 @@
 
 Run:  python docs/scripts/dynamics_check.py [--cases upright,stiff,...] [--json FILE]
 
-design/mechanics.md, "Independent checks worth having": a frictionless, slowly turned,
+docs/mechanics.md, "Independent checks worth having": a frictionless, slowly turned,
 heavily damped simulation of the same compliance chain, with convex pieces cut from the
 exact profile, must reproduce the quasi-static snap phase and click. This script builds
 that simulation with nothing from threadmate's contact code but its rest state at the
@@ -23,7 +23,7 @@ start (and its search, to compare with):
   it is within reach. The hulls' deviation from the exact bodies is measured: outward
   (hull surface outside the exact body, the dangerous direction) and inward (exact
   surface outside every hull).
-- **Compliance chain** (SI inside; design/mechanics.md, "The system"): a slide along Z
+- **Compliance chain** (SI inside; docs/mechanics.md, "The system"): a slide along Z
   at the compliance centre C (held at x = y = 0), a hinge about the fixed X axis (roll),
   one about the rolled Y axis (pitch), one about the bolt axis (phase), as in the pose
   convention ``R = Rx(roll) Ry(pitch) Rz(phase)``; C at the tip centre. A constant

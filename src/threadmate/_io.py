@@ -2,13 +2,20 @@
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import os
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_write_bytes", "atomic_write_text", "remove_stale_temporaries"]
+__all__ = [
+    "atomic_path",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "read_utf8",
+    "remove_stale_temporaries",
+]
 
 
 @contextlib.contextmanager
@@ -58,3 +65,20 @@ def remove_stale_temporaries(folder: str | os.PathLike[str]) -> list[Path]:
         with contextlib.suppress(FileNotFoundError):
             p.unlink()
     return stale
+
+
+def read_utf8(path: str | os.PathLike[str], error: type[Exception] = ValueError) -> str:
+    """The text of a UTF-8 file (a leading byte-order mark, as some editors write, is
+    dropped), refusing any other encoding with ``error`` naming the file and the offset of
+    the first byte that is not UTF-8 (Latin-1 read as UTF-8 would turn into replacement
+    characters, unnoticed). ``OSError`` from reading passes on."""
+    data = Path(path).read_bytes()
+    skip = len(codecs.BOM_UTF8) if data.startswith(codecs.BOM_UTF8) else 0
+    try:
+        return data[skip:].decode("utf-8")
+    except UnicodeDecodeError as exc:
+        at = skip + exc.start  # the offset in the file, its mark included
+        raise error(
+            f"{os.fspath(path)} is not UTF-8 text: byte 0x{data[at]:02x} at offset {at} "
+            "(save the file as UTF-8)"
+        ) from None

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["to_jsonable", "json_text"]
+__all__ = ["to_jsonable", "json_text", "parse_json"]
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -48,3 +48,54 @@ def to_jsonable(obj: Any) -> Any:
 def json_text(obj: Any, indent: int | None = 2) -> str:
     """``obj`` as one strict JSON document (via :func:`to_jsonable`), ending in a newline."""
     return json.dumps(to_jsonable(obj), indent=indent, allow_nan=False) + "\n"
+
+
+class _Object(dict[str, Any]):
+    """A JSON object as parsed, with the first key it gave twice (None: none)."""
+
+    twice: str | None = None
+
+
+def _object(pairs: list[tuple[str, Any]]) -> _Object:
+    obj = _Object()
+    for key, value in pairs:
+        if key in obj and obj.twice is None:
+            obj.twice = key
+        obj[key] = value
+    return obj
+
+
+def _key_twice(value: Any, path: tuple[str, ...] = ()) -> str | None:
+    """The dotted path of the first key given twice in a parsed document (None: none)."""
+    if isinstance(value, _Object):
+        if value.twice is not None:
+            return ".".join((*path, value.twice))
+        children: Any = value.items()
+    elif isinstance(value, list):
+        children = ((f"[{i}]", v) for i, v in enumerate(value))
+    else:
+        return None
+    for key, inner in children:
+        found = _key_twice(inner, (*path, key))
+        if found is not None:
+            return found
+    return None
+
+
+def parse_json(text: str) -> Any:
+    """``text`` as JSON, refusing a key given twice in one object (plain :func:`json.loads`
+    keeps the last silently: a ``pitch`` given twice would pass for one).
+
+    Raises
+    ------
+    ValueError
+        Invalid JSON (:class:`json.JSONDecodeError`), or a key given twice: the message
+        names its dotted path, ``'bolt.major'``.
+    RecursionError
+        Brackets nested deeper than the interpreter's recursion limit.
+    """
+    doc = json.loads(text, object_pairs_hook=_object)
+    twice = _key_twice(doc)
+    if twice is not None:
+        raise ValueError(f"key '{twice}' is given twice (give each key once)")
+    return doc

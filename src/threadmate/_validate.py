@@ -19,10 +19,20 @@ __all__ = [
     "MIN_LENGTH",
     "MAX_LENGTH",
     "MAX_WORKERS",
+    "MAX_TILT",
+    "MAX_PHASE",
     "check_number",
+    "check_phase",
     "check_range",
     "check_length",
     "check_workers",
+    "check_search_steps",
+    "check_starts",
+    "duration_words",
+    "MAX_AXIS_VALUES",
+    "MAX_STARTS",
+    "MAX_STARTS_CEILING",
+    "MAX_SEARCH_STEPS",
 ]
 
 # The range of a length, in the spec's own units (in or mm). Real screw threads lie far
@@ -39,6 +49,35 @@ MAX_LENGTH = 1e3
 #: Most worker processes a sweep starts (far above any one machine's cores; beyond it the
 #: number is a typo, and past the C int range the process pool fails with a traceback).
 MAX_WORKERS = 1024
+#: Largest roll or pitch (degrees) the contact stages and the mechanics accept: beyond it
+#: the "bolt comes down on the nut" picture (tip first, compliance centre above the nut)
+#: no longer holds.
+MAX_TILT = 45.0
+#: Largest phase (degrees, either sign) a command or a function takes. A phase counts modulo
+#: 360, but past a million degrees (some 2,800 turns) a number is a typo, and the float's
+#: own spacing (1e-10 deg at 1e6, 16 deg at 1e18) would move the pose it names.
+MAX_PHASE = 1e6
+
+# Limits on the size of a computation, counted before anything is allocated or written
+# (one place for all of them). The rates give a refusal's time estimate; they were
+# measured with threadmate's defaults (1/4-20 UNC-2A/2B, its chamfered point and
+# countersink, the default compliance and step) on a 2-core machine under load.
+#: Most values one grid angle (roll, pitch or phase) may hold: a tilt of +/-45 deg by
+#: 0.001 deg, or a turn of phase by 0.0036 deg.
+MAX_AXIS_VALUES = 100_000
+#: Most starts (grid configurations) a sweep takes unless told otherwise (``--max-starts``):
+#: 17 times the thesis's grid of 5,832.
+MAX_STARTS = 100_000
+#: Most starts a sweep takes at all, ``--max-starts`` included: a library is read whole by
+#: the network, and its configuration numbers are listed in memory.
+MAX_STARTS_CEILING = 10_000_000
+#: Configurations a sweep computes per second and per worker (mechanics; thesis model).
+SWEEP_RATE = {"mechanics": 1.4, "thesis": 20.0}
+#: Most continuation steps a search or screw-in takes: turns x 360 / step (one turn at
+#: 0.01 deg, the resolution the search locates its events to).
+MAX_SEARCH_STEPS = 36_000
+#: Continuation steps a search takes per second.
+SEARCH_STEP_RATE = 4.0
 
 
 def check_number(name: str, value: Any, *, error: type[InputError] = InputError) -> float:
@@ -70,6 +109,19 @@ def check_range(
         unit = f" {units}" if units else ""
         raise error(
             f"{name} is out of range: {value:g}{unit}; give a value from {lo:g} to {hi:g}{unit}"
+        )
+    return value
+
+
+def check_phase(name: str, value: Any) -> float:
+    """A phase in degrees: a finite number within +/-:data:`MAX_PHASE` (``name`` as the
+    user wrote it, ``"--phase"``). The one limit of every command and function that takes
+    a phase."""
+    value = check_number(name, value)
+    if abs(value) > MAX_PHASE:
+        raise InputError(
+            f"{name} {value:g} is out of range: give degrees within +/-{MAX_PHASE:g} "
+            "(a phase counts modulo 360)"
         )
     return value
 
@@ -152,3 +204,57 @@ def check_length(
         # A fillet may be as small as it likes: it only rounds a corner.
         return check_range(name, value, 0.0, MAX_LENGTH, units=units, error=error)
     return check_range(name, value, MIN_LENGTH, MAX_LENGTH, units=units, error=error)
+
+
+def duration_words(seconds: float) -> str:
+    """A time estimate in words: ``"about 40 s"``, ``"about 3.2 h"``, ``"about 177 days"``."""
+    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
+        if seconds >= 2 * size:
+            value = seconds / size
+            return f"about {value:.3g} {unit}" if value < 1e6 else f"about {value:.1e} {unit}"
+    return f"about {max(seconds, 1):.0f} s"
+
+
+def check_search_steps(turns: float, step: float, *, option: str = "--step") -> int:
+    """The continuation steps of a search over ``turns`` (turns x 360 / ``step`` degrees),
+    refused past :data:`MAX_SEARCH_STEPS` with the count and the time it would take."""
+    steps = math.ceil(float(turns) * 360.0 / float(step) - 1e-9)
+    if steps > MAX_SEARCH_STEPS:
+        need = float(turns) * 360.0 / MAX_SEARCH_STEPS
+        raise InputError(
+            f"{option} {step:g} deg over {turns:g} turn(s) is {steps:,} continuation steps, "
+            f"more than the {MAX_SEARCH_STEPS:,} a search takes (at about "
+            f"{SEARCH_STEP_RATE:g} steps/s: {duration_words(steps / SEARCH_STEP_RATE)}); give "
+            f"{option} {need:.3g} or coarser, or fewer turns"
+        )
+    return steps
+
+
+def check_starts(
+    count: int, max_starts: int | None, *, model: str, workers: int, what: str = ""
+) -> int:
+    """Refuse a sweep of ``count`` starts past ``max_starts`` (default :data:`MAX_STARTS`;
+    at most :data:`MAX_STARTS_CEILING`), naming the count, the time it would take on
+    ``workers`` workers at :data:`SWEEP_RATE` and how to raise the limit."""
+    if max_starts is None:
+        limit = MAX_STARTS
+    else:
+        limit = check_whole("--max-starts", max_starts, 1, MAX_STARTS_CEILING)
+    if count <= limit:
+        return limit
+    rate = SWEEP_RATE.get(model, SWEEP_RATE["mechanics"])
+    eta = duration_words(count / (rate * max(1, workers)))
+    grid = f" ({what})" if what else ""
+    head = (
+        f"the grid{grid} has {count:,} configurations: at about {rate:g} per second per "
+        f"worker ({model} model) that is {eta} on {workers} worker(s)"
+    )
+    if count > MAX_STARTS_CEILING:
+        raise InputError(
+            f"{head}; a library holds at most {MAX_STARTS_CEILING:,} starts, whatever "
+            "--max-starts says: use a coarser grid"
+        )
+    raise InputError(
+        f"{head}, past the limit of {limit:,} starts; use a coarser grid, or pass "
+        f"--max-starts {count} to run it"
+    )

@@ -17,6 +17,7 @@ import click
 
 from .._errors import InputError, SpecError
 from .._json import json_text, to_jsonable
+from .._validate import MAX_TILT, check_phase
 from ..geometry import (
     BoltPoint,
     Countersink,
@@ -43,6 +44,10 @@ __all__ = [
     "writable_output",
     "writable_directory",
     "write_failed",
+    "NewFolders",
+    "new_folders",
+    "shown_phase",
+    "turn_words",
 ]
 
 SPEC_HELP = (
@@ -289,20 +294,31 @@ def echo_err(message: str) -> None:
     click.echo(message, err=True)
 
 
+def shown_phase(phase: float) -> float:
+    """A phase as every command prints it: wrapped into [0, 360) degrees. (A search's
+    phases run on past 360 as it turns; how far it turned is said as the turn,
+    :func:`turn_words`.)"""
+    wrapped = phase % 360.0
+    return 0.0 if wrapped >= 360.0 - 1e-9 else wrapped + 0.0  # no 360.0000, no -0
+
+
+def turn_words(turn: float, fmt: str = ".4f") -> str:
+    """A turn in degrees and in turns: ``372.5400 deg (1.03 turns)``."""
+    return f"{turn:{fmt}} deg ({abs(turn) / 360.0:.2f} turns)"
+
+
 def check_configuration_options(
     roll: float, pitch: float, phase: float, chord: float | None
 ) -> None:
-    """Refuse a tilt beyond the contact stages' range, a non-finite phase or a chord that
-    is not a positive length (before anything is built)."""
-    from ..contact import MAX_TILT
-
+    """Refuse a tilt beyond the contact stages' range, a phase beyond
+    :data:`~threadmate._validate.MAX_PHASE` or a chord that is not a positive length
+    (before anything is built)."""
     for name, value in (("roll", roll), ("pitch", pitch)):
         if not math.isfinite(value) or abs(value) > MAX_TILT:
             raise InputError(
                 f"--{name} {value:g} is out of range: give degrees within +/-{MAX_TILT:g}"
             )
-    if not math.isfinite(phase):
-        raise InputError(f"--phase {phase:g} is not a finite angle")
+    check_phase("--phase", phase)
     if chord is not None and not (math.isfinite(chord) and chord > 0):
         raise InputError(f"--chord {chord:g} must be a positive length")
 
@@ -324,6 +340,55 @@ def _probe(folder: Path, what: str) -> None:
             shutil.rmtree(tempfile.mkdtemp(prefix=".threadmate-probe-", dir=folder))
     except OSError as exc:
         raise InputError(f"{folder} does not accept new files ({_describe(exc)})") from None
+
+
+class NewFolders:
+    """The folders that the checked output paths of one run need and that did not exist:
+    :func:`writable_directory` and :func:`writable_output` note them. A run that fails
+    removes those left empty (and the empty folders it made inside them)."""
+
+    def __init__(self) -> None:
+        self.folders: list[Path] = []
+
+    def note(self, folder: Path) -> None:
+        """Note ``folder`` and each missing folder above it, if ``folder`` is missing."""
+        for f in (folder, *folder.parents):
+            if f.exists():
+                break
+            if f not in self.folders:
+                self.folders.append(f)
+
+    def remove_empty(self) -> list[Path]:
+        """Remove the noted folders that hold no file (deepest first); return them."""
+        removed = []
+        for top in sorted(self.folders, key=lambda f: len(f.parts), reverse=True):
+            if not top.is_dir():
+                continue
+            inner = [Path(d) for d, _, _ in os.walk(top, topdown=False)]
+            for folder in inner:  # the run made everything inside a folder it made
+                with contextlib.suppress(OSError):  # not empty: it keeps what it holds
+                    folder.rmdir()
+                    removed.append(folder)
+        return removed
+
+
+_NEW_FOLDERS: NewFolders | None = None
+
+
+@contextlib.contextmanager
+def new_folders() -> Iterator[NewFolders]:
+    """Collect the output folders a run will create (see :class:`NewFolders`)."""
+    global _NEW_FOLDERS
+    previous, _NEW_FOLDERS = _NEW_FOLDERS, NewFolders()
+    try:
+        yield _NEW_FOLDERS
+    finally:
+        _NEW_FOLDERS = previous
+
+
+def _note_new(folder: Path) -> None:
+    if _NEW_FOLDERS is not None:
+        _NEW_FOLDERS.note(folder)
 
 
 def _existing_ancestor(path: Path) -> Path:
@@ -351,6 +416,7 @@ def writable_directory(path: str | os.PathLike[str], option: str = "-o") -> Path
             _probe(path, "file")
         else:
             _probe(_existing_ancestor(path), "dir")
+            _note_new(path)
     return path
 
 
@@ -374,6 +440,7 @@ def writable_output(path: str | os.PathLike[str], option: str = "-o") -> Path:
             _probe(parent, "file")
         else:
             _probe(_existing_ancestor(parent), "dir")
+            _note_new(parent)
     return path
 
 

@@ -7,12 +7,11 @@ The thesis's fixed-pivot procedure, classified by its criteria of section 4.2 (s
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import click
 
-from .._validate import MAX_LENGTH, check_length
-from ..contact import MAX_TILT, ContactAnalyzer, ContactResult
-from ..geometry import check_chord
+from .._validate import MAX_LENGTH, MAX_TILT, check_length
 from ._common import SPEC_HELP, Parts, check_configuration_options, emit_json, resolve_spec
 from ._main import cli
 from ._options import (
@@ -24,6 +23,9 @@ from ._options import (
     mesh_summary,
     parts_option,
 )
+
+if TYPE_CHECKING:
+    from ..contact import ContactResult
 
 __all__ = ["contact"]
 
@@ -154,6 +156,9 @@ def contact(
     check_configuration_options(roll, pitch, phase, chord)
     spec = resolve_spec(spec_text, condition, parts)
     check_length("--compliance-z", compliance_z, spec.units, signed=True)
+    from ..contact import ContactAnalyzer  # the mechanics (trimesh, fcl), once input is read
+    from ..geometry import check_chord
+
     if chord is not None:
         check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
     analyzer = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z, **meshes.arguments())

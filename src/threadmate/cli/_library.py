@@ -14,23 +14,14 @@ from typing import Any
 import click
 
 from .._errors import InputError
-from .._validate import check_workers
-from ..contact import CONTINUATION_STEP, ROLES, Compliance
-from ..library import (
-    CLASS_ORDER,
-    METADATA_FILE,
-    MODELS,
-    SweepInterrupted,
-    info,
-    query,
-    summary,
-    sweep,
-    write_figures,
-)
+from .._validate import MAX_STARTS, MAX_STARTS_CEILING, check_phase, check_workers
+from ..contact import Compliance
 from ._common import SPEC_HELP, Parts, emit_json, resolve_spec, writable_directory
 from ._main import cli
 from ._options import (
+    CONTINUATION_STEP,
     DEFAULTS_NOTE,
+    MODELS,
     MeshFiles,
     chord_option,
     compliance_from_options,
@@ -41,6 +32,8 @@ from ._options import (
     parts_option,
 )
 
+# The library stage (pandas, pyarrow, the mechanics) is imported where it is used, so that
+# --help and a refused option answer at once.
 __all__ = ["sweep_command", "library_group"]
 
 _RANGE_HELP = (
@@ -97,13 +90,35 @@ def _progress_bar(label: str) -> Iterator[Any]:
 
 
 def _counts_line(counts: dict[str, int]) -> str:
+    from ..library import CLASS_ORDER
+
     known = [c for c in CLASS_ORDER if counts.get(c, 0)]
     others = [c for c in counts if c not in CLASS_ORDER and counts[c]]
     return ", ".join(f"{c} {counts[c]}" for c in known + others) or "none yet"
 
 
 def _roles_line(counts: dict[str, int]) -> str:
+    from ..contact import ROLES
+
     return ", ".join(f"{r} {counts[r]}" for r in ROLES if counts.get(r, 0)) or "none"
+
+
+def progress_words(library: str | Path, done: int, total: int, model: str = "mechanics") -> str:
+    """``"4 of 8 starts done"``, and for an incomplete library whether its sweep still
+    runs (the process holding its lock) or was interrupted."""
+    from ..library import lock_holder
+
+    noun = "starts" if model == "mechanics" else "configurations"
+    words = f"{done} of {total} {noun} done"
+    if done >= total:
+        return words
+    holder = lock_holder(library)
+    if holder is not None:
+        return (
+            f"{words}: INCOMPLETE, a sweep (process {holder['pid']} on {holder['host']}, "
+            f"since {holder['started']}) is still writing it"
+        )
+    return f"{words}: INCOMPLETE, its sweep was interrupted (run the same sweep to finish it)"
 
 
 #: Largest ``--step`` of the continuation (degrees; the API's limit).
@@ -192,7 +207,9 @@ settings are stored in the library.
 Rows are written in chunks to LIBRARY, a Parquet dataset directory with its metadata.
 Running the same command on an interrupted LIBRARY resumes it (saying how many
 configurations were already done); a LIBRARY of another spec, grid, model or setting is
-refused. Progress goes to stderr. Forces in N, stiffness in N m/rad, lateral stiffness in
+refused, and so is a second sweep of a LIBRARY that a sweep is writing (naming its
+process). A grid past --max-starts is refused at once, with its count and the time it
+would take. Progress goes to stderr. Forces in N, stiffness in N m/rad, lateral stiffness in
 N/m, lengths in the spec's units, angles in degrees.
 
 {DEFAULTS_NOTE}
@@ -282,6 +299,15 @@ N/m, lengths in the spec's units, angles in degrees.
     help="Thesis model: configurations per chunk, i.e. per Parquet part (default: "
     "automatic). A mechanics chunk is one held tilt.",
 )
+@click.option(
+    "--max-starts",
+    type=int,
+    default=None,
+    metavar="N",
+    help=f"Most configurations the grid may hold (default {MAX_STARTS:,}; at most "
+    f"{MAX_STARTS_CEILING:,}): a larger grid is refused at once, with its count and the "
+    "time it would take.",
+)
 @condition_option
 @parts_option
 @mesh_files_option
@@ -309,6 +335,7 @@ def sweep_command(
     scheduler: str | None,
     chord: float | None,
     chunk_size: int | None,
+    max_starts: int | None,
     condition: str,
     as_json: bool,
     parts: Parts,
@@ -323,6 +350,11 @@ def sweep_command(
     )
     spec = resolve_spec(spec_text, condition, parts)
     writable_directory(out, "-o")
+    from ..library import Grid
+
+    Grid.parse(roll, pitch, phase)  # a bad range is refused before the library stage loads
+    from ..library import METADATA_FILE, SweepInterrupted, info, sweep
+
     existed = (out / METADATA_FILE).is_file()
     resumed: dict[str, int] = {}
     start = time.perf_counter()
@@ -357,10 +389,20 @@ def sweep_command(
                 phase_tolerance=phase_tolerance,
                 progress=callback,
                 clockwise=clockwise,
+                max_starts=max_starts,
                 **meshes.arguments(),
             )
     except SweepInterrupted as exc:
         raise click.ClickException(str(exc)) from None
+    except OSError as exc:  # the system refused a write (a full disk): what is kept, and how on
+        saved = ""
+        with contextlib.suppress(Exception):
+            doc = info(out)
+            saved = (
+                f"; {doc['done']} of {doc['configurations']} configurations are saved "
+                "there: make room and run the same command to resume"
+            )
+        raise InputError(f"cannot write {out}: {exc.strerror or exc}{saved}") from None
     except KeyboardInterrupt:
         if out.is_dir():
             with contextlib.suppress(Exception):
@@ -435,6 +477,8 @@ def _compliance_line(c: dict[str, Any], units: str) -> str:
 )
 def info_command(library: Path, as_json: bool) -> None:
     """What a library holds: spec, grid, model, settings, progress and counts."""
+    from ..library import info
+
     doc = info(library)
     if as_json:
         emit_json(_with_units(doc))
@@ -470,16 +514,30 @@ def info_command(library: Path, as_json: bool) -> None:
             f"  contact: compliance_z {contact['compliance_z']:g} {u}, "
             f"analyser {contact.get('analyzer', '?')}"
         )
-    state = "complete" if doc["complete"] else "incomplete: run the same sweep to resume"
-    click.echo(
-        f"  done: {doc['done']} of {doc['configurations']} in {doc['parts']} parts ({state})"
-    )
+    words = progress_words(library, doc["done"], doc["configurations"], doc["model"])
+    parts = f"{doc['parts']} part" + ("" if doc["parts"] == 1 else "s")
+    click.echo(f"  {words}, in {parts}" + (" (complete)" if doc["complete"] else ""))
     what = "rest states reached" if doc["model"] == "mechanics" else "states"
     click.echo(f"  {what}: {_counts_line(doc['classifications'])}")
     if doc["states"]:
         st = doc["states"]
         click.echo(f"  all {st['total']} contact states by role: {_roles_line(st['by_role'])}")
         click.echo(f"  by class: {_counts_line(st['by_class'])}")
+
+
+def _check_grid_phase(phase: float, taken: float, library: Path) -> None:
+    """Refuse a ``--phase`` that is not one of the library's grid phases (modulo 360),
+    naming them: the stability map and the counts exist at grid phases only."""
+    if abs((taken - phase + 180.0) % 360.0 - 180.0) <= 1e-6:
+        return
+    from ..library import info
+
+    phases = [f"{v:g}" for v in info(library)["metadata"]["grid"]["phase"]]
+    shown = phases if len(phases) <= 12 else [*phases[:6], "...", phases[-1]]
+    raise InputError(
+        f"--phase {phase:g} is not a phase of the library's grid ({', '.join(shown)} deg; "
+        f"{len(phases)} phases): give one of them, e.g. the nearest, {taken:g}"
+    )
 
 
 def _fmt(v: Any) -> str:
@@ -505,9 +563,12 @@ def query_command(
 ) -> None:
     """The stored contact state of a configuration of the grid: the thesis's stages, or
     the rest state the mechanics' drop reaches."""
-    for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
+    for name, value in (("roll", roll), ("pitch", pitch)):
         if not math.isfinite(value):
             raise InputError(f"--{name} {value:g} is not a finite angle")
+    check_phase("--phase", phase)
+    from ..library import query
+
     doc = query(library, roll, pitch, phase, nearest=nearest)
     if as_json:
         emit_json(_with_units(doc))
@@ -615,20 +676,29 @@ def _echo_thesis(rec: dict[str, Any], u: str) -> None:
 def summary_command(library: Path, phase: float | None, figdir: Path | None, as_json: bool) -> None:
     """Counts of the classes over the configurations (the mechanics: of the rest state
     each drop reaches, and of all states by role), region combinations, figures."""
-    if phase is not None and not math.isfinite(phase):
-        raise InputError(f"--phase {phase:g} is not a finite angle")
+    if phase is not None:
+        check_phase("--phase", phase)
     if figdir is not None:
         writable_directory(figdir, "-o")
+    from ..contact import ROLES
+    from ..library import summary, write_figures
+
     doc = summary(library, phase=phase)
+    if phase is not None:
+        _check_grid_phase(phase, doc["at_phase"]["phase"], library)
     if figdir is not None:
         doc["figures"] = {k: str(v) for k, v in write_figures(library, figdir, phase).items()}
     doc["units"] = _units(doc["model"], doc["units"])
+    doc["complete"] = doc["done"] >= doc["configurations"]
     if as_json:
         emit_json(doc)
         return
     done = doc["done"]
     mech = doc["model"] == "mechanics"
-    click.echo(f"{doc['library']} ({doc['model']} model): {doc['grid']}; {done} done")
+    words = progress_words(library, done, doc["configurations"], doc["model"])
+    click.echo(f"{doc['library']} ({doc['model']} model): {doc['grid']}; {words}")
+    if not doc["complete"]:
+        click.echo("The counts below are of those done only.")
     if mech:
         click.echo("Rest state reached by the drop at each start:")
     for c, n in doc["counts"].items():

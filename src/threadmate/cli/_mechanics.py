@@ -1,6 +1,6 @@
 """``threadmate settle`` and ``threadmate search``: the mechanics of the compliance-held bolt.
 
-``settle`` prints one rest state (design/mechanics.md: a local minimum of the potential
+``settle`` prints one rest state (docs/mechanics.md: a local minimum of the potential
 under the axial force and the compliance's spring, with the contact forces that hold it);
 ``search`` simulates the counter-clockwise search from a start, its events and the snap.
 Both are thin wrappers over :func:`threadmate.contact.settle` and
@@ -12,40 +12,31 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
 
 from .._errors import InputError, NoPathError
-from .._figures import new_figure, save_figure
-from ..contact import (
-    CONTINUATION_STEP,
-    MAX_TILT,
-    SCREW_IN,
-    Compliance,
-    ContactAnalyzer,
-    Mechanics,
-    RestState,
-    ScrewResult,
-    SearchResult,
-    screw,
-    search,
-    settle,
-)
-from ..geometry import ThreadSpec, check_chord
+from .._validate import MAX_TILT, check_search_steps
+from ..contact import Compliance
 from ._common import (
     SPEC_HELP,
     Parts,
     check_configuration_options,
+    echo_err,
     emit_json,
     resolve_spec,
+    shown_phase,
+    turn_words,
     writable_output,
 )
 from ._library import _progress_bar
 from ._main import cli
 from ._options import (
+    CONTINUATION_STEP,
     DEFAULTS_NOTE,
+    SCREW_IN,
     MeshFiles,
     chord_option,
     compliance_from_options,
@@ -56,6 +47,13 @@ from ._options import (
     mesh_summary,
     parts_option,
 )
+
+# The mechanics (scipy, trimesh, fcl) and the figures (matplotlib) are imported where they
+# are used, so that --help and a refused option answer at once.
+if TYPE_CHECKING:
+    from .._figures import EventLabel
+    from ..contact import Mechanics, RestState, ScrewResult, SearchEvent, SearchResult
+    from ..geometry import ThreadSpec
 
 __all__ = ["search_command", "settle_command", "screw_command", "plot_search", "plot_screw"]
 
@@ -134,6 +132,8 @@ def _setup(
     )
     spec = resolve_spec(spec_text, condition, parts)
     if chord is not None:
+        from ..geometry import check_chord
+
         check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
     compliance.check_for(spec.pitch)
     return spec, compliance
@@ -144,6 +144,8 @@ def _mechanics(
 ) -> Mechanics:
     """The mechanics on the generated meshes or the CAD meshes given (``--bolt-mesh``,
     ``--nut-mesh``: loaded and checked by the analyser; notes and warnings on stderr)."""
+    from ..contact import ContactAnalyzer, Mechanics
+
     analyzer = ContactAnalyzer(
         spec, chord=chord, compliance_z=compliance.compliance_z, **meshes.arguments()
     )
@@ -168,13 +170,15 @@ def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
     u = rest.units
     s = rest.state
     touching = s.touching
+    unsettled = _unsettled(rest)
     lines = [
-        f"{_name(spec)}: rest state of the bolt held at roll {rest.held_roll:g}, "
-        f"pitch {rest.held_pitch:g} deg, turned to phase {rest.phase:g} deg "
-        f"(lengths in {u})",
+        f"{_name(spec)}: {'rest state' if unsettled is None else 'NO rest state'} of the bolt "
+        f"held at roll {rest.held_roll:g}, pitch {rest.held_pitch:g} deg, turned to phase "
+        f"{rest.phase:g} deg (lengths in {u})",
         *_parameters(rest.parameters, u),
         f"Class: {s.classification}",
-        f"Rest pose: roll {s.roll:.4f}  pitch {s.pitch:.4f} deg;  origin "
+        ("Rest pose" if unsettled is None else f"Not a rest state ({unsettled}); where it stopped")
+        + f": roll {s.roll:.4f}  pitch {s.pitch:.4f} deg;  origin "
         f"({s.origin[0]:.6f}, {s.origin[1]:.6f}, {s.origin[2]:.6f}) {u};  "
         f"compliance centre height {s.centre[2]:.6f} {u}",
         f"Contacts ({len(touching)} touching):",
@@ -195,10 +199,9 @@ def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
     )
     b = rest.balance
     if "force" in b and "moment" in b:
-        note = "" if b.get("converged", 1.0) else "   (the descent did NOT converge)"
         lines.append(
             f"Balance residuals (relative to the load): force {b['force']:.2g}, "
-            f"moment {b['moment']:.2g}{note}"
+            f"moment {b['moment']:.2g}"
         )
     if rest.path:
         lines.append(f"Path from first contact ({len(rest.path)} unstable state(s)):")
@@ -208,6 +211,33 @@ def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
     else:
         lines.append("Path from first contact: none (the first contact is at rest)")
     return "\n".join(lines)
+
+
+def _unsettled(rest: RestState) -> str | None:
+    """Why ``rest`` is not a rest state (its descent did not converge), or None when it
+    is one."""
+    b = rest.balance
+    if bool(b.get("converged", True)):
+        return None
+    force = float(rest.parameters.get("force", math.nan))
+    res = b.get("force", math.nan)
+    return (
+        f"the descent did not converge: force residual {_num(res * force, '.3g')} N "
+        f"({_num(res, '.2g')} of the load), moment residual {_num(b.get('moment'), '.2g')} of "
+        f"the load times the major radius, after {rest.iterations} steps"
+    )
+
+
+def _settle_document(rest: RestState) -> dict[str, Any]:
+    """``settle --json``: the rest state's document, ``converged`` a boolean (top level
+    and in ``balance``; so is ``arrived``)."""
+    doc = rest.to_dict()
+    balance = doc["balance"]
+    for key in ("converged", "arrived"):
+        if key in balance:
+            balance[key] = bool(balance[key])
+    doc["converged"] = bool(balance.get("converged", True))
+    return doc
 
 
 def _search_text(spec: ThreadSpec, run: SearchResult, step: float) -> str:
@@ -230,14 +260,14 @@ def _search_text(spec: ThreadSpec, run: SearchResult, step: float) -> str:
         over = "over the turns searched"
     else:
         lines.append(
-            f"Snap: at phase {run.snap.phase:.4f} deg after a turn of "
-            f"{run.snap_turn:.4f} deg; drop (click) {run.snap.drop:.6f} {u}"
+            f"Snap: at phase {shown_phase(run.snap.phase):.4f} deg after a turn of "
+            f"{turn_words(run.snap_turn or 0.0)}; drop (click) {run.snap.drop:.6f} {u}"
         )
         lo, hi = run.snap_window or (run.snap.phase, run.snap.phase)
         if hi > lo:
             lines.append(
-                f"  window: the bolt may drop anywhere from phase {lo:.2f} to {hi:.2f} deg "
-                "(a shallow basin before the snap)"
+                f"  window: the bolt may drop anywhere from phase {shown_phase(lo):.2f} to "
+                f"{shown_phase(hi):.2f} deg (a shallow basin before the snap)"
             )
         over = "to the snap"
     lines.append(
@@ -249,16 +279,25 @@ def _search_text(spec: ThreadSpec, run: SearchResult, step: float) -> str:
         lines.append(f"Peak driver torque: {max(torques, key=abs):.6g} N m")
     lines.append(f"Events ({len(run.events)}):")
     if run.events:
-        lines.append(
-            f"  {'phase deg':>10}  {'kind':<14} {'drop ' + u:>11} "
-            f"{'tilt chg deg':>12}  before -> after"
-        )
-        for e in run.events:
-            lines.append(
-                f"  {e.phase:10.4f}  {e.kind:<14} {e.drop:11.6f} "
-                f"{e.tilt_change:12.4f}  {e.before or '-'} -> {e.after or '-'}"
-            )
+        lines.append(_events_head(u))
+        lines += [_event_line(e, run.start_phase) for e in run.events]
     return "\n".join(lines)
+
+
+def _events_head(u: str) -> str:
+    """The head of a turn's table of events: phases wrapped into [0, 360), the turn from
+    the start beside them."""
+    return (
+        f"  {'phase deg':>10} {'turned deg':>10}  {'kind':<14} {'drop ' + u:>11} "
+        f"{'tilt chg deg':>12}  before -> after"
+    )
+
+
+def _event_line(e: SearchEvent, start_phase: float) -> str:
+    return (
+        f"  {shown_phase(e.phase):10.4f} {abs(e.phase - start_phase):10.4f}  {e.kind:<14} "
+        f"{e.drop:11.6f} {e.tilt_change:12.4f}  {e.before or '-'} -> {e.after or '-'}"
+    )
 
 
 # -- figure ----------------------------------------------------------------------------------
@@ -285,7 +324,7 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
     outcome = (
         f"no snap within {run.turns:g} turn(s)"
         if run.snap is None
-        else f"snap at {run.snap.phase:.2f} deg after {run.snap_turn:.2f} deg"
+        else f"snap at {shown_phase(run.snap.phase):.2f} deg after {run.snap_turn:.2f} deg"
     )
     torque = np.array([s.driver_torque for s in run.states])
     return _plot_turn(spec, run, "search", outcome, torque, "snap", path)
@@ -294,7 +333,7 @@ def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
 def plot_screw(spec: ThreadSpec, run: ScrewResult, path: str | Path) -> Path:
     """A clockwise start: height of the compliance centre, tilt of the bolt axis and the
     tightening torque against phase, events and the decision marked."""
-    where = "" if run.decided_phase is None else f" at {run.decided_phase:.2f} deg"
+    where = "" if run.decided_phase is None else f" at {shown_phase(run.decided_phase):.2f} deg"
     torque = np.array(run.torques)
     return _plot_turn(spec, run, "clockwise start", f"{run.outcome}{where}", torque, "", path)
 
@@ -310,6 +349,8 @@ def _plot_turn(
 ) -> Path:
     """Height, tilt and driver torque of a turn's states against phase, its events
     marked (those of kind ``marked`` in bold red, with their drop)."""
+    from .._figures import label_events, new_figure, save_figure
+
     path = Path(path)
     states = run.states
     phase = np.array([s.phase for s in states])
@@ -339,23 +380,6 @@ def _plot_turn(
                 ls="-" if bold else "--",
                 zorder=0,
             )
-    top = axes[0]
-    for e in run.events:
-        bold = e.kind == marked
-        text = f"{e.kind}: click {e.drop:.4g} {run.units}" if bold else e.kind
-        top.annotate(
-            text,
-            (e.phase, 1.0),
-            xycoords=("data", "axes fraction"),
-            xytext=(2, -4),
-            textcoords="offset points",
-            rotation=90,
-            va="top",
-            ha="left",
-            fontsize="small" if bold else "x-small",
-            fontweight="bold" if bold else "normal",
-            color="#d62728" if bold else "0.35",
-        )
     axes[-1].set_xlabel("phase [deg]")
     if phase.size > 1 and phase[-1] < phase[0]:
         axes[-1].invert_xaxis()  # turned clockwise: time runs right to left
@@ -368,7 +392,19 @@ def _plot_turn(
         f"mu {p['friction']:g}, work {run.work:.4g} mJ",
         fontsize="medium",
     )
+    # Labels last (they are placed on the final layout, none over another).
+    label_events(axes[0], [_event_label(e, e.kind == marked, run.units) for e in run.events])
     return save_figure(fig, path, _FIGURE_FORMATS[path.suffix.lower()])
+
+
+def _event_label(e: SearchEvent, bold: bool, units: str) -> EventLabel:
+    """An event's label on a turn's figure (the marked kind in bold red, with its drop)."""
+    from .._figures import EventLabel
+
+    if bold:
+        style = {"fontsize": "small", "fontweight": "bold", "color": "#d62728"}
+        return EventLabel(e.phase, f"{e.kind}: click {e.drop:.4g} {units}", style)
+    return EventLabel(e.phase, e.kind, {"fontsize": "x-small", "color": "0.35"})
 
 
 # -- commands --------------------------------------------------------------------------------
@@ -410,6 +446,7 @@ def _check_turning(turns: float, step: float) -> None:
         raise InputError(f"--turns {turns:g} is out of range: give turns within (0, {MAX_TURNS:g}]")
     if not (math.isfinite(step) and 0 < step <= MAX_STEP):
         raise InputError(f"--step {step:g} is out of range: give degrees within (0, {MAX_STEP:g}]")
+    check_search_steps(turns, step)
 
 
 def _check_torque_limit(torque_limit: float | None) -> None:
@@ -425,7 +462,7 @@ The tool holds the bolt's tilt at ROLL and PITCH through a rotational stiffness 
 compliance centre, spins it to PHASE and presses it down with FORCE (degrees,
 conventions.md). The bolt comes down to first contact and tips, pivots and rolls on its
 contacts until the contact forces balance the load and the spring: a local minimum of the
-potential F z_C + k/2 |tilt - held tilt|^2 (design/mechanics.md). Prints the class
+potential F z_C + k/2 |tilt - held tilt|^2 (docs/mechanics.md). Prints the class
 (stable: the contacts alone hold the load; quasi-stable: the rest needs the compliance;
 in-phase: the bolt dropped into the thread), the rest pose, each touching contact with its
 normal force, the potential (mJ), the driver's torque (N m) and the unstable states passed
@@ -470,9 +507,14 @@ def settle_command(
         parts,
     )
     mech = _mechanics(spec, compliance, chord, meshes)
+    from ..contact import settle
+
     rest = settle(mech, roll, pitch, phase)
+    unsettled = _unsettled(rest)
+    if unsettled is not None:
+        echo_err(f"threadmate: warning: not a rest state: {unsettled}")
     if as_json:
-        emit_json({**rest.to_dict(), "mesh": mech.analyzer.mesh_info})
+        emit_json({**_settle_document(rest), "mesh": mech.analyzer.mesh_info})
     else:
         click.echo(_settle_text(spec, rest))
         if meshes.given:
@@ -486,7 +528,7 @@ def settle_command(
 From the rest state at the held tilt ROLL, PITCH and the start PHASE, the driver turns the
 bolt the way that unscrews it (counter-clockwise for a right-hand thread) in steps of
 --step degrees, and the bolt follows its rest state (a quasi-static continuation,
-design/mechanics.md). Contact changes and jumps (the rest state ceases to exist and the
+docs/mechanics.md). Contact changes and jumps (the rest state ceases to exist and the
 bolt tips, rolls or drops) are located by bisection to 0.01 deg; the jump into the thread
 is the snap, and its drop of the compliance centre the click a sensor feels. Prints the
 start, the snap (phase, turn, drop) and the driver's work to it (mJ: total, against
@@ -574,6 +616,8 @@ def search_command(
         parts,
     )
     mech = _mechanics(spec, compliance, chord, meshes)
+    from ..contact import search
+
     with _progress_bar("search (deg)") as callback:
         run = search(
             mech,
@@ -586,6 +630,11 @@ def search_command(
             progress=callback,
             screw_in=screw_in,
             torque_limit=torque_limit,
+        )
+    if run.states and run.states[0].classification == "unstable":
+        echo_err(
+            "threadmate: warning: the start is not a rest state (its descent did not "
+            "converge): the search begins where the descent stopped"
         )
     _emit(run, _search_text(spec, run, step), as_json, mech, meshes, figure, plot_search)
     if run.snap is None:
@@ -607,7 +656,12 @@ def _screw_text(spec: ThreadSpec, run: ScrewResult, step: float) -> str:
         f"Start: {start.classification} on {start.region_combination or '-'}, "
         f"compliance centre height {start.centre[2]:.6f} {u}",
         f"Outcome: {run.outcome}"
-        + ("" if run.decided_phase is None else f" at phase {run.decided_phase:.4f} deg"),
+        + (
+            ""
+            if run.decided_phase is None
+            else f" at phase {shown_phase(run.decided_phase):.4f} deg after a turn of "
+            f"{turn_words(abs(run.decided_phase - run.start_phase))}"
+        ),
         f"  {run.reason}",
         f"Descent over the last 90 deg turned: {_num(run.descent, '.6g')} {u} per turn "
         f"(lead {run.lead:g} {u})",
@@ -617,11 +671,9 @@ def _screw_text(spec: ThreadSpec, run: ScrewResult, step: float) -> str:
         f"(limit {run.torque_limit:.6g} N m)",
         f"Events ({len(run.events)}):",
     ]
-    for e in run.events:
-        lines.append(
-            f"  {e.phase:10.4f}  {e.kind:<14} {e.drop:11.6f} "
-            f"{e.tilt_change:12.4f}  {e.before or '-'} -> {e.after or '-'}"
-        )
+    if run.events:
+        lines.append(_events_head(u))
+        lines += [_event_line(e, run.start_phase) for e in run.events]
     return "\n".join(lines)
 
 
@@ -706,6 +758,8 @@ def screw_command(
         parts,
     )
     mech = _mechanics(spec, compliance, chord, meshes)
+    from ..contact import screw
+
     with _progress_bar("screw (deg)") as callback:
         run = screw(
             mech,

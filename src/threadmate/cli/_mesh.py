@@ -7,8 +7,8 @@ from typing import Any
 
 import click
 
+from .._errors import InputError
 from .._io import atomic_path
-from ..geometry import stl_header, thread_meshes, write_stl
 from ._common import (
     SPEC_HELP,
     Parts,
@@ -30,17 +30,27 @@ def mesh_document(
     chord: float | None = None,
     condition: str = "mean",
     parts: Parts | None = None,
+    force: bool = False,
 ) -> dict[str, Any]:
     """Tessellate a designation or spec file into ``out_dir/bolt.stl`` and ``nut.stl``.
 
     Both files are written through temporary files and renamed only once both are
-    complete, so a failure leaves neither half-written. Returns the ``--json`` document.
+    complete, so a failure leaves neither half-written. A ``bolt.stl`` or ``nut.stl``
+    already in ``out_dir`` is refused unless ``force``. Returns the ``--json`` document.
     """
     out = writable_directory(out_dir)
     paths = {"bolt": out / "bolt.stl", "nut": out / "nut.stl"}
     for path in paths.values():  # a folder in the way of a file (the other would land)
         writable_output(path)
+    there = [str(p) for p in paths.values() if p.exists()]
+    if there and not force:
+        raise InputError(
+            f"-o {out_dir}: {' and '.join(there)} already "
+            f"{'exist' if len(there) > 1 else 'exists'}; pass --force to overwrite"
+        )
     spec = resolve_spec(text, condition, parts)
+    from ..geometry import stl_header, thread_meshes, write_stl  # trimesh, once input is read
+
     bolt, nut = thread_meshes(spec, chord)
     try:
         # Both land under temporary names first; the renames happen only after both writes.
@@ -80,6 +90,9 @@ def mesh_document(
     type=click.Path(file_okay=False, path_type=Path),
     help="Folder for bolt.stl and nut.stl (created if missing).",
 )
+@click.option(
+    "--force", is_flag=True, help="Overwrite a bolt.stl or nut.stl already in the folder."
+)
 @chord_option
 @condition_option
 @parts_option
@@ -87,13 +100,14 @@ def mesh_document(
 def mesh(
     designation: str,
     out_dir: Path,
+    force: bool,
     chord: float | None,
     condition: str,
     as_json: bool,
     parts: Parts,
 ) -> None:
     """Tessellate a thread pair and write its two STL files."""
-    doc = mesh_document(designation, out_dir, chord, condition.lower(), parts)
+    doc = mesh_document(designation, out_dir, chord, condition.lower(), parts, force)
     if as_json:
         emit_json(doc)
         return

@@ -10,24 +10,22 @@ from typing import Any
 import click
 
 from .._errors import InputError, NoPathError
-from .._io import atomic_write_text
-from ..contact import MAX_TILT
-from ..network import (
-    MAX_K,
-    WEIGHT_FORMULA,
-    format_recommendation,
-    from_library,
-    k_best_paths,
-    no_path_document,
-    plot_recommendation,
-    recommend,
-    start_outcomes,
-    write_graphml,
-    write_node_link,
-    write_recommendation,
+from .._validate import MAX_TILT, check_phase
+from ._common import (
+    check_angle,
+    echo_err,
+    emit_json,
+    shown_phase,
+    turn_words,
+    writable_output,
+    write_failed,
 )
-from ._common import check_angle, echo_err, emit_json, writable_output
+from ._library import progress_words
 from ._main import cli
+from ._options import MAX_K
+
+# The graph stage (networkx, pandas, matplotlib) is imported where it is used, so that
+# --help and a refused option answer at once.
 
 __all__ = ["network_command", "path_command", "recommend_command"]
 
@@ -41,6 +39,20 @@ def _out_file(path: str, option: str, suffixes: tuple[str, ...] | None = None) -
     if suffixes is not None and out.suffix.lower() not in suffixes:
         raise InputError(f"{option} {path}: expected a file ending in {' or '.join(suffixes)}")
     return writable_output(out, option)
+
+
+def _check_once(libraries: tuple[str, ...]) -> None:
+    """Refuse a library given twice: every row of the ranking would be there twice."""
+    seen: dict[Path, str] = {}
+    for lib in libraries:
+        key = Path(lib).resolve()
+        if key in seen:
+            given = lib if lib == seen[key] else f"{seen[key]} and {lib}"
+            raise InputError(
+                f"library {given} given twice: give each library once (recommend compares "
+                "the compliances of different libraries)"
+            )
+        seen[key] = lib
 
 
 def _graph_options(func: Any) -> Any:
@@ -73,6 +85,8 @@ def _graph_options(func: Any) -> Any:
 
 def _summary(graph: Any) -> tuple[dict[str, Any], Any]:
     """Counts and the outcome of every start."""
+    from ..network import start_outcomes
+
     kinds: dict[str, int] = {}
     labels: dict[str, int] = {}
     for _, _, d in graph.edges(data=True):
@@ -84,6 +98,8 @@ def _summary(graph: Any) -> tuple[dict[str, Any], Any]:
     out = start_outcomes(graph)
     ok = out[~out["failed"]]
     snapped = ok[ok["snapped"]]
+    # A start whose descent did not converge is not a rest state (its class: unstable).
+    not_at_rest = ok.loc[ok["classification"] == "unstable", "node"].tolist()
     return {
         "nodes": graph.number_of_nodes(),
         "edges": graph.number_of_edges(),
@@ -92,6 +108,7 @@ def _summary(graph: Any) -> tuple[dict[str, Any], Any]:
         "edge_labels": labels,
         "starts": len(out),
         "failed_starts": out.loc[out["failed"], "node"].tolist(),
+        "not_at_rest": not_at_rest,
         "snap_within_one_turn": len(snapped),
         "never_snap": ok.loc[~ok["snapped"], "node"].tolist(),
         "passes_unstable": ok.loc[ok["passes_unstable"], "node"].tolist(),
@@ -143,16 +160,32 @@ def network_command(
     out = _out_file(output, "-o", (".graphml", ".xml"))
     link = _out_file(json_graph, "--json-graph", (".json",)) if json_graph else None
     csv = _out_file(starts_csv, "--starts-csv", (".csv",)) if starts_csv else None
+    from ..network import (
+        WEIGHT_FORMULA,
+        from_library,
+        start_outcomes_csv,
+        write_graphml,
+        write_node_link,
+    )
+
     t0 = time.perf_counter()
     graph = from_library(
         library, active=active, jump_penalty=jump_penalty, move_penalty=move_penalty
     )
     doc, outcomes = _summary(graph)
-    written = [write_graphml(graph, out)]
-    if link is not None:
-        written.append(write_node_link(graph, link))
-    if csv is not None:
-        written.append(atomic_write_text(csv, outcomes.to_csv(index=False)))
+    # The files carry each state's rotation and contact points and normals from the
+    # library (the graph in memory leaves them there).
+    target = out  # the file being written, for a write the system refuses (a full disk)
+    try:
+        written = [write_graphml(graph, out, library=library)]
+        if link is not None:
+            target = link
+            written.append(write_node_link(graph, link, library=library))
+        if csv is not None:
+            target = csv
+            written.append(start_outcomes_csv(outcomes, csv, graph.graph["units"]))
+    except OSError as exc:
+        raise write_failed(target, exc) from None
     doc.update(
         library=library,
         graphml=str(out),
@@ -162,10 +195,20 @@ def network_command(
         weight_formula=WEIGHT_FORMULA,
         active=active,
         seconds=round(time.perf_counter() - t0, 3),
+        **{k: graph.graph[k] for k in ("complete", "done", "configurations")},
     )
+    if doc["not_at_rest"]:
+        echo_err(
+            f"threadmate: warning: {len(doc['not_at_rest'])} start(s) did not reach a rest "
+            f"state (the descent did not converge): {', '.join(doc['not_at_rest'][:5])}"
+            + (" ..." if len(doc["not_at_rest"]) > 5 else "")
+        )
     if as_json:
         emit_json(doc)
         return
+    if not doc["complete"]:
+        words = progress_words(library, doc["done"], doc["configurations"])
+        click.echo(f"library {library}: {words}; the network holds the states of those done")
     click.echo(
         f"network of {library}: {doc['nodes']} states, {doc['edges']} edges "
         f"({', '.join(f'{v} {k}' for k, v in sorted(doc['edge_kinds'].items()))})"
@@ -221,7 +264,9 @@ def path_command(
     """
     check_angle("roll", roll, MAX_TILT)
     check_angle("pitch", pitch, MAX_TILT)
-    check_angle("phase", phase, 1e6)
+    check_phase("--phase", phase)
+    from ..network import from_library, k_best_paths, no_path_document
+
     graph = from_library(
         library, active=active, jump_penalty=jump_penalty, move_penalty=move_penalty
     )
@@ -245,8 +290,9 @@ def path_command(
         title = "least-resistance path" if rank == 1 else f"alternative {rank}"
         click.echo(
             f"{title}: {len(result.path) - 1} transitions, cost {result.cost:.4g} mJ, "
-            f"turn {result.turn:.2f} deg, snap at phase {result.snap['phase']:.2f} "
-            f"deg, click {result.snap['drop']:.4g} {graph.graph['units']}"
+            f"turn {turn_words(result.turn, '.2f')}, snap at phase "
+            f"{shown_phase(result.snap['phase']):.2f} deg, click "
+            f"{result.snap['drop']:.4g} {graph.graph['units']}"
             + ("; passes an unstable transition" if result.passes_unstable else "")
         )
         click.echo(f"  {result.path[0]}  ({graph.nodes[result.path[0]]['classification']})")
@@ -282,12 +328,19 @@ def path_command(
     default=None,
     help="Also write the recommendation's JSON document to this file.",
 )
+@click.option(
+    "--partial",
+    is_flag=True,
+    help="Rank an incomplete library's starts too (its sweep unfinished or still running), "
+    "with a note of how many are done; without it such a library is refused.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
 def recommend_command(
     libraries: tuple[str, ...],
     roll_spread: float | None,
     plot: str | None,
     output: str | None,
+    partial: bool,
     as_json: bool,
 ) -> None:
     """Recommend the SRCC setting from one or more LIBRARIES (same thread and grid; give
@@ -298,13 +351,32 @@ def recommend_command(
     the snap, the click, the peak torque; ranked by snap share, then turn, then work; and
     the pick that holds whatever the nut's thread-start azimuth.
     """
+    _check_once(libraries)
     fig = _out_file(plot, "--plot", _FIGURE_SUFFIXES) if plot else None
     out = _out_file(output, "-o", (".json",)) if output else None
-    rec = recommend([from_library(lib) for lib in libraries], roll_spread)
-    if out is not None:
-        write_recommendation(rec, out)
-    if fig is not None:
-        plot_recommendation(rec, fig)
+    from ..network import (
+        format_recommendation,
+        from_library,
+        plot_recommendation,
+        recommend,
+        write_recommendation,
+    )
+
+    graphs = [from_library(lib) for lib in libraries]
+    for lib, g in zip(libraries, graphs, strict=True):
+        if not g.graph["complete"] and not partial:
+            words = progress_words(lib, g.graph["done"], g.graph["configurations"])
+            raise InputError(
+                f"library {lib}: {words}. A ranking of the held tilts swept so far may pick "
+                "one the rest would beat: finish the sweep, or pass --partial"
+            )
+    rec = recommend(graphs, roll_spread, partial=partial)
+    for path, write in ((out, write_recommendation), (fig, plot_recommendation)):
+        if path is not None:
+            try:
+                write(rec, path)
+            except OSError as exc:  # a full disk
+                raise write_failed(path, exc) from None
     if as_json:
         doc = rec.to_dict()
         doc["libraries"] = list(libraries)

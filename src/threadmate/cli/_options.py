@@ -2,7 +2,8 @@
 the compliance's parameters, declared once.
 
 The defaults are those of :class:`threadmate.contact.Compliance`; the values are checked by
-it (one message naming the parameter and its range).
+it (one message naming the parameter and its range). Also the few API values that the help
+of the commands quotes, restated so that ``--help`` imports no stage.
 """
 
 from __future__ import annotations
@@ -18,10 +19,17 @@ import click
 from .._errors import InputError
 from .._units import MM_PER_UNIT
 from ..contact import Compliance
-from ..geometry import DEFAULT_CHORD, POINT_FORMS, material_condition
+from ..geometry import POINT_FORMS, material_condition
 from ._common import Parts
 
 __all__ = [
+    "CONTINUATION_STEP",
+    "DEFAULT_CHORD",
+    "DEFAULT_DESIGNATION",
+    "MAX_K",
+    "MODELS",
+    "RUN_GRID",
+    "SCREW_IN",
     "COMPLIANCE_PARAMETERS",
     "DEFAULTS_NOTE",
     "compliance_from_options",
@@ -36,6 +44,26 @@ __all__ = [
     "echo_mesh_notes",
     "mesh_summary",
 ]
+
+# -- the API's values that the options' help quotes -----------------------------------------
+# Every command's help is built when the command registers, and ``threadmate --help`` or
+# ``threadmate CMD --help`` must answer without importing the stages that define these
+# values (scipy, trimesh, fcl, pandas, matplotlib behind them). So each is restated here
+# beside the name that owns it; tests/test_cli_contract.py checks that they agree.
+#: :data:`threadmate.contact.CONTINUATION_STEP`, degrees.
+CONTINUATION_STEP = 5.0
+#: :data:`threadmate.contact.SCREW_IN`, degrees.
+SCREW_IN = 180.0
+#: :data:`threadmate.geometry.DEFAULT_CHORD`, per unit.
+DEFAULT_CHORD: dict[str, float] = {"in": 5e-6, "mm": 5e-6 * MM_PER_UNIT["in"]}
+#: :data:`threadmate.library.MODELS`.
+MODELS = ("mechanics", "thesis")
+#: :data:`threadmate.network.MAX_K`.
+MAX_K = 20
+#: :data:`threadmate.pipeline.DEFAULT_DESIGNATION`.
+DEFAULT_DESIGNATION = "1/4-20 UNC-2A/2B"
+#: :data:`threadmate.pipeline.RUN_GRID`.
+RUN_GRID = {"roll": "-2:2:1", "pitch": "-2:2:1", "phase": "0:340:20"}
 
 #: The defaults of the options are those of :class:`Compliance`.
 _D = Compliance()

@@ -2,24 +2,13 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from .._errors import InputError
-from ..geometry import ThreadSpec
-from ..planar import (
-    CriticalPhase,
-    PlanarState,
-    critical_phases,
-    figure_format,
-    in_phase_window,
-    planar_state,
-    plot_pivot_axes,
-    plot_region_disk,
-)
+from .._validate import check_phase
 from ._common import (
     SPEC_HELP,
     Parts,
@@ -30,6 +19,10 @@ from ._common import (
 )
 from ._main import cli
 from ._options import condition_option, parts_option
+
+if TYPE_CHECKING:
+    from ..geometry import ThreadSpec
+    from ..planar import CriticalPhase, PlanarState
 
 __all__ = ["planar"]
 
@@ -61,8 +54,8 @@ angles in degrees.
     type=float,
     default=DEFAULT_PHASE,
     show_default=True,
-    help="Bolt phase in degrees (any finite value, taken modulo 360). The default "
-    "is the thesis's example phase, where two contacts show.",
+    help="Bolt phase in degrees (taken modulo 360). The default is the thesis's "
+    "example phase, where two contacts show.",
 )
 @condition_option
 @parts_option
@@ -93,8 +86,9 @@ def planar(
     parts: Parts,
 ) -> None:
     """Report the planar contact state (see the command's help)."""
-    if not math.isfinite(phase):
-        raise InputError(f"--phase {phase} is not a finite number of degrees")
+    check_phase("--phase", phase)
+    if plot is not None or pivot_plot is not None:
+        from ..planar import figure_format  # matplotlib, for a figure asked for
     # Refuse bad figure names before any work, so that nothing is half done.
     if plot is not None:
         figure_format(plot)
@@ -108,6 +102,14 @@ def planar(
         if plot is not None and plot.resolve() == pivot_plot.resolve():
             raise InputError(f"--plot and --pivot-plot name the same file: {plot}")
     spec = resolve_spec(spec_text, condition, parts)
+    from ..planar import (  # scipy and matplotlib, once the input is read
+        critical_phases,
+        in_phase_window,
+        planar_state,
+        plot_pivot_axes,
+        plot_region_disk,
+    )
+
     # The planar model is the thesis's: the thread sections flush at the end faces. A
     # point or countersink is not in it; say so rather than let it pass for them.
     notes = []

@@ -9,14 +9,15 @@ from pathlib import Path
 import click
 
 from .._errors import InputError
-from .._validate import check_workers
-from ..contact import CONTINUATION_STEP, MAX_TILT
-from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID, run_pipeline
-from ._common import SPEC_HELP, Parts, emit_json, resolve_spec, writable_directory
+from .._validate import MAX_TILT, check_workers
+from ._common import SPEC_HELP, Parts, echo_err, emit_json, resolve_spec, writable_directory
 from ._library import _RANGE_HELP, _progress_bar
 from ._main import cli
 from ._options import (
+    CONTINUATION_STEP,
+    DEFAULT_DESIGNATION,
     DEFAULTS_NOTE,
+    RUN_GRID,
     MeshFiles,
     chord_option,
     compliance_from_options,
@@ -47,7 +48,8 @@ def _values(text: str | None, option: str) -> list[float]:
 
 Sweeps (or resumes, or reuses) the mechanics library DIR/library, builds the network,
 recommends the SRCC setting and writes DIR/network.graphml, DIR/starts.csv,
-DIR/recommendation.json, DIR/figures/ and DIR/report.md. Default: {DEFAULT_DESIGNATION}
+DIR/recommendation.json, DIR/figures/ and DIR/report.md. DIR must be new, empty or a
+previous run's folder (resumed, its files written again). Default: {DEFAULT_DESIGNATION}
 on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["phase"]}
 (degrees). {SPEC_HELP} {DEFAULTS_NOTE}""",
 )
@@ -153,24 +155,48 @@ def run_command(
     spec = resolve_spec(spec_text, condition, parts)
     for c in compliances:
         c.check_for(spec.pitch)
-    with _progress_bar("sweep") as callback:
-        result = run_pipeline(
-            spec,
-            out,
-            roll=roll,
-            pitch=pitch,
-            phase=phase,
-            compliances=compliances,
-            workers=workers,
-            scheduler=scheduler,
-            chord=chord,
-            roll_spread=roll_spread,
-            step=step,
-            progress=callback,
-            clockwise=clockwise,
-            **meshes.arguments(),
-        )
+    from ..library import Grid
+
+    # A bad range is refused before the stages load (the pipeline checks it again).
+    given = {"roll": roll, "pitch": pitch, "phase": phase}
+    Grid.parse(*(RUN_GRID[k] if v is None else v for k, v in given.items()))
+    from ..pipeline import check_run_folder, run_pipeline  # every stage, once the options are read
+
+    try:  # a folder of the user's is not written into (a previous run's is resumed)
+        check_run_folder(out)
+    except InputError as exc:
+        raise InputError(f"-o {exc}") from None
+
+    try:
+        with _progress_bar("sweep") as callback:
+            result = run_pipeline(
+                spec,
+                out,
+                roll=roll,
+                pitch=pitch,
+                phase=phase,
+                compliances=compliances,
+                workers=workers,
+                scheduler=scheduler,
+                chord=chord,
+                roll_spread=roll_spread,
+                step=step,
+                progress=callback,
+                clockwise=clockwise,
+                **meshes.arguments(),
+            )
+    except OSError as exc:  # the system refused a write (a full disk)
+        raise InputError(
+            f"cannot write {exc.filename or out}: {exc.strerror or exc} (every file written "
+            "is whole: make room and run the same command to go on)"
+        ) from None
     echo_mesh_notes(result.meshes, spec.units)
+    unsettled = result.counts.get("starts unstable", 0)  # a start's class when not at rest
+    if unsettled:
+        echo_err(
+            f"threadmate: warning: {unsettled} start(s) did not reach a rest state (the "
+            "descent did not converge): left out of the ranking; report.md lists them"
+        )
     if as_json:
         emit_json(result.to_dict())
         return

@@ -2,7 +2,7 @@
 
 Two models live here.
 
-**The mechanics** (design/mechanics.md; :mod:`._settle`, :mod:`._search`). The bolt is
+**The mechanics** (docs/mechanics.md; :mod:`._settle`, :mod:`._search`). The bolt is
 held through a compliance (:class:`Compliance`: axial force, rotational stiffness about
 the compliance centre, optional lateral stiffness, friction). A *rest state* is a local
 minimum of the potential ``F z_C + k/2 |tilt - held tilt|^2`` over the poses where bolt
@@ -48,46 +48,51 @@ Example
 >>> run.snap.phase, run.snap.drop, run.work                         # doctest: +SKIP
 """
 
-from ._analyzer import MAX_TILT, TRAVEL_TOLERANCE, ContactAnalyzer, analyze, check_mesh_file
-from ._compliance import LIMITS as COMPLIANCE_LIMITS
-from ._compliance import Compliance
-from ._exact import OFF_SPEC_REGIONS, engagement_outline, off_spec_region, region_at
-from ._records import (
-    ROLES,
-    STATE_COLUMNS,
-    TRANSITION_LABELS,
-    TRANSITIONS,
-    Column,
-    blank_row,
-    state_id,
-    state_row,
-    state_schema,
-    thesis_schema,
-)
-from ._rest_state import (
-    LEAD_TOLERANCE,
-    REST_CLASSES,
-    Engagement,
-    LoadedContact,
-    MechanicalState,
-    RestState,
-    SearchEvent,
-    SearchResult,
-)
-from ._result import CLASSIFICATIONS, STAGES, Contact, ContactResult, StageResult, record_schema
-from ._screw import OUTCOMES as SCREW_OUTCOMES
-from ._screw import ScrewResult, screw
-from ._search import (
-    CONTINUATION_STEP,
-    SCREW_IN,
-    Continuation,
-    Leg,
-    check_continuation,
-    check_screw,
-    default_torque_limit,
-    search,
-)
-from ._settle import BALANCE, MAX_STEPS, Mechanics, settle
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
+    from .._validate import MAX_TILT
+    from ._analyzer import TRAVEL_TOLERANCE, ContactAnalyzer, analyze, check_mesh_file
+    from ._compliance import LIMITS as COMPLIANCE_LIMITS
+    from ._compliance import Compliance
+    from ._exact import OFF_SPEC_REGIONS, engagement_outline, off_spec_region, region_at
+    from ._records import (
+        ROLES,
+        STATE_COLUMNS,
+        TRANSITION_LABELS,
+        TRANSITIONS,
+        Column,
+        blank_row,
+        state_id,
+        state_row,
+        state_schema,
+        thesis_schema,
+    )
+    from ._rest_state import (
+        LEAD_TOLERANCE,
+        REST_CLASSES,
+        Engagement,
+        LoadedContact,
+        MechanicalState,
+        RestState,
+        SearchEvent,
+        SearchResult,
+    )
+    from ._result import CLASSIFICATIONS, STAGES, Contact, ContactResult, StageResult, record_schema
+    from ._screw import OUTCOMES as SCREW_OUTCOMES
+    from ._screw import ScrewResult, screw
+    from ._search import (
+        CONTINUATION_STEP,
+        SCREW_IN,
+        Continuation,
+        Leg,
+        check_continuation,
+        check_screw,
+        default_torque_limit,
+        search,
+    )
+    from ._settle import BALANCE, MAX_STEPS, Mechanics, settle
 
 __all__ = [
     "OFF_SPEC_REGIONS",
@@ -141,3 +146,75 @@ __all__ = [
     "analyze",
     "record_schema",
 ]
+
+#: The submodule of each public name, imported when the name is first used (PEP 562):
+#: importing the package loads none of them, so that a command that does not need
+#: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
+#: imports them. tests/test_cli_contract.py checks it against the imports above.
+_SOURCES = {
+    # The tilt limit is a validation rule (threadmate._validate), light to import: the
+    # commands check --roll and --pitch with it before anything is built.
+    ".._validate": ("MAX_TILT",),
+    "._analyzer": ("TRAVEL_TOLERANCE", "ContactAnalyzer", "analyze", "check_mesh_file"),
+    "._compliance": ("COMPLIANCE_LIMITS", "Compliance"),
+    "._exact": ("OFF_SPEC_REGIONS", "engagement_outline", "off_spec_region", "region_at"),
+    "._records": (
+        "ROLES",
+        "STATE_COLUMNS",
+        "TRANSITION_LABELS",
+        "TRANSITIONS",
+        "Column",
+        "blank_row",
+        "state_id",
+        "state_row",
+        "state_schema",
+        "thesis_schema",
+    ),
+    "._rest_state": (
+        "LEAD_TOLERANCE",
+        "REST_CLASSES",
+        "Engagement",
+        "LoadedContact",
+        "MechanicalState",
+        "RestState",
+        "SearchEvent",
+        "SearchResult",
+    ),
+    "._result": (
+        "CLASSIFICATIONS",
+        "STAGES",
+        "Contact",
+        "ContactResult",
+        "StageResult",
+        "record_schema",
+    ),
+    "._screw": ("SCREW_OUTCOMES", "ScrewResult", "screw"),
+    "._search": (
+        "CONTINUATION_STEP",
+        "SCREW_IN",
+        "Continuation",
+        "Leg",
+        "check_continuation",
+        "check_screw",
+        "default_torque_limit",
+        "search",
+    ),
+    "._settle": ("BALANCE", "MAX_STEPS", "Mechanics", "settle"),
+}
+#: Public names that differ from their submodule's.
+_ALIASES: dict[str, str] = {"COMPLIANCE_LIMITS": "LIMITS", "SCREW_OUTCOMES": "OUTCOMES"}
+_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
+
+
+def __getattr__(name: str) -> Any:
+    """Import the submodule that holds ``name`` on first use (PEP 562)."""
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), _ALIASES.get(name, name))
+    globals()[name] = value  # later uses find it without this hook
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -19,7 +19,7 @@ from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from .._errors import InputError
 from .._units import MM_PER_UNIT
-from .._validate import check_number, check_open_range
+from .._validate import MAX_TILT, check_number, check_open_range
 from ..geometry import (
     DEFAULT_CHORD,
     Pose,
@@ -54,9 +54,6 @@ __all__ = [
     "TRAVEL_TOLERANCE",
 ]
 
-#: Largest roll or pitch (degrees) the analyser accepts: beyond it the "bolt comes down on
-#: the nut" picture (tip first, compliance centre above the nut) no longer holds.
-MAX_TILT = 45.0
 #: Bisection tolerance on travel (bolt motion), per unit.
 TRAVEL_TOLERANCE = {u: 1e-7 * MM_PER_UNIT["in"] / MM_PER_UNIT[u] for u in ("in", "mm")}
 #: With a mesh from CAD, a contact farther than the feature tolerance plus this many mesh

@@ -42,15 +42,22 @@ Contacts farther than :attr:`ContactAnalyzer.off_spec_tolerance
 <threadmate.contact.ContactAnalyzer>` from the exact surface are labelled by where they
 lie (``point``, ``countersink``, ``other``; :func:`~._exact.off_spec_region`); the share
 of the mesh's area, and of its contact zone's, that lies farther than that is reported.
+
+The mechanics take such a mesh as given (:func:`off_spec`): where it does not follow the
+spec, a contact's normal is the mesh's own (its face's, or across an edge where its faces
+meet at more than :data:`~._exact.CREASE` degrees, the edge's), and whether a point lies
+inside it is asked of the mesh (:class:`~._collision.MeshSolid`), not of the spec's
+exact body, which has material where an unstated chamfer or countersink has none.
 """
 
 from __future__ import annotations
 
 import hashlib
+import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import trimesh
@@ -59,6 +66,10 @@ from numpy.typing import NDArray
 from .._errors import MeshError
 from .._units import MM_PER_UNIT
 from ..geometry import ThreadBody, ThreadSpec, stl_units
+from ._exact import CREASE, OffSpec
+
+if TYPE_CHECKING:
+    from ._analyzer import ContactAnalyzer
 
 __all__ = [
     "COARSEST",
@@ -70,6 +81,7 @@ __all__ = [
     "face_deviation",
     "file_units",
     "mesh_fit",
+    "off_spec",
     "sha256_of",
 ]
 
@@ -171,10 +183,14 @@ def _distances(body: ThreadBody, points: NDArray[np.float64]) -> NDArray[np.floa
 
 
 def face_deviation(
-    mesh: trimesh.Trimesh, body: ThreadBody, chunk: int = 100_000
+    mesh: trimesh.Trimesh | NDArray[np.float64], body: ThreadBody, chunk: int = 100_000
 ) -> NDArray[np.float64]:
-    """Each triangle's largest sampled distance from the exact surface of ``body``."""
-    tri = np.asarray(mesh.vertices, dtype=float)[np.asarray(mesh.faces, dtype=np.int64)]
+    """Each triangle's largest sampled distance from the exact surface of ``body``
+    (``mesh``: a mesh, or its triangles as an ``(n, 3, 3)`` array)."""
+    if isinstance(mesh, trimesh.Trimesh):
+        tri = np.asarray(mesh.vertices, dtype=float)[np.asarray(mesh.faces, dtype=np.int64)]
+    else:
+        tri = np.asarray(mesh, dtype=float).reshape(-1, 3, 3)
     out = np.empty(len(tri))
     for start in range(0, len(tri), chunk):
         t = tri[start : start + chunk]
@@ -224,6 +240,101 @@ def mesh_fit(
     cutoff = FOLLOW_FACTOR * float(np.quantile(near, 0.75))
     deviation = float(near[near <= cutoff].max())
     return MeshFit(deviation, dev, np.asarray(mesh.area_faces, dtype=float), zone)
+
+
+# Distances (relative to the point's size) within which triangles are equally near.
+_TIE = 1e-12
+
+
+def off_spec(analyzer: ContactAnalyzer) -> OffSpec | None:
+    """Where the analyser's CAD meshes do not follow the spec: their own surfaces there
+    (:class:`._exact.OffSpec`), None without CAD meshes.
+
+    A triangle follows the spec when its deviation (:func:`face_deviation`, found when
+    first asked) is at most its mesh's (:func:`mesh_fit`). A point lies where the mesh
+    follows the spec when every triangle within the feature tolerance of its nearest
+    one's distance does: on the edge where an unstated countersink meets the thread's
+    crest, the crest's triangle is nearest as often as the countersink's.
+    """
+    tolerance = analyzer.off_spec_tolerance
+    info = analyzer.mesh_info
+    kinds = frozenset(k for k in ("bolt", "nut") if not info[k].get("generated"))
+    if tolerance is None or not kinds:
+        return None
+    engine = analyzer.engine
+    bodies = {"bolt": analyzer.bolt, "nut": analyzer.nut}
+    reach = analyzer.feature_tolerance
+    # The fit's own cut (float rounding aside): a following triangle's deviation is at most
+    # the mesh's, which is the largest of them.
+    limit = {k: float(info[k]["deviation"]) * (1 + 1e-9) for k in kinds}
+    known: dict[str, dict[int, bool]] = {k: {} for k in kinds}
+
+    def follows(kind: str, faces: NDArray[np.intp]) -> bool:
+        seen = known[kind]
+        new = [f for f in faces.tolist() if f not in seen]
+        if new:
+            tri = engine.solid(kind).triangles[np.asarray(new, dtype=np.intp)]
+            for f, d in zip(new, face_deviation(tri, bodies[kind]).tolist(), strict=True):
+                seen[f] = d <= limit[kind]
+        return all(seen[f] for f in faces.tolist())
+
+    def surface(
+        kind: str, point: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None, bool]:
+        solid = engine.solid(kind)
+        p = np.asarray(point, dtype=float).reshape(3)
+        # A contact point lies on the mesh: the faces within the tolerance hold the nearest.
+        around, dist = solid.faces_within(p, reach)
+        if len(around) == 0:
+            distance, _, _ = solid.nearest(p.reshape(1, 3))
+            around, dist = solid.faces_within(p, abs(float(distance[0])) + reach)
+        near = dist <= float(dist.min()) + reach
+        around, dist = around[near], dist[near]
+        edge = _crease(solid.faces[around], solid.face_normals[around], solid.vertices, p)
+        if edge is None:
+            # One smooth surface: the normal of the face nearest, or at a tie (the point on
+            # an edge or a vertex, as contact points often are) the ties' summed.
+            tie = float(dist.min()) + _TIE * max(float(np.linalg.norm(p)), 1.0)
+            summed = solid.face_normals[around[dist <= tie]].sum(axis=0)
+            normal = summed / max(float(np.linalg.norm(summed)), 1e-300)
+            return normal, None, follows(kind, around)
+        tangent, summed = edge
+        return summed, tangent, follows(kind, around)
+
+    return OffSpec(tolerance, kinds, surface, engine.signed_distance)
+
+
+def _crease(
+    faces: NDArray[np.int64],
+    normals: NDArray[np.float64],
+    vertices: NDArray[np.float64],
+    point: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """The mesh edge nearest ``point`` among those two of ``faces`` share at more than
+    :data:`._exact.CREASE` degrees: its unit direction and the unit sum of the two faces'
+    normals; None when the faces meet at no such edge (they tessellate one surface)."""
+    if len(faces) < 2:
+        return None
+    edges = np.sort(faces[:, [[0, 1], [1, 2], [2, 0]]], axis=2).reshape(-1, 2)
+    owner = np.repeat(np.arange(len(faces)), 3)
+    order = np.lexsort((edges[:, 1], edges[:, 0]))
+    edges, owner = edges[order], owner[order]
+    same = np.flatnonzero((edges[1:] == edges[:-1]).all(axis=1))
+    if len(same) == 0:
+        return None
+    f1, f2 = owner[same], owner[same + 1]
+    cos = np.einsum("ij,ij->i", normals[f1], normals[f2])
+    sharp = cos < math.cos(math.radians(CREASE))
+    if not sharp.any():
+        return None
+    pairs, f1, f2 = edges[same][sharp], f1[sharp], f2[sharp]
+    a, b = vertices[pairs[:, 0]], vertices[pairs[:, 1]]
+    ab = b - a
+    t = np.clip(np.einsum("ij,ij->i", point - a, ab) / np.einsum("ij,ij->i", ab, ab), 0, 1)
+    k = int(np.argmin(np.linalg.norm(a + t[:, None] * ab - point, axis=1)))
+    tangent = ab[k] / float(np.linalg.norm(ab[k]))
+    summed = normals[f1[k]] + normals[f2[k]]
+    return tangent, summed / max(float(np.linalg.norm(summed)), 1e-300)
 
 
 def describe(path: str | os.PathLike[str] | None, units: str, spec: ThreadSpec) -> dict[str, Any]:

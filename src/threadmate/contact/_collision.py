@@ -27,18 +27,26 @@ Queries, each one yes/no question counted in :attr:`queries`:
 
 ``continuousCollide`` (wrong times on thread meshes, alters models in place) and
 ``penetration_depth`` (a per-triangle figure) are deliberately not used.
+
+A mesh from CAD is taken as given: where it does not follow the spec (a point, a
+countersink or a chamfer the spec does not state) the spec's exact body is no measure of
+what is inside it. :meth:`CollisionPair.signed_distance` measures from the mesh itself
+(:class:`MeshSolid`).
 """
 
 from __future__ import annotations
+
+import itertools
 
 import fcl
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
+from scipy.spatial import cKDTree
 
 from ..geometry import Pose
 
-__all__ = ["CollisionPair", "pair_keys"]
+__all__ = ["CollisionPair", "MeshSolid", "pair_keys"]
 
 #: Pair enumeration stops here; far more than any contact the stages look at.
 MAX_PAIRS = 200_000
@@ -46,6 +54,10 @@ MAX_PAIRS = 200_000
 SECTORS = 36
 #: Multiplier of the bolt face in a pair's integer key (above any nut face count).
 _KEY = 1 << 31
+#: Triangles (by nearest centroid) whose nearest bounds a signed distance's search.
+_NEAREST = 8
+#: Size classes of a mesh's triangles (a factor of 2 each; the smallest take the rest).
+_CLASSES = 8
 
 
 def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -77,6 +89,201 @@ def _bvh(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> fcl.BVHMode
     model.addSubModel(vertices, faces)
     model.endModel()
     return model
+
+
+def closest_on_triangles(
+    p: NDArray[np.float64], a: NDArray[np.float64], b: NDArray[np.float64], c: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+    """The point of each triangle ``(a, b, c)`` closest to ``p`` (all ``(n, 3)``) and the
+    feature it lies on: 0 the face, 1-3 the vertex a, b, c, 4-6 the edge ab, bc, ca.
+
+    Ericson's Voronoi-region test (Real-Time Collision Detection, 5.1.5), vectorised.
+    """
+    ab, ac, ap = b - a, c - a, p - a
+    d1 = np.einsum("ij,ij->i", ab, ap)
+    d2 = np.einsum("ij,ij->i", ac, ap)
+    bp = p - b
+    d3 = np.einsum("ij,ij->i", ab, bp)
+    d4 = np.einsum("ij,ij->i", ac, bp)
+    cp = p - c
+    d5 = np.einsum("ij,ij->i", ab, cp)
+    d6 = np.einsum("ij,ij->i", ac, cp)
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        den = va + vb + vc
+        v = np.where(den != 0, vb / den, 0.0)
+        w = np.where(den != 0, vc / den, 0.0)
+        t_ab = np.where(d1 - d3 != 0, d1 / (d1 - d3), 0.0)
+        t_ac = np.where(d2 - d6 != 0, d2 / (d2 - d6), 0.0)
+        t_bc = np.where((d4 - d3) + (d5 - d6) != 0, (d4 - d3) / ((d4 - d3) + (d5 - d6)), 0.0)
+    q = a + v[:, None] * ab + w[:, None] * ac
+    kind = np.zeros(len(p), dtype=np.intp)
+    # From the last test to the first, so that the first that holds wins.
+    on_bc = (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0)
+    q = np.where(on_bc[:, None], b + t_bc[:, None] * (c - b), q)
+    kind[on_bc] = 5
+    on_ca = (vb <= 0) & (d2 >= 0) & (d6 <= 0)
+    q = np.where(on_ca[:, None], a + t_ac[:, None] * ac, q)
+    kind[on_ca] = 6
+    at_c = (d6 >= 0) & (d5 <= d6)
+    q = np.where(at_c[:, None], c, q)
+    kind[at_c] = 3
+    on_ab = (vc <= 0) & (d1 >= 0) & (d3 <= 0)
+    q = np.where(on_ab[:, None], a + t_ab[:, None] * ab, q)
+    kind[on_ab] = 4
+    at_b = (d3 >= 0) & (d4 <= d3)
+    q = np.where(at_b[:, None], b, q)
+    kind[at_b] = 2
+    at_a = (d1 <= 0) & (d2 <= 0)
+    q = np.where(at_a[:, None], a, q)
+    kind[at_a] = 1
+    return q, kind
+
+
+class MeshSolid:
+    """Signed distance from a closed, outward-wound mesh (negative inside its material).
+
+    The distance is to the nearest triangle; its sign is that of the offset along the
+    angle-weighted pseudonormal of the feature (face, edge or vertex) the nearest point
+    lies on, which is exact for a closed manifold mesh (Baerentzen and Aanaes, IEEE TVCG
+    11, 2005). The nearest of the triangles of the nearest centroids bounds the distance;
+    the nearest triangle's centroid lies within that bound plus its own radius
+    (centroid to farthest vertex), so it is among those found by a ball search in each
+    size class of the triangles (radii within a factor of 2) widened by the class's
+    largest radius: the few large faces of a CAD part do not widen every search.
+
+    Parameters
+    ----------
+    vertices, faces : ndarray
+        The mesh, closed and wound outward (as :func:`threadmate.geometry.load_mesh`
+        returns it).
+    """
+
+    def __init__(self, vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> None:
+        v = np.asarray(vertices, dtype=float)
+        f = np.asarray(faces, dtype=np.int64)
+        tri = v[f]
+        #: The vertices, the triangles' vertex indices and the triangles, ``(n, 3, 3)``.
+        self.vertices = v
+        self.faces = f
+        self.triangles = tri
+        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        norm = np.linalg.norm(cross, axis=1)
+        normal = cross / np.maximum(norm, 1e-300)[:, None]
+        #: Each triangle's outward unit normal.
+        self.face_normals = normal
+        # Edge pseudonormals: the sum of the two faces' normals, per face and local edge.
+        edges = np.sort(f[:, [[0, 1], [1, 2], [2, 0]]], axis=2).reshape(-1, 2)
+        _, inverse = np.unique(edges, axis=0, return_inverse=True)
+        inverse = inverse.reshape(-1)
+        summed = np.zeros((int(inverse.max()) + 1, 3))
+        np.add.at(summed, inverse, np.repeat(normal, 3, axis=0))
+        self._edge_normal = summed[inverse].reshape(-1, 3, 3)
+        # Vertex pseudonormals: the face normals weighted by the faces' angles there.
+        angles = np.empty((len(f), 3))
+        for k in range(3):
+            u = tri[:, (k + 1) % 3] - tri[:, k]
+            w = tri[:, (k + 2) % 3] - tri[:, k]
+            cosine = np.einsum("ij,ij->i", u, w) / np.maximum(
+                np.linalg.norm(u, axis=1) * np.linalg.norm(w, axis=1), 1e-300
+            )
+            angles[:, k] = np.arccos(np.clip(cosine, -1.0, 1.0))
+        vertex = np.zeros((len(v), 3))
+        for k in range(3):
+            np.add.at(vertex, f[:, k], normal * angles[:, k : k + 1])
+        self._vertex_normal = vertex[f]
+        centroid = tri.mean(axis=1)
+        radius = np.linalg.norm(tri - centroid[:, None], axis=2).max(axis=1)
+        self._centroids = cKDTree(centroid)
+        # Size classes (radius within a factor of 2), each its own tree: a ball search
+        # widened by a class's largest radius, not the mesh's.
+        level = np.floor(np.log2(np.maximum(radius, 1e-300) / max(float(radius.max()), 1e-300)))
+        level = np.maximum(level, -_CLASSES + 1)
+        self._classes = []
+        for lv in np.unique(level).tolist():
+            ids = np.flatnonzero(level == lv)
+            self._classes.append((ids, cKDTree(centroid[ids]), float(radius[ids].max())))
+
+    def signed_distance(self, points: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Signed distance of each point (the mesh's frame) from the mesh's surface,
+        negative inside."""
+        return self.nearest(points)[0]
+
+    def normal(self, points: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The mesh's outward unit normal nearest each point: the face's, or where the
+        nearest point is on an edge or a vertex, its pseudonormal (the faces' directions
+        there averaged)."""
+        return self.nearest(points)[1]
+
+    def nearest(
+        self, points: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
+        """For each point (the mesh's frame): the signed distance, the unit normal
+        (:meth:`normal`) and the triangle of the mesh's nearest point."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        if len(p) == 0:
+            return np.empty(0), np.empty((0, 3)), np.empty(0, dtype=np.intp)
+        # An upper bound of each distance: the nearest of the nearest centroids' triangles.
+        k = min(_NEAREST, len(self.faces))
+        _, found = self._centroids.query(p, k=k)
+        idx = np.asarray(found, dtype=np.intp).reshape(len(p), k)
+        bound, _, _ = self._nearest(p, np.repeat(np.arange(len(p)), k), idx.reshape(-1))
+        # The nearest triangle's centroid lies within its distance plus its radius: in each
+        # size class, the ball of the bound plus the class's largest radius holds it.
+        owners, which = [], []
+        for ids, tree, reach in self._classes:
+            balls = tree.query_ball_point(p, np.abs(bound) + reach)
+            counts = np.fromiter((len(b) for b in balls), dtype=np.intp, count=len(p))
+            if counts.sum() == 0:
+                continue
+            owners.append(np.repeat(np.arange(len(p)), counts))
+            which.append(ids[np.fromiter(itertools.chain.from_iterable(balls), dtype=np.intp)])
+        return self._nearest(p, np.concatenate(owners), np.concatenate(which))
+
+    def faces_within(
+        self, point: NDArray[np.float64], radius: float
+    ) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+        """The triangles within ``radius`` of ``point`` (the mesh's frame) and their
+        distances from it."""
+        p = np.asarray(point, dtype=float).reshape(3)
+        ids = np.concatenate(
+            [
+                ids[np.asarray(tree.query_ball_point(p, radius + reach), dtype=np.intp)]
+                for ids, tree, reach in self._classes
+            ]
+        )
+        tri = self.triangles[ids]
+        q, _ = closest_on_triangles(
+            np.broadcast_to(p, (len(ids), 3)), tri[:, 0], tri[:, 1], tri[:, 2]
+        )
+        dist = np.linalg.norm(q - p, axis=1)
+        keep = dist <= radius
+        return ids[keep], dist[keep]
+
+    def _nearest(
+        self, p: NDArray[np.float64], owner: NDArray[np.intp], which: NDArray[np.intp]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
+        """The signed distance of each of ``p`` to the nearest of its candidate triangles
+        ``which[owner == i]``, the unit pseudonormal there and that triangle."""
+        tri = self.triangles[which]
+        q, kind = closest_on_triangles(p[owner], tri[:, 0], tri[:, 1], tri[:, 2])
+        offset = p[owner] - q
+        dist = np.linalg.norm(offset, axis=1)
+        pseudo = np.empty_like(q)
+        face = kind == 0
+        pseudo[face] = self.face_normals[which[face]]
+        corner = (kind >= 1) & (kind <= 3)
+        pseudo[corner] = self._vertex_normal[which[corner], kind[corner] - 1]
+        edge = kind >= 4
+        pseudo[edge] = self._edge_normal[which[edge], kind[edge] - 4]
+        # Nearest per point: sort by (point, distance), take each point's first.
+        order = np.lexsort((dist, owner))
+        first = order[np.r_[True, owner[order][1:] != owner[order][:-1]]]
+        side = np.einsum("ij,ij->i", offset[first], pseudo[first])
+        unit = pseudo[first] / np.maximum(np.linalg.norm(pseudo[first], axis=1), 1e-300)[:, None]
+        return np.where(side < 0, -dist[first], dist[first]), unit, which[first]
 
 
 class CollisionPair:
@@ -119,6 +326,24 @@ class CollisionPair:
         self.queries = 0
         # Bounding radius of the bolt about its origin: bounds the motion of any bolt point.
         self.bolt_radius = float(np.linalg.norm(self.bolt_vertices, axis=1).max())
+        self._solids: dict[str, MeshSolid] = {}
+
+    def solid(self, body: str) -> MeshSolid:
+        """The ``body`` mesh (``"bolt"``, in the bolt's frame, or ``"nut"``, in the fixed
+        frame) as a :class:`MeshSolid`, built on first use."""
+        solid = self._solids.get(body)
+        if solid is None:
+            if body == "bolt":
+                solid = MeshSolid(self.bolt_vertices, self.bolt_faces)
+            else:
+                solid = MeshSolid(self.nut_vertices, self.nut_faces)
+            self._solids[body] = solid
+        return solid
+
+    def signed_distance(self, body: str, points: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Signed distance (negative inside) of ``points`` from the ``body`` mesh, measured
+        on the mesh itself (see :meth:`solid` for the frames)."""
+        return self.solid(body).signed_distance(points)
 
     def _place(self, pose: Pose) -> None:
         self._bolt.setTransform(fcl.Transform(pose.rotation, pose.origin))

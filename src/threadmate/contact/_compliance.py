@@ -1,4 +1,4 @@
-"""The compliance that holds the bolt: load, stiffness, friction (design/mechanics.md).
+"""The compliance that holds the bolt: load, stiffness, friction (docs/mechanics.md).
 
 The tool holds the compliance centre C laterally (or against a lateral stiffness), holds
 the tilt ``(roll0, pitch0)`` through a rotational stiffness about C, spins the bolt to the

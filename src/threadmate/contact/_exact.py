@@ -10,7 +10,13 @@ Features. A point (in a body's own frame) within ``tol`` of a body's surface lie
 - ``corner``: a sharp (unfilleted) corner of the profile swept along the helix;
 - ``thread``: the smooth helical thread surface;
 - ``bevel``: the surface of the bolt's point (chamfer cone, round) or the nut's countersink;
-- ``kink``: the edge where the bevel meets the thread.
+- ``kink``: the edge where the bevel meets the thread;
+- ``mesh``, ``mesh-edge``: with a mesh from CAD, where the mesh does not follow the spec
+  (:class:`OffSpec`: a point, countersink or chamfer the spec does not state, a head,
+  flats): the mesh's own face there, with the mesh's normal, or its edge where faces
+  meet at more than :data:`CREASE` degrees (where an unstated chamfer meets the thread
+  or the tip face). An exact edge touching a ``mesh`` face is refined against the mesh's
+  surface; a ``mesh-edge`` is not refined.
 
 With a point or countersink the end face's outline is a circle (the rim), inside the
 thread's band. Rims, corners and kinks are edges, the others faces. ``tol`` is a few
@@ -48,6 +54,8 @@ from ..geometry import Pose, ThreadBody
 
 __all__ = [
     "Feature",
+    "OffSpec",
+    "CREASE",
     "feature_at",
     "contact_normal",
     "region_at",
@@ -64,6 +72,10 @@ __all__ = [
 
 TWO_PI = 2.0 * math.pi
 SQRT3 = math.sqrt(3.0)
+#: Angle (degrees) between a CAD mesh's faces above which they meet at an edge (a
+#: ``mesh-edge``); below it they tessellate one smooth surface (a chord of a thousandth
+#: of a radius turns the faces by some 5 degrees).
+CREASE = 30.0
 
 
 @dataclass(frozen=True)
@@ -72,7 +84,7 @@ class Feature:
 
     Attributes
     ----------
-    kind : {"rim", "cap", "corner", "thread", "bevel", "kink"}
+    kind : {"rim", "cap", "corner", "thread", "bevel", "kink", "mesh", "mesh-edge"}
     normal : (3,) array or None
         Outward unit normal for a face (None for an edge).
     tangent : (3,) array or None
@@ -89,8 +101,8 @@ class Feature:
 
     @property
     def is_edge(self) -> bool:
-        """Whether the feature is an edge (rim or sharp corner)."""
-        return self.kind in ("rim", "corner", "kink")
+        """Whether the feature is an edge (rim, sharp corner, kink, a CAD mesh's edge)."""
+        return self.kind in ("rim", "corner", "kink", "mesh-edge")
 
     @property
     def face_normal(self) -> NDArray[np.float64]:
@@ -103,6 +115,58 @@ class Feature:
         """``tangent`` of an edge feature (not for a face, which has none)."""
         assert self.tangent is not None, f"a {self.kind} feature has no tangent"
         return self.tangent
+
+
+@dataclass(frozen=True)
+class OffSpec:
+    """Where meshes from CAD do not follow the spec: the ``mesh`` feature.
+
+    A point of such a mesh lies off the spec where it is farther than ``tolerance`` from
+    the exact surface, or where a triangle of the mesh there does not follow the spec
+    (its deviation exceeds the mesh's, :func:`._cad.mesh_fit`; see :func:`._cad.off_spec`):
+    a triangle of an unstated chamfer that meets the thread has a corner on the spec's
+    flank, and its points near that corner lie near the flank without lying on it.
+
+    Attributes
+    ----------
+    tolerance : float
+        Distance from a body's exact surface beyond which its mesh does not follow it
+        (:attr:`ContactAnalyzer.off_spec_tolerance
+        <threadmate.contact.ContactAnalyzer>`).
+    bodies : frozenset of str
+        The bodies (``"bolt"``, ``"nut"``) whose meshes come from CAD.
+    surface : callable
+        ``surface(kind, point)``: for a point (``(3,)``, in that body's frame) the
+        ``kind`` mesh's outward unit normal nearest it (the faces' there summed), the
+        tangent of the mesh's edge there when its faces meet at more than
+        :data:`CREASE` degrees (else None), and whether the triangles there follow the
+        spec.
+    distance : callable
+        ``distance(kind, points)``: the signed distance (negative inside) of points
+        (``(n, 3)``, in that body's frame) from the ``kind`` mesh.
+    """
+
+    tolerance: float
+    bodies: frozenset[str]
+    surface: Callable[
+        [str, NDArray[np.float64]],
+        tuple[NDArray[np.float64], NDArray[np.float64] | None, bool],
+    ]
+    distance: Callable[[str, NDArray[np.float64]], NDArray[np.float64]]
+
+    def feature(self, body: ThreadBody, point: NDArray[np.float64]) -> Feature | None:
+        """The ``mesh`` feature of ``body`` at ``point`` (body frame) where its CAD mesh
+        does not follow the spec, else None (the exact body's features apply)."""
+        if body.kind not in self.bodies:
+            return None
+        p = np.asarray(point, dtype=float)
+        normal, tangent, follows = self.surface(body.kind, p)
+        if follows and float(body.surface_distance(p)) <= self.tolerance:
+            return None
+        n = _unit(np.asarray(normal, dtype=float).reshape(3))
+        if tangent is not None:
+            return Feature("mesh-edge", None, _unit(np.asarray(tangent, dtype=float)), n)
+        return Feature("mesh", n, None, n)
 
 
 def _t_of(body: ThreadBody, theta: float, z: float) -> float:
@@ -276,9 +340,16 @@ def on_thread(body: ThreadBody, point: NDArray[np.float64], feature: Feature, to
     return feature.kind == "rim" and _thread_distance(body, np.asarray(point, float))[2] <= tol
 
 
-def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feature:
-    """The feature of ``body`` at ``point`` (body frame); see the module docstring."""
+def feature_at(
+    body: ThreadBody, point: NDArray[np.float64], tol: float, off_spec: OffSpec | None = None
+) -> Feature:
+    """The feature of ``body`` at ``point`` (body frame); see the module docstring.
+    ``off_spec``: where a CAD mesh does not follow the spec, its ``mesh`` feature."""
     p = np.asarray(point, dtype=float)
+    if off_spec is not None:
+        found = off_spec.feature(body, p)
+        if found is not None:
+            return found
     prof = body.profile
     r = math.hypot(p[0], p[1])
     t, R, d_thread = _thread_distance(body, p)
@@ -311,14 +382,20 @@ def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feat
 
 
 def contact_normal(
-    nut: ThreadBody, bolt: ThreadBody, pose: Pose, point_f: NDArray[np.float64], tol: float
+    nut: ThreadBody,
+    bolt: ThreadBody,
+    pose: Pose,
+    point_f: NDArray[np.float64],
+    tol: float,
+    off_spec: OffSpec | None = None,
 ) -> tuple[NDArray[np.float64], Feature, Feature]:
     """Common normal at a contact (fixed frame, unit, from the nut into the bolt).
 
-    Returns the normal and the nut's and bolt's features (each in its own frame).
+    Returns the normal and the nut's and bolt's features (each in its own frame);
+    ``off_spec`` as for :func:`feature_at`.
     """
-    fn = feature_at(nut, point_f, tol)
-    fb = feature_at(bolt, pose.to_bolt(point_f), tol)
+    fn = feature_at(nut, point_f, tol, off_spec)
+    fb = feature_at(bolt, pose.to_bolt(point_f), tol, off_spec)
     return _common_normal(fn, fb, pose), fn, fb
 
 
@@ -355,6 +432,8 @@ def region_at(
     """
     p = np.asarray(point, dtype=float)
     if off_spec is not None and float(body.surface_distance(p)) > off_spec:
+        return off_spec_region(body, p)
+    if feature.kind in ("mesh", "mesh-edge"):
         return off_spec_region(body, p)
     if feature.kind in ("cap", "rim"):
         return body.cap_region
@@ -564,19 +643,23 @@ def refined_contact(
     point_f: NDArray[np.float64],
     tol: float,
     window: float,
+    off_spec: OffSpec | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], Feature, Feature]:
     """:func:`refine_on_edge`, then :func:`contact_normal` at the refined point.
 
     A face-on-face contact is not moved: its features are then those already found, and
-    are not looked up a second time (half the cost of a contact on the thread).
+    are not looked up a second time (half the cost of a contact on the thread). Where a
+    CAD mesh does not follow the spec (``off_spec``, :func:`feature_at`) its own surface
+    is the face: an exact edge touching it is followed to where it comes closest to, or
+    deepest into, the mesh.
     """
     p = np.asarray(point_f, dtype=float)
-    fn = feature_at(nut, p, tol)
-    fb = feature_at(bolt, pose.to_bolt(p), tol)
+    fn = feature_at(nut, p, tol, off_spec)
+    fb = feature_at(bolt, pose.to_bolt(p), tol, off_spec)
     if fn.is_edge or fb.is_edge:
-        p = _refine(nut, bolt, pose, p, tol, window, fn, fb)
-        fn = feature_at(nut, p, tol)
-        fb = feature_at(bolt, pose.to_bolt(p), tol)
+        p = _refine(nut, bolt, pose, p, tol, window, fn, fb, off_spec)
+        fn = feature_at(nut, p, tol, off_spec)
+        fb = feature_at(bolt, pose.to_bolt(p), tol, off_spec)
     return _common_normal(fn, fb, pose), p, fn, fb
 
 
@@ -589,17 +672,27 @@ def _refine(
     window: float,
     fn: Feature,
     fb: Feature,
+    off_spec: OffSpec | None = None,
 ) -> NDArray[np.float64]:
-    """:func:`refine_on_edge` with the features at ``p`` known."""
+    """:func:`refine_on_edge` with the features at ``p`` known; a ``mesh`` face is the
+    CAD mesh's surface (``off_spec``)."""
+    if "mesh-edge" in (fn.kind, fb.kind):
+        return p  # a CAD mesh's own edge: no exact curve to follow
     if fn.is_edge and fb.is_edge:
         return _edge_crossing(nut, fn, bolt, fb, pose, p, window)[0]
     if fn.is_edge == fb.is_edge:
         return p
+
+    def distance(body: ThreadBody, face: Feature, pts: NDArray[np.float64]) -> NDArray[np.float64]:
+        if face.kind == "mesh" and off_spec is not None:
+            return off_spec.distance(body.kind, pts)
+        return _signed_distance(body, pts)
+
     if fn.is_edge:
         edge_body, edge, anchor = nut, fn, p
 
         def gap(pts: NDArray[np.float64]) -> NDArray[np.float64]:
-            return _signed_distance(bolt, pose.to_bolt(pts))
+            return distance(bolt, fb, pose.to_bolt(pts))
 
         def to_f(pts: NDArray[np.float64]) -> NDArray[np.float64]:
             return pts
@@ -607,7 +700,7 @@ def _refine(
         edge_body, edge, anchor = bolt, fb, pose.to_bolt(p)
 
         def gap(pts: NDArray[np.float64]) -> NDArray[np.float64]:
-            return _signed_distance(nut, pose.to_fixed(pts))
+            return distance(nut, fn, pose.to_fixed(pts))
 
         def to_f(pts: NDArray[np.float64]) -> NDArray[np.float64]:
             return pose.to_fixed(pts)

@@ -3,7 +3,7 @@
 The thesis asks which phases permit clockwise insertion without cross-threading (its
 section 5.3). From the rest state of a start, the driver turns the bolt clockwise (for a
 right-hand thread) and the bolt follows its rest state (:class:`Continuation` in the
-``tighten`` sense). What it does is one of (design/mechanics.md, "Clockwise starts"):
+``tighten`` sense). What it does is one of (docs/mechanics.md, "Clockwise starts"):
 
 - ``engaged``: it descends at the lead (within :data:`LEAD_TOLERANCE` of it) over
   :data:`ENGAGED_TURN` of turning in phase: its thread is in the nut's;

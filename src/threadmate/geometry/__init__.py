@@ -4,31 +4,35 @@ Everything here follows ``conventions.md`` (see the package documentation, "Conv
 lengths in the spec's ``units``, angles in degrees at every interface.
 """
 
-from ._body import ThreadBody, bolt_body, nut_body
-from ._designation import (
-    MATERIAL_CONDITIONS,
-    Designation,
-    ThreadLimits,
-    material_condition,
-    parse_designation,
-    spec_from_designation,
-    thread_limits,
-)
-from ._ends import POINT_FORMS, BoltPoint, Countersink, Envelope
-from ._frames import Pose, axis_angle_rotation, bolt_rotation, rot_x, rot_y, rot_z
-from ._mesh import (
-    DEFAULT_CHORD,
-    TessellatedBody,
-    bolt_mesh,
-    check_chord,
-    mesh_deviation,
-    nut_mesh,
-    thread_meshes,
-)
-from ._meshio import load_mesh, read_stl, stl_header, stl_units, write_stl
-from ._nuts import countersink_limits, standard_countersink_diameter, standard_nut_height
-from ._profile import BOLT_REGIONS, NUT_REGIONS, Profile, bolt_profile, nut_profile, wrap_t
-from ._spec import UNITS, BoltSpec, NutSpec, ThreadSpec, load_spec, parse_length, save_spec
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
+    from ._body import ThreadBody, bolt_body, nut_body
+    from ._designation import (
+        MATERIAL_CONDITIONS,
+        Designation,
+        ThreadLimits,
+        material_condition,
+        parse_designation,
+        spec_from_designation,
+        thread_limits,
+    )
+    from ._ends import POINT_FORMS, BoltPoint, Countersink, Envelope
+    from ._frames import Pose, axis_angle_rotation, bolt_rotation, rot_x, rot_y, rot_z
+    from ._mesh import (
+        DEFAULT_CHORD,
+        TessellatedBody,
+        bolt_mesh,
+        check_chord,
+        mesh_deviation,
+        nut_mesh,
+        thread_meshes,
+    )
+    from ._meshio import load_mesh, read_stl, stl_header, stl_units, write_stl
+    from ._nuts import countersink_limits, standard_countersink_diameter, standard_nut_height
+    from ._profile import BOLT_REGIONS, NUT_REGIONS, Profile, bolt_profile, nut_profile, wrap_t
+    from ._spec import UNITS, BoltSpec, NutSpec, ThreadSpec, load_spec, parse_length, save_spec
 
 __all__ = [
     "BOLT_REGIONS",
@@ -80,3 +84,67 @@ __all__ = [
     "wrap_t",
     "write_stl",
 ]
+
+#: The submodule of each public name, imported when the name is first used (PEP 562):
+#: importing the package loads none of them, so that a command that does not need
+#: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
+#: imports them. tests/test_cli_contract.py checks it against the imports above.
+_SOURCES = {
+    "._body": ("ThreadBody", "bolt_body", "nut_body"),
+    "._designation": (
+        "MATERIAL_CONDITIONS",
+        "Designation",
+        "ThreadLimits",
+        "material_condition",
+        "parse_designation",
+        "spec_from_designation",
+        "thread_limits",
+    ),
+    "._ends": ("POINT_FORMS", "BoltPoint", "Countersink", "Envelope"),
+    "._frames": ("Pose", "axis_angle_rotation", "bolt_rotation", "rot_x", "rot_y", "rot_z"),
+    "._mesh": (
+        "DEFAULT_CHORD",
+        "TessellatedBody",
+        "bolt_mesh",
+        "check_chord",
+        "mesh_deviation",
+        "nut_mesh",
+        "thread_meshes",
+    ),
+    "._meshio": ("load_mesh", "read_stl", "stl_header", "stl_units", "write_stl"),
+    "._nuts": ("countersink_limits", "standard_countersink_diameter", "standard_nut_height"),
+    "._profile": (
+        "BOLT_REGIONS",
+        "NUT_REGIONS",
+        "Profile",
+        "bolt_profile",
+        "nut_profile",
+        "wrap_t",
+    ),
+    "._spec": (
+        "UNITS",
+        "BoltSpec",
+        "NutSpec",
+        "ThreadSpec",
+        "load_spec",
+        "parse_length",
+        "save_spec",
+    ),
+}
+#: Public names that differ from their submodule's.
+_ALIASES: dict[str, str] = {}
+_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
+
+
+def __getattr__(name: str) -> Any:
+    """Import the submodule that holds ``name`` on first use (PEP 562)."""
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), _ALIASES.get(name, name))
+    globals()[name] = value  # later uses find it without this hook
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

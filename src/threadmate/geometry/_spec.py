@@ -16,7 +16,8 @@ from typing import Any
 import tomli_w
 
 from .._errors import SpecError
-from .._io import atomic_write_text
+from .._io import atomic_write_text, read_utf8
+from .._json import parse_json
 from .._validate import check_length, check_number, check_range
 from ._ends import (
     BoltPoint,
@@ -387,6 +388,13 @@ def _validate(spec: ThreadSpec) -> None:
             f"spec key 'bolt.minor' ({spec.bolt.minor:g}) exceeds 'nut.minor' "
             f"({spec.nut.minor:g}): the bolt cannot enter the nut at any phase"
         )
+    if spec.nut.minor >= spec.bolt.major:
+        u = spec.units
+        raise SpecError(
+            f"spec key 'nut.minor' ({spec.nut.minor:g} {u}) is not below 'bolt.major' "
+            f"({spec.bolt.major:g} {u}): the threads do not overlap, so the nut holds "
+            "nothing (the bolt passes through it)"
+        )
 
 
 def _validate_extents(spec: ThreadSpec) -> None:
@@ -442,7 +450,7 @@ def load_spec(path: str | Path) -> ThreadSpec:
     if not path.is_file():
         raise SpecError(f"{path} is not a regular file, so not a spec file")
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
+        text = read_utf8(path, SpecError)  # a byte-order mark is fine, Latin-1 is not
     except OSError as exc:
         raise SpecError(f"cannot read spec file {path}: {exc.strerror or exc}") from None
     suffix = path.suffix.lower()
@@ -450,7 +458,7 @@ def load_spec(path: str | Path) -> ThreadSpec:
         if suffix == ".toml":
             data = tomllib.loads(text)
         elif suffix == ".json":
-            data = json.loads(text)
+            data = parse_json(text)  # a key given twice is refused (TOML refuses it itself)
         else:
             raise SpecError(f"spec file {path} must end in .json or .toml")
     except (ValueError, RecursionError) as exc:

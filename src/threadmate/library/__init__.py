@@ -26,26 +26,32 @@ The directory also reads directly: ``pandas.read_parquet("lib-1-4-20")``,
 ``SELECT * FROM read_parquet('lib-1-4-20/*.parquet')``.
 """
 
-from ._grid import DEFAULT_GRID, MAX_TILT, Grid, parse_range
-from ._store import (
-    METADATA_FILE,
-    MODELS,
-    compare_metadata,
-    configurations,
-    info,
-    library_schema,
-    load,
-    query,
-)
-from ._summary import (
-    CLASS_ORDER,
-    plot_phase_strips,
-    plot_region_combinations,
-    plot_stability_map,
-    summary,
-    write_figures,
-)
-from ._sweep import ProgressCallback, SweepInterrupted, sweep, write_library
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
+    from ._grid import DEFAULT_GRID, MAX_TILT, Grid, parse_range
+    from ._store import (
+        METADATA_FILE,
+        MODELS,
+        compare_metadata,
+        configurations,
+        info,
+        library_schema,
+        load,
+        lock_holder,
+        progress,
+        query,
+    )
+    from ._summary import (
+        CLASS_ORDER,
+        plot_phase_strips,
+        plot_region_combinations,
+        plot_stability_map,
+        summary,
+        write_figures,
+    )
+    from ._sweep import ProgressCallback, SweepInterrupted, sweep, write_library
 
 __all__ = [
     "CLASS_ORDER",
@@ -61,13 +67,61 @@ __all__ = [
     "info",
     "library_schema",
     "load",
+    "lock_holder",
     "parse_range",
     "plot_phase_strips",
     "plot_region_combinations",
     "plot_stability_map",
+    "progress",
     "query",
     "summary",
     "sweep",
     "write_figures",
     "write_library",
 ]
+
+#: The submodule of each public name, imported when the name is first used (PEP 562):
+#: importing the package loads none of them, so that a command that does not need
+#: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
+#: imports them. tests/test_cli_contract.py checks it against the imports above.
+_SOURCES = {
+    "._grid": ("DEFAULT_GRID", "MAX_TILT", "Grid", "parse_range"),
+    "._store": (
+        "METADATA_FILE",
+        "MODELS",
+        "compare_metadata",
+        "configurations",
+        "info",
+        "library_schema",
+        "load",
+        "lock_holder",
+        "progress",
+        "query",
+    ),
+    "._summary": (
+        "CLASS_ORDER",
+        "plot_phase_strips",
+        "plot_region_combinations",
+        "plot_stability_map",
+        "summary",
+        "write_figures",
+    ),
+    "._sweep": ("ProgressCallback", "SweepInterrupted", "sweep", "write_library"),
+}
+#: Public names that differ from their submodule's.
+_ALIASES: dict[str, str] = {}
+_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
+
+
+def __getattr__(name: str) -> Any:
+    """Import the submodule that holds ``name`` on first use (PEP 562)."""
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), _ALIASES.get(name, name))
+    globals()[name] = value  # later uses find it without this hook
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

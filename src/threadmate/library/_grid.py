@@ -20,7 +20,7 @@ from typing import Any, cast
 import numpy as np
 
 from .._errors import InputError
-from .._validate import check_number
+from .._validate import MAX_AXIS_VALUES, check_number
 from ..contact import MAX_TILT as _CONTACT_MAX_TILT
 
 __all__ = ["Grid", "parse_range", "DEFAULT_GRID", "MAX_TILT"]
@@ -59,8 +59,11 @@ def _span(text: str, option: str) -> list[float]:
     if stop < start:
         raise InputError(f"--{option}: stop {stop:g} is below start {start:g} in {text!r}")
     n = math.floor((stop - start) / step + 1e-9)
-    if n > 10_000_000:
-        raise InputError(f"--{option}: {text!r} gives {n + 1} values; use a coarser step")
+    if n + 1 > MAX_AXIS_VALUES:  # counted before a value is made
+        raise InputError(
+            f"--{option}: {text!r} gives {n + 1:,} values, more than the "
+            f"{MAX_AXIS_VALUES:,} a grid angle holds; use a coarser step"
+        )
     return [start + k * step for k in range(n + 1)]
 
 
@@ -87,8 +90,9 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
     Raises
     ------
     InputError
-        A malformed range, a zero or negative step, a non-number, an empty set or a tilt
-        beyond 45 degrees; the message names ``--option``.
+        A malformed range, a zero or negative step, a non-number, an empty set, a tilt
+        beyond 45 degrees or more than ``MAX_AXIS_VALUES`` (100,000) values; the message
+        names ``--option``.
     """
     if option not in ("roll", "pitch", "phase"):
         raise InputError(f"unknown grid angle {option!r}: expected roll, pitch or phase")
@@ -127,6 +131,11 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
             out.append(v)
     if option == "phase" and len(out) > 1 and out[0] + 360.0 - out[-1] <= ANGLE_TOLERANCE:
         out.pop()  # 359.9999999999 is phase 0 again
+    if len(out) > MAX_AXIS_VALUES:
+        raise InputError(
+            f"--{option}: {len(out):,} values, more than the {MAX_AXIS_VALUES:,} a grid "
+            "angle holds; use a coarser step"
+        )
     return tuple(out)
 
 
@@ -264,16 +273,15 @@ class Grid:
         except (KeyError, TypeError) as exc:
             raise InputError(f"not a grid description: {exc}") from None
 
-    def describe(self) -> str:
-        """One line such as ``roll -4..4 (9) x pitch -4..4 (9) x phase 0..355 (72)``."""
+    def describe(self, size: bool = True) -> str:
+        """One line such as ``roll -4..4 (9) x pitch -4..4 (9) x phase 0..355 (72) = 5832
+        configurations`` (without the count when ``size`` is False)."""
 
         def one(name: str, v: tuple[float, ...]) -> str:
             return f"{name} {v[0]:g}..{v[-1]:g} ({len(v)})" if len(v) > 1 else f"{name} {v[0]:g}"
 
-        return (
-            f"{one('roll', self.roll)} x {one('pitch', self.pitch)} x "
-            f"{one('phase', self.phase)} = {self.size} configurations"
-        )
+        axes = f"{one('roll', self.roll)} x {one('pitch', self.pitch)} x {one('phase', self.phase)}"
+        return f"{axes} = {self.size} configurations" if size else axes
 
 
 #: The thesis's ranges (chapter 4): roll and pitch -4..4 deg by 1, phase 0..355 by 5.

@@ -7,10 +7,16 @@ Layout of a library directory::
     part-00001.parquet      ...
 
 Every file appears whole or not at all (written to a temporary name, then renamed), and
-every part carries the same metadata in its Arrow schema (key ``threadmate``), so the
+every part carries the library's metadata in its Arrow schema (key ``threadmate``; the
+grid's values are in ``_threadmate.json`` only, the part names the grid's shape), so the
 directory reads directly with ``pyarrow.dataset.dataset(dir)``,
 ``pandas.read_parquet(dir)`` or DuckDB's ``read_parquet('dir/*.parquet')``: names that
-start with ``_`` or ``.`` are skipped by pyarrow.
+start with ``_`` or ``.`` are skipped by pyarrow. A sweep holds ``.threadmate-sweep.lock``
+(its process id and host) while it writes.
+
+Every reader checks, on opening, that the rows fit the grid of ``_threadmate.json``
+(each configuration number within the grid, and its held tilt and phase the grid's) and
+refuses a library that does not with one :class:`~threadmate.LibraryError`.
 
 Rows follow the record contract of :mod:`threadmate.contact`: for the ``mechanics`` model
 (the default) one row per contact state (``STATE_COLUMNS``: the starts, the states passed
@@ -20,10 +26,15 @@ model one row per configuration (``thesis_schema``).
 
 from __future__ import annotations
 
+import contextlib
+import datetime as _dt
 import json
 import math
 import os
 import re
+import socket
+from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -51,6 +62,10 @@ __all__ = [
     "query",
     "compare_metadata",
     "configurations",
+    "progress",
+    "sweep_lock",
+    "lock_holder",
+    "LOCK_FILE",
     "MODELS",
 ]
 
@@ -58,6 +73,10 @@ __all__ = [
 METADATA_FILE = "_threadmate.json"
 #: Key of the metadata in each part's Arrow schema.
 SCHEMA_KEY = b"threadmate"
+#: The lock file a sweep holds while it writes (a dot file: pyarrow skips it).
+LOCK_FILE = ".threadmate-sweep.lock"
+#: Degrees within which a stored configuration is the grid's.
+_FIT_TOLERANCE = 1e-6
 #: Format tag and version of the metadata.
 FORMAT = "threadmate-contact-library"
 FORMAT_VERSION = 3
@@ -78,9 +97,26 @@ def library_schema(metadata: dict[str, Any] | None = None, model: str | None = N
     if model is None:
         model = (metadata or {}).get("model", "mechanics")
     attached: dict[bytes | str, bytes | str] | None = (
-        None if metadata is None else {SCHEMA_KEY: json.dumps(metadata, sort_keys=True).encode()}
+        None
+        if metadata is None
+        else {SCHEMA_KEY: json.dumps(part_metadata(metadata), sort_keys=True).encode()}
     )
     return state_schema(attached) if model == "mechanics" else thesis_schema(attached)
+
+
+def part_metadata(metadata: dict[str, Any]) -> dict[str, Any]:
+    """The metadata a part carries in its schema: the library's, with the grid's values
+    left to :data:`METADATA_FILE` (its shape, size and order stay). A grid of many values
+    would otherwise be written into every part."""
+    grid = metadata.get("grid")
+    if not isinstance(grid, dict) or "roll" not in grid:
+        return metadata
+    short = {
+        "shape": [len(grid.get(a) or ()) for a in ("roll", "pitch", "phase")],
+        "values": f"in {METADATA_FILE}",
+    }
+    short.update({k: grid[k] for k in ("size", "order") if k in grid})
+    return {**metadata, "grid": short}
 
 
 def _check_dir(path: str | os.PathLike[str]) -> Path:
@@ -132,7 +168,14 @@ def read_metadata(path: str | os.PathLike[str]) -> dict[str, Any]:
 
     try:
         spec = ThreadSpec.from_dict(doc["spec"])
-        Grid.from_dict(doc["grid"])
+        grid = Grid.from_dict(doc["grid"])
+        stated = doc["grid"].get("size")
+        if stated is not None and stated != grid.size:
+            raise InputError(
+                f"key 'grid' lists {grid.size:,} configurations ({grid.describe()}) but "
+                f"states a size of {stated!r}: the grid was edited; sweep again into a "
+                "new directory"
+            )
         mesh = doc["mesh"]
         if not isinstance(mesh, dict) or not isinstance(mesh.get("chord"), int | float):
             raise InputError("key 'mesh' must be a table with the chord")
@@ -214,41 +257,136 @@ def _check_parts(path: Path, meta: dict[str, Any], parts: list[Path]) -> None:
             )
 
 
-def _dataset(path: Path) -> ds.Dataset:
-    parts = part_files(path)
+@dataclass(frozen=True)
+class _Library:
+    """A library opened and checked once: metadata, grid, parts, finished configurations."""
+
+    path: Path
+    meta: dict[str, Any]
+    grid: Grid
+    parts: list[Path]
+    dataset: ds.Dataset | None
+    done: np.ndarray  # sorted config_ids of the finished configurations
+
+
+def _open(path: str | os.PathLike[str]) -> _Library:
+    """Open a library: its metadata, its parts (each of this library), and the check that
+    the rows fit its grid (see :func:`_check_fit`)."""
+    path = _check_dir(path)
     meta = read_metadata(path)
+    grid = Grid.from_dict(meta["grid"])
+    parts = part_files(path)
     _check_parts(path, meta, parts)
-    try:
-        return ds.dataset([str(p) for p in parts], format="parquet", schema=library_schema(meta))
-    except (pa.ArrowInvalid, OSError) as exc:
-        raise LibraryError(f"{path} holds a corrupt or foreign part: {exc}") from None
+    dataset = None
+    done = np.empty(0, dtype=np.int64)
+    if parts:
+        try:
+            dataset = ds.dataset(
+                [str(p) for p in parts], format="parquet", schema=library_schema(meta)
+            )
+        except (pa.ArrowInvalid, OSError) as exc:
+            raise LibraryError(f"{path} holds a corrupt or foreign part: {exc}") from None
+        done = _check_fit(path, meta, grid, dataset)
+    return _Library(path, meta, grid, parts, dataset, done)
 
 
-def _read(
-    path: Path, columns: list[str] | None = None, filter: ds.Expression | None = None
+def _table(
+    dataset: ds.Dataset,
+    path: Path,
+    columns: list[str] | None = None,
+    filter: ds.Expression | None = None,
 ) -> pa.Table:
-    dataset = _dataset(path)
     try:
         return dataset.to_table(columns=columns, filter=filter)
     except (pa.ArrowInvalid, OSError) as exc:
         raise LibraryError(f"{path} holds a corrupt part: {exc}") from None
 
 
-def done_ids(path: str | os.PathLike[str]) -> np.ndarray:
-    """Sorted config_ids that the library's parts already hold."""
-    path = _check_dir(path)
-    if not part_files(path):
-        return np.empty(0, dtype=np.int64)
-    if read_metadata(path)["model"] == "mechanics":
-        # A configuration is done when its start is: parts hold whole held tilts.
-        table = _read(path, ["config_id"], filter=ds.field("role") == "start")
-    else:
-        table = _read(path, ["config_id"])
-    ids = table.column("config_id").to_numpy()
-    uniq = np.unique(ids)
-    if len(uniq) != len(ids):
+def _read(
+    lib: _Library, columns: list[str] | None = None, filter: ds.Expression | None = None
+) -> pa.Table:
+    if lib.dataset is None:
+        table = library_schema(lib.meta).empty_table()
+        return table if columns is None else table.select(columns)
+    return _table(lib.dataset, lib.path, columns, filter)
+
+
+def _corrupt(path: Path, what: str) -> LibraryError:
+    return LibraryError(
+        f"{path} is corrupt: {what}. Its {METADATA_FILE} or its parts were edited, or "
+        "parts were copied in from another library; sweep again into a new directory"
+    )
+
+
+def _check_fit(path: Path, meta: dict[str, Any], grid: Grid, dataset: ds.Dataset) -> np.ndarray:
+    """The finished configurations (sorted config_ids), once checked against the grid:
+    each number within the grid and held once, its held tilt and phase the grid's, every
+    other state of a mechanics library at its start's held tilt."""
+    mechanics = meta["model"] == "mechanics"
+    names = ["held_roll", "held_pitch"] if mechanics else ["roll", "pitch"]
+    columns = ["config_id", *names, "phase"] + (["role"] if mechanics else [])
+    rows = _table(dataset, path, columns).to_pandas()
+    ids = rows["config_id"].to_numpy(dtype=np.int64)
+    outside = (ids < 0) | (ids >= grid.size)
+    if outside.any():
+        beyond = np.unique(ids[outside])
+        raise _corrupt(
+            path,
+            f"its parts hold {len(beyond)} configuration number(s) beyond the grid "
+            f"(first: {int(beyond[0])}), whose {grid.size:,} configurations are "
+            f"0..{grid.size - 1} ({grid.describe()})",
+        )
+    is_start = (rows["role"] == "start").to_numpy() if mechanics else np.ones(len(rows), bool)
+    started = ids[is_start]
+    done = np.unique(started)
+    if len(done) != len(started):
         raise LibraryError(f"{path} holds some configurations twice: it was mixed by hand")
-    return uniq
+    want = grid.configurations(ids)
+    got = rows[[*names, "phase"]].to_numpy(dtype=float)
+    tilt_off = np.abs(got[:, :2] - want[:, :2]).max(axis=1) > _FIT_TOLERANCE
+    phase_off = np.abs((got[:, 2] - want[:, 2] + 180.0) % 360.0 - 180.0) > _FIT_TOLERANCE
+    off = tilt_off | (phase_off & is_start)
+    if off.any():
+        i = int(np.flatnonzero(off)[0])
+        held = "held " if mechanics else ""
+        r, p, ph = got[i]
+        wr, wp, wph = want[i]
+        what = "start" if is_start[i] else "a state"
+        at = f"{held}roll {r:g}, pitch {p:g}" + (f", phase {ph:g}" if is_start[i] else "")
+        wanted = f"{held}roll {wr:g}, pitch {wp:g}" + (f", phase {wph:g}" if is_start[i] else "")
+        raise _corrupt(
+            path,
+            f"{what} of configuration {int(ids[i])} in its parts is at {at}, where the grid "
+            f"of {METADATA_FILE} ({grid.describe()}) puts configuration {int(ids[i])} at "
+            f"{wanted}",
+        )
+    return done
+
+
+def done_ids(path: str | os.PathLike[str]) -> np.ndarray:
+    """Sorted config_ids that the library's parts already hold (checked against the
+    grid: :class:`LibraryError` for a corrupt library)."""
+    return _open(path).done
+
+
+def progress(library: str | os.PathLike[str] | pd.DataFrame) -> dict[str, Any]:
+    """How far a library's sweep got: ``done`` (finished configurations, i.e. starts),
+    ``configurations`` (the grid's) and ``complete``.
+
+    ``library`` is a library directory or rows as :func:`load` gives them (a mechanics
+    library's rows count their starts).
+    """
+    if isinstance(library, pd.DataFrame):
+        meta = library.attrs.get("threadmate") or {}
+        if "grid" not in meta:
+            raise InputError("rows without library metadata (load them with library.load)")
+        total = Grid.from_dict(meta["grid"]).size
+        rows = library[library["role"] == "start"] if "role" in library.columns else library
+        done = int(rows["config_id"].nunique())
+    else:
+        lib = _open(library)
+        total, done = lib.grid.size, len(lib.done)
+    return {"done": done, "configurations": total, "complete": done >= total}
 
 
 def load(path: str | os.PathLike[str], columns: list[str] | None = None) -> pd.DataFrame:
@@ -273,22 +411,16 @@ def load(path: str | os.PathLike[str], columns: list[str] | None = None) -> pd.D
     LibraryError
         ``path`` is missing, not a directory, has no metadata or holds corrupt parts.
     """
-    path = _check_dir(path)
-    meta = read_metadata(path)
-    schema = library_schema(meta)
+    lib = _open(path)
+    schema = library_schema(lib.meta)
     if columns is not None:
         unknown = [c for c in columns if c not in schema.names]
         if unknown:
             raise LibraryError(f"no column {unknown[0]!r} in a library")
         columns = ["config_id", *[c for c in columns if c != "config_id"]]
-    if part_files(path):
-        table = _read(path, columns)
-    else:
-        table = schema.empty_table()
-        if columns is not None:
-            table = table.select(columns)
+    table = _read(lib, columns)
     df = table.to_pandas().sort_values("config_id", kind="stable").reset_index(drop=True)
-    df.attrs["threadmate"] = meta
+    df.attrs["threadmate"] = lib.meta
     return df
 
 
@@ -298,16 +430,15 @@ def _counts(values: pd.Series | np.ndarray) -> dict[str, int]:
 
 
 def _starts(
-    path: Path,
-    meta: dict[str, Any],
+    lib: _Library,
     columns: list[str] | None = None,
     filter: ds.Expression | None = None,
 ) -> pa.Table:
     """One row per finished configuration: the thesis's rows, or the mechanics' starts."""
-    if meta["model"] == "mechanics":
+    if lib.meta["model"] == "mechanics":
         start = ds.field("role") == "start"
         filter = start if filter is None else (start & filter)
-    return _read(path, columns, filter)
+    return _read(lib, columns, filter)
 
 
 def info(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -317,21 +448,26 @@ def info(path: str | os.PathLike[str]) -> dict[str, Any]:
     -------
     dict
         ``path``, ``model``, ``metadata``, ``configurations`` (grid size), ``done``,
-        ``complete``, ``parts``, ``classifications`` (counts over the finished
-        configurations: the thesis's rows, or the rest states the mechanics' drops reach),
-        ``states`` (mechanics: counts of all states by role and by class) and ``grid``
-        (a one-line description).
+        ``complete``, ``sweeping`` (the process id, host and start time of the sweep that
+        holds the library's lock, None when no sweep runs), ``parts``,
+        ``classifications`` (counts over the finished configurations: the thesis's rows,
+        or the rest states the mechanics' drops reach), ``states`` (mechanics: counts of
+        all states by role and by class) and ``grid`` (a one-line description).
+
+    Raises
+    ------
+    LibraryError
+        Not a library, or a corrupt one (rows that do not fit its grid).
     """
-    path = _check_dir(path)
-    meta = read_metadata(path)
-    grid = Grid.from_dict(meta["grid"])
+    lib = _open(path)
+    path, meta, grid = lib.path, lib.meta, lib.grid
     done, classes, states = 0, {}, {}
-    if part_files(path):
-        table = _starts(path, meta, ["config_id", "classification"])
+    if lib.parts:
+        table = _starts(lib, ["config_id", "classification"])
         done = table.num_rows
         classes = _counts(table.column("classification").to_numpy(zero_copy_only=False))
         if meta["model"] == "mechanics":
-            every = _read(path, ["role", "classification"]).to_pandas()
+            every = _read(lib, ["role", "classification"]).to_pandas()
             states = {
                 "total": len(every),
                 "by_role": _counts(every["role"]),
@@ -345,7 +481,8 @@ def info(path: str | os.PathLike[str]) -> dict[str, Any]:
         "configurations": grid.size,
         "done": done,
         "complete": done == grid.size,
-        "parts": len(part_files(path)),
+        "sweeping": lock_holder(path),
+        "parts": len(lib.parts),
         "classifications": classes,
         "states": states,
         "metadata": meta,
@@ -406,13 +543,12 @@ def query(
         (False when an unfinished sweep has not reached it yet) and ``record`` (the
         thesis's row, or the rest state the mechanics' drop reaches; None if not computed).
     """
-    path = _check_dir(path)
-    meta = read_metadata(path)
-    grid = Grid.from_dict(meta["grid"])
-    cid, on_grid, snapped = grid.locate(roll, pitch, phase, nearest=nearest)
+    lib = _open(path)
+    meta = lib.meta
+    cid, on_grid, snapped = lib.grid.locate(roll, pitch, phase, nearest=nearest)
     record = None
-    if part_files(path):
-        rows = _starts(path, meta, filter=ds.field("config_id") == cid).to_pylist()
+    if lib.parts:
+        rows = _starts(lib, filter=ds.field("config_id") == cid).to_pylist()
         record = rows[0] if rows else None
     return {
         "requested": {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)},
@@ -526,3 +662,128 @@ def _flat_diff(a: dict[str, Any], b: dict[str, Any], prefix: str = "") -> list[s
         elif not _same(va, vb):
             out.append(f"{prefix}{k}: {va!r} vs {vb!r}")
     return out
+
+
+# -- the sweep's lock ---------------------------------------------------------------------
+#: Lock file descriptors this process holds (a forked pool worker closes its copies).
+_HELD: set[int] = set()
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's process: it exists
+        return True
+    except OSError:
+        return False
+    return True
+
+
+def lock_holder(path: str | os.PathLike[str]) -> dict[str, Any] | None:
+    """The sweep that holds the library's lock: ``pid``, ``host`` and ``started`` (None
+    when the lock file is absent, unreadable, or names a process of this host that no
+    longer runs: a sweep that was killed)."""
+    try:
+        doc = json.loads((Path(path) / LOCK_FILE).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    if not isinstance(doc, dict) or not isinstance(doc.get("pid"), int):
+        return None
+    if doc.get("host") == socket.gethostname() and not _alive(doc["pid"]):
+        return None
+    return {k: doc.get(k) for k in ("pid", "host", "started")}
+
+
+def _holder_words(path: Path) -> str:
+    doc = lock_holder(path)
+    if doc is None:
+        return "another process"
+    return f"process {doc['pid']} on {doc['host']} (since {doc['started']})"
+
+
+def _refuse_locked(path: Path) -> LibraryError:
+    return LibraryError(
+        f"{path} is being swept by {_holder_words(path)}: one sweep writes a library at a "
+        "time. Wait for it to finish (or stop it), then run this sweep again to resume"
+    )
+
+
+@contextlib.contextmanager
+def sweep_lock(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """Hold the library's lock while a sweep writes it (the directory must exist).
+
+    The lock is :data:`LOCK_FILE` in the library, locked with ``fcntl.flock`` and holding
+    this process's id, host and start time. The operating system releases it when the
+    process ends, however it ends: the file a killed sweep leaves does not block the next.
+    A second sweep is refused at once with :class:`LibraryError` naming the holder.
+    """
+    path = Path(path)
+    lock = path / LOCK_FILE
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: a file created exclusively, stale if its process died
+        fcntl = None  # type: ignore[assignment]
+    for _ in range(10):
+        if fcntl is None:
+            try:
+                fd = os.open(lock, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o644)
+            except FileExistsError:
+                if lock_holder(path) is not None:
+                    raise _refuse_locked(path) from None
+                with contextlib.suppress(FileNotFoundError):
+                    lock.unlink()  # left by a sweep that was killed
+                continue
+            except OSError as exc:
+                raise LibraryError(
+                    f"cannot lock the library at {path}: {exc.strerror or exc}"
+                ) from None
+        else:
+            try:
+                fd = os.open(lock, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o644)
+            except OSError as exc:
+                raise LibraryError(
+                    f"cannot lock the library at {path}: {exc.strerror or exc}"
+                ) from None
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.close(fd)
+                raise _refuse_locked(path) from None
+            # The holder before us removes the file as it lets go: lock the file that is
+            # there now, not one already unlinked.
+            try:
+                same = os.path.samestat(os.fstat(fd), os.stat(lock))
+            except FileNotFoundError:
+                same = False
+            if not same:
+                os.close(fd)
+                continue
+        break
+    else:
+        raise LibraryError(f"cannot take the lock {lock}: it keeps changing hands")
+    _HELD.add(fd)
+    try:
+        doc = {
+            "pid": os.getpid(),
+            "host": socket.gethostname(),
+            "started": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        }
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, (json.dumps(doc) + "\n").encode(), 0)
+        yield lock
+    finally:
+        _HELD.discard(fd)
+        with contextlib.suppress(FileNotFoundError):
+            lock.unlink()  # before letting go, so that no one locks a removed file
+        os.close(fd)
+
+
+def release_inherited_locks() -> None:
+    """In a process forked from a sweep: close the copies of its lock files (the lock
+    stays the sweep's, and ends with it rather than with this process)."""
+    for fd in list(_HELD):
+        with contextlib.suppress(OSError):
+            os.close(fd)
+    _HELD.clear()

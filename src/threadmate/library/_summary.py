@@ -373,8 +373,19 @@ def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
     yi, yl = _ticks(grid.pitch)
     ax.set_xticks([gap + i * (width + gap) + width / 2 for i in xi], xl)
     ax.set_yticks([(n_pitch - 1 - j) * (height + gap) + gap + height / 2 for j in yi], yl)
+    # Phase ticks under each strip of the bottom row (a column of strips shares them), in
+    # the margin below it: the cell of a grid phase is one pixel column centred on it.
+    marks = [m for m in (0.0, 90.0, 180.0, 270.0) if grid.phase[0] <= m <= grid.phase[-1]]
+    at = np.interp(marks, grid.phase, np.arange(n_phase))
+    edge = n_pitch * (height + gap) - 0.5  # the bottom strip's lower edge
+    for i in range(n_roll):
+        for m, k in zip(marks, at, strict=True):
+            x = i * (width + gap) + gap + float(k)
+            ax.plot([x, x], [edge, edge + 0.25 * gap], color="0.3", lw=0.6)
+            ax.text(x, edge + 0.3 * gap, f"{m:g}", ha="center", va="top", fontsize=5.5)
+    ax.tick_params(axis="x", length=0, pad=8)
     xlabel, ylabel = _axis_names(model)
-    ax.set_xlabel(f"{xlabel}; within each strip, phase 0 to 360 deg left to right")
+    ax.set_xlabel(f"{xlabel}; within each strip, start phase 0 to 360 deg left to right")
     ax.set_ylabel(ylabel)
     ax.set_title(
         f"{name}: {_what(model)} over phase for each held tilt"

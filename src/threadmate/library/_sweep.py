@@ -39,7 +39,7 @@ import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
 from .._io import remove_stale_temporaries
-from .._validate import check_whole, check_workers
+from .._validate import check_search_steps, check_starts, check_whole, check_workers
 from .._version import __version__
 from ..contact import CONTINUATION_STEP, SCREW_IN, Compliance, blank_row, check_continuation
 from ..geometry import ThreadSpec, check_chord
@@ -56,6 +56,8 @@ from ._store import (
     load,
     next_part_index,
     read_metadata,
+    release_inherited_locks,
+    sweep_lock,
     write_metadata,
     write_part,
 )
@@ -268,6 +270,7 @@ def _watch_parent(pids: Any) -> None:
     started it dies (a SIGKILL leaves no chance to stop the pool; without this its
     workers would finish their chunk, minutes of work, for nobody)."""
     pids.put(os.getpid())
+    release_inherited_locks()  # the library's lock is the sweep's, not this worker's
     parent = os.getppid()
 
     def watch() -> None:
@@ -576,6 +579,7 @@ def sweep(
     nut_mesh: str | os.PathLike[str] | None = None,
     mesh_units: str | None = None,
     clockwise: bool = False,
+    max_starts: int | None = None,
 ) -> Path | pd.DataFrame:
     """Build (or resume) the contact-state library of a thread pair over a grid.
 
@@ -644,6 +648,11 @@ def sweep(
         Mechanics: also turn every start clockwise directly (:func:`threadmate.contact.
         screw`, one turn) and record what it does on the start's row (``clockwise``:
         engaged, riding or jammed; ``clockwise_phase``: where it is decided).
+    max_starts : int, optional
+        Most configurations the grid may hold (default
+        ``threadmate._validate.MAX_STARTS``, 100,000; at most 10,000,000). A larger grid is
+        refused, before anything is allocated or written, with its count and an estimate
+        of the time it would take.
 
     Returns
     -------
@@ -653,14 +662,19 @@ def sweep(
     Raises
     ------
     InputError
-        Bad grid, worker count, chord or scheduler (``LibraryError`` for a library that
-        disagrees with the request).
+        Bad grid, worker count, chord or scheduler, a grid past ``max_starts``, a step
+        finer than a search takes (``LibraryError`` for a library that disagrees with the
+        request, or that another sweep is writing).
     SweepInterrupted
         A worker or the cluster was lost; finished chunks are saved, run again to resume.
     """
     if not isinstance(spec, ThreadSpec):
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     grid = Grid.parse(roll, pitch, phase)
+    _check_execution(workers, scheduler)
+    n_workers = workers or _cpu_count()
+    what = grid.describe(size=False)
+    check_starts(grid.size, max_starts, model=str(model), workers=n_workers, what=what)
     # The meshes' own check, before anything is written.
     chord = check_chord(spec, chord, "--chord")
     if model not in MODELS:
@@ -671,10 +685,11 @@ def sweep(
         raise InputError(f"compliance must be a Compliance, got {type(compliance).__name__}")
     compliance.check_for(spec.pitch)  # here, not first in a worker after the library exists
     check_continuation(step=step, phase_tolerance=phase_tolerance)
+    if model == "mechanics":
+        check_search_steps(1.0, step)  # the continuation of one start over a turn
     for name, value in (("chunk_size", chunk_size), ("max_chunks", max_chunks)):
         if value is not None:
             check_whole(name, value)
-    _check_execution(workers, scheduler)
     if model == "mechanics" and analyzer is not None:
         raise InputError("analyzer is for the thesis's model only")
     bolt_file, nut_file = _mesh_files(spec, bolt_mesh, nut_mesh, mesh_units)
@@ -766,13 +781,35 @@ def write_library(
     except (pa.ArrowInvalid, pa.ArrowTypeError) as exc:
         raise InputError(f"records do not fit the {model} schema: {exc}") from None
     out = Path(out)
-    meta = _open_library(out, job)
-    part = next_part_index(out)
-    with_meta = table.replace_schema_metadata(library_schema(meta).metadata)
-    for start in range(0, max(table.num_rows, 1), rows_per_part):
-        write_part(out, part, with_meta.slice(start, rows_per_part))
-        part += 1
+    with _locked(out):
+        meta = _open_library(out, job)
+        part = next_part_index(out)
+        with_meta = table.replace_schema_metadata(library_schema(meta).metadata)
+        for start in range(0, max(table.num_rows, 1), rows_per_part):
+            write_part(out, part, with_meta.slice(start, rows_per_part))
+            part += 1
     return out
+
+
+@contextlib.contextmanager
+def _locked(out: Path) -> Iterator[None]:
+    """Create the library directory if it is missing and hold its lock (one sweep writes a
+    library at a time); a directory created here that is left empty (a request refused
+    before its first write) is removed."""
+    if out.exists() and not out.is_dir():
+        raise LibraryError(f"{out} exists and is not a directory: give a library directory")
+    created = not out.exists()
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise LibraryError(f"cannot create the library at {out}: {exc.strerror or exc}") from None
+    try:
+        with sweep_lock(out):
+            yield
+    finally:
+        if created:
+            with contextlib.suppress(OSError):
+                out.rmdir()  # only if empty
 
 
 def _run(
@@ -785,6 +822,20 @@ def _run(
     max_chunks: int | None,
 ) -> None:
     existed = out.exists()
+    with _locked(out):
+        _run_locked(job, out, existed, workers, scheduler, chunk_size, progress, max_chunks)
+
+
+def _run_locked(
+    job: Job,
+    out: Path,
+    existed: bool,
+    workers: int | None,
+    scheduler: str | None,
+    chunk_size: int | None,
+    progress: ProgressCallback | None,
+    max_chunks: int | None,
+) -> None:
     meta = _open_library(out, job)
     total = job.grid.size
     done = done_ids(out)
@@ -798,9 +849,7 @@ def _run(
         executor = _executor(workers, scheduler)
     except BaseException:
         if not existed:  # leave nothing behind for a request that never started
-            (out / METADATA_FILE).unlink(missing_ok=True)
-            with contextlib.suppress(OSError):
-                out.rmdir()
+            (out / METADATA_FILE).unlink(missing_ok=True)  # the directory goes with the lock
         raise
     if progress is not None:
         progress(n_done, total)

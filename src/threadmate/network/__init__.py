@@ -28,42 +28,55 @@ Example
 >>> network.write_graphml(g, "network.graphml")                        # doctest: +SKIP
 """
 
-from ._build import (
-    COST_UNITS,
-    EDGE_KINDS,
-    NODE_ATTRIBUTES,
-    WEIGHT_FORMULA,
-    build_network,
-    from_library,
-    start_node,
-    starts,
-)
-from ._figures import plot_click_signature, plot_click_vs_tilt
-from ._paths import (
-    MAX_K,
-    PathResult,
-    k_best_paths,
-    least_resistance_path,
-    no_path_document,
-    snap_targets,
-    start_outcomes,
-)
-from ._readwrite import read_graphml, write_graphml, write_node_link
-from ._recommend import (
-    METRICS,
-    Recommendation,
-    format_recommendation,
-    plot_recommendation,
-    recommend,
-    write_recommendation,
-)
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
+    from ._build import (
+        COST_UNITS,
+        EDGE_KINDS,
+        NODE_ATTRIBUTES,
+        WEIGHT_FORMULA,
+        build_network,
+        from_library,
+        start_node,
+        starts,
+    )
+    from ._figures import plot_click_signature, plot_click_vs_tilt
+    from ._paths import (
+        MAX_K,
+        PathResult,
+        k_best_paths,
+        least_resistance_path,
+        no_path_document,
+        snap_targets,
+        start_outcomes,
+    )
+    from ._readwrite import (
+        GEOMETRY_ATTRIBUTES,
+        START_COLUMN_UNITS,
+        read_graphml,
+        start_outcomes_csv,
+        write_graphml,
+        write_node_link,
+    )
+    from ._recommend import (
+        METRICS,
+        Recommendation,
+        format_recommendation,
+        plot_recommendation,
+        recommend,
+        write_recommendation,
+    )
 
 __all__ = [
     "COST_UNITS",
     "EDGE_KINDS",
+    "GEOMETRY_ATTRIBUTES",
     "MAX_K",
     "METRICS",
     "NODE_ATTRIBUTES",
+    "START_COLUMN_UNITS",
     "WEIGHT_FORMULA",
     "PathResult",
     "Recommendation",
@@ -81,8 +94,69 @@ __all__ = [
     "snap_targets",
     "start_node",
     "start_outcomes",
+    "start_outcomes_csv",
     "starts",
     "write_graphml",
     "write_node_link",
     "write_recommendation",
 ]
+
+#: The submodule of each public name, imported when the name is first used (PEP 562):
+#: importing the package loads none of them, so that a command that does not need
+#: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
+#: imports them. tests/test_cli_contract.py checks it against the imports above.
+_SOURCES = {
+    "._build": (
+        "COST_UNITS",
+        "EDGE_KINDS",
+        "NODE_ATTRIBUTES",
+        "WEIGHT_FORMULA",
+        "build_network",
+        "from_library",
+        "start_node",
+        "starts",
+    ),
+    "._figures": ("plot_click_signature", "plot_click_vs_tilt"),
+    "._paths": (
+        "MAX_K",
+        "PathResult",
+        "k_best_paths",
+        "least_resistance_path",
+        "no_path_document",
+        "snap_targets",
+        "start_outcomes",
+    ),
+    "._readwrite": (
+        "GEOMETRY_ATTRIBUTES",
+        "START_COLUMN_UNITS",
+        "read_graphml",
+        "start_outcomes_csv",
+        "write_graphml",
+        "write_node_link",
+    ),
+    "._recommend": (
+        "METRICS",
+        "Recommendation",
+        "format_recommendation",
+        "plot_recommendation",
+        "recommend",
+        "write_recommendation",
+    ),
+}
+#: Public names that differ from their submodule's.
+_ALIASES: dict[str, str] = {}
+_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
+
+
+def __getattr__(name: str) -> Any:
+    """Import the submodule that holds ``name`` on first use (PEP 562)."""
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), _ALIASES.get(name, name))
+    globals()[name] = value  # later uses find it without this hook
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -52,7 +52,7 @@ def plot_click_signature(
     for ax, values, label in (
         (axes[0], z, f"compliance centre height ({units})"),
         (axes[1], tilt, "bolt tilt (deg)"),
-        (axes[2], 1e3 * torque, "driver torque (N mm)"),
+        (axes[2], torque, "driver torque (N m)"),
     ):
         ax.plot(turned, values, ".-", color="#3182bd", lw=1.2, ms=3)
         ax.set_ylabel(label, fontsize=8)
@@ -73,13 +73,26 @@ def plot_click_signature(
 def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str], units: str) -> Path:
     """The click (drop at the snap) and the turn to it against the held tilt's size, one
     point per start that snaps within a turn (starts already in phase left out), with the
-    mean per size."""
+    mean per size, and each snap's window (where the drop may come earlier)."""
     ok = outcomes[outcomes["snapped"] & (outcomes["turn"] > 0)].copy()
     ok["tilt"] = np.hypot(ok["held_roll"], ok["held_pitch"])
     fig = new_figure((7.0, 5.0))
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
     ax1.plot(ok["tilt"], ok["click"], ".", color="#9ecae1", ms=3)
     ax2.plot(ok["tilt"], ok["turn"], ".", color="#9ecae1", ms=3)
+    if "snap_window" in ok and bool((ok["snap_window"] > 0).any()):
+        # Where the snap is a window, the drop may come anywhere in it: drawn down from
+        # the snap's turn to the window's start.
+        win = ok[ok["snap_window"] > 0]
+        ax2.vlines(
+            win["tilt"],
+            win["turn"] - win["snap_window"],
+            win["turn"],
+            color="#fdae6b",
+            lw=1.0,
+            label="snap window",
+        )
+        ax2.legend(fontsize=8)
     means = ok.groupby(ok["tilt"].round(6))[["click", "turn"]].mean()
     ax1.plot(means.index, means["click"], "o-", color="#08519c", label="mean")
     ax2.plot(means.index, means["turn"], "o-", color="#08519c")

@@ -1,36 +1,72 @@
-"""The network on disk: GraphML (networkx, yEd, Gephi, Cytoscape) and node-link JSON.
+"""The network on disk: GraphML (networkx, yEd, Gephi, Cytoscape), node-link JSON and the
+starts' outcomes as CSV.
 
 GraphML keeps string node ids and scalar attributes only, each key of one type (str, int,
-float or boolean, never numpy scalars); booleans are written ``true``/``false`` as the
-GraphML schema spells them. A list attribute (the rotation, the contacts' regions, forces,
-points and normals) is written as its JSON text. A float the mechanics did not give (NaN
-in memory) is left out of that element's data, as GraphML allows for missing values,
-because NaN is not a number every reader parses. The graph's metadata (spec, grid and
+float or boolean, never numpy scalars), as Gephi and yEd type their columns; booleans are
+written ``true``/``false`` as the GraphML schema spells them. A list attribute (the
+rotation, the contacts' regions, forces, points and normals) is written as its JSON text,
+a string. A float the mechanics did not give (NaN in memory) is left out of that element's
+data, as GraphML allows for missing values, because NaN is not a number every reader
+parses; inside a list's JSON text it is ``null``. The graph's metadata (spec, grid and
 compliance as JSON strings, units, cost units, threadmate version, the weight formula) are
 graph attributes; private keys (starting with ``_``) are not written. The node-link JSON
-is :func:`networkx.node_link_data` with missing values as ``null``. Both files are
-written atomically.
+is :func:`networkx.node_link_data` with missing values as ``null``.
+
+The network in memory leaves each state's rotation and its contacts' points and normals
+(:data:`GEOMETRY_ATTRIBUTES`) in the library, so that it stays small; given the library,
+the writers put them on every node of the files. The starts' CSV names each column with
+its unit (``turn_deg``, ``work_mJ``, ``click_in``, ...: :data:`START_COLUMN_UNITS`). Every
+file is written atomically.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
 from typing import Any
 
 import networkx as nx
 import numpy as np
+import pandas as pd
 from networkx.readwrite.graphml import GraphMLWriter
 
 from .._errors import InputError
 from .._io import atomic_path, atomic_write_text
+from ..library import load
 
-__all__ = ["LIST_ATTRIBUTES", "read_graphml", "write_graphml", "write_node_link"]
+__all__ = [
+    "GEOMETRY_ATTRIBUTES",
+    "LIST_ATTRIBUTES",
+    "START_COLUMN_UNITS",
+    "read_graphml",
+    "start_outcomes_csv",
+    "write_graphml",
+    "write_node_link",
+]
 
-
+#: Node attributes the files carry from the library (a state's pose and its contacts):
+#: ``rotation`` (9 values, row-major), ``contact_points`` (3 values per touching contact,
+#: spec units, frame F) and ``contact_normals`` (3 per contact, unit, nut into bolt).
+GEOMETRY_ATTRIBUTES = ("rotation", "contact_points", "contact_normals")
 #: Node attributes that hold lists (written as JSON text, read back as lists).
-LIST_ATTRIBUTES = ("contact_regions", "contact_forces")
+LIST_ATTRIBUTES = ("contact_regions", "contact_forces", *GEOMETRY_ATTRIBUTES)
+#: Units of the starts' outcome columns (:func:`threadmate.network.start_outcomes`) that
+#: have one ("length": the spec's); the CSV names them ``<column>_<unit>``.
+START_COLUMN_UNITS = {
+    "held_roll": "deg",
+    "held_pitch": "deg",
+    "phase": "deg",
+    "turn": "deg",
+    "work": "mJ",
+    "click": "length",
+    "snap_phase": "deg",
+    "snap_window": "deg",
+    "torque_peak": "N_m",
+}
+
+Library = str | os.PathLike[str] | pd.DataFrame
 
 
 def _scalar(value: Any) -> Any:
@@ -73,15 +109,41 @@ def _clean(data: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def _export_graph(graph: nx.DiGraph) -> nx.DiGraph:
+def _geometry(library: Library | None) -> dict[str, dict[str, Any]]:
+    """Each state's :data:`GEOMETRY_ATTRIBUTES`, by state id, read from ``library`` (a
+    path, or rows as :func:`threadmate.library.load` gives them); empty without one."""
+    if library is None:
+        return {}
+    columns = ["state_id", *GEOMETRY_ATTRIBUTES]
+    rows = library if isinstance(library, pd.DataFrame) else load(library, columns=columns)
+    missing = [c for c in columns if c not in rows.columns]
+    if missing:
+        raise InputError(f"the library rows lack {', '.join(missing)}: not a mechanics library")
+    values = [rows[c].tolist() for c in GEOMETRY_ATTRIBUTES]
+    return {
+        sid: dict(zip(GEOMETRY_ATTRIBUTES, row, strict=True))
+        for sid, *row in zip(rows["state_id"].tolist(), *values, strict=True)
+    }
+
+
+def _nodes(graph: nx.DiGraph, library: Library | None) -> Any:
+    """The graph's nodes with their attributes, and each state's geometry from
+    ``library`` where the node does not carry it."""
+    extra = _geometry(library)
+    for n, d in graph.nodes(data=True):
+        more = extra.get(str(n))
+        yield n, d if more is None else {**more, **d}
+
+
+def _export_graph(graph: nx.DiGraph, library: Library | None = None) -> nx.DiGraph:
     out: nx.DiGraph[str] = nx.DiGraph()
     out.graph.update(_clean(graph.graph))
-    out.add_nodes_from((str(n), _clean(d)) for n, d in graph.nodes(data=True))
+    out.add_nodes_from((str(n), _clean(d)) for n, d in _nodes(graph, library))
     out.add_edges_from((str(u), str(v), _clean(d)) for u, v, d in graph.edges(data=True))
     return out
 
 
-def write_graphml(graph: nx.DiGraph, path: str | Path) -> Path:
+def write_graphml(graph: nx.DiGraph, path: str | Path, *, library: Library | None = None) -> Path:
     """Write the network as GraphML, atomically.
 
     Parameters
@@ -90,6 +152,9 @@ def write_graphml(graph: nx.DiGraph, path: str | Path) -> Path:
         A network from :func:`build_network`.
     path : path-like
         Destination (``.graphml``).
+    library : path-like or pandas.DataFrame, optional
+        The library the network was built from (its path or its rows): each node then
+        also gets its :data:`GEOMETRY_ATTRIBUTES` (JSON text).
 
     Returns
     -------
@@ -97,7 +162,7 @@ def write_graphml(graph: nx.DiGraph, path: str | Path) -> Path:
     """
     path = Path(path)
     writer = _GraphMLWriter(encoding="utf-8", prettyprint=False)
-    writer.add_graph_element(_export_graph(graph))
+    writer.add_graph_element(_export_graph(graph, library))
     with atomic_path(path) as tmp, open(tmp, "wb") as fh:
         writer.dump(fh)
     return path
@@ -114,11 +179,12 @@ class _GraphMLWriter(GraphMLWriter):
         return super().add_data(name, element_type, value, scope, default)
 
 
-def write_node_link(graph: nx.DiGraph, path: str | Path) -> Path:
+def write_node_link(graph: nx.DiGraph, path: str | Path, *, library: Library | None = None) -> Path:
     """Write the network as node-link JSON (``networkx.node_link_data``), atomically.
 
     Missing values are ``null``; read back with ``networkx.node_link_graph(doc,
-    edges="edges")``.
+    edges="edges")``. With ``library`` (as for :func:`write_graphml`) each node also
+    gets its :data:`GEOMETRY_ATTRIBUTES`, as lists.
     """
 
     def plain(v: Any) -> Any:
@@ -127,7 +193,7 @@ def write_node_link(graph: nx.DiGraph, path: str | Path) -> Path:
     export: nx.DiGraph[str] = nx.DiGraph()
     export.graph.update({k: plain(v) for k, v in graph.graph.items() if not str(k).startswith("_")})
     export.add_nodes_from(
-        (n, {k: plain(v) for k, v in d.items()}) for n, d in graph.nodes(data=True)
+        (n, {k: plain(v) for k, v in d.items()}) for n, d in _nodes(graph, library)
     )
     export.add_edges_from(
         (u, v, {k: plain(x) for k, x in d.items()}) for u, v, d in graph.edges(data=True)
@@ -172,9 +238,20 @@ def read_graphml(path: str | Path) -> nx.DiGraph:
         for key in LIST_ATTRIBUTES:
             if isinstance(d.get(key), str):
                 d[key] = json.loads(d[key])
-        if isinstance(d.get("contact_forces"), list):  # null in the JSON text: NaN
-            d["contact_forces"] = [math.nan if v is None else v for v in d["contact_forces"]]
+                if key != "contact_regions":  # null in the JSON text of numbers: NaN
+                    d[key] = [math.nan if v is None else v for v in d[key]]
     for _, _, d in graph.edges(data=True):
-        for key in ("torque_peak", "tilt_change", "drop"):
+        for key in ("torque_peak", "tilt_change", "drop", "snap_window"):
             d.setdefault(key, math.nan)
     return graph
+
+
+def start_outcomes_csv(outcomes: pd.DataFrame, path: str | Path, units: str) -> Path:
+    """Write the starts' outcomes (:func:`threadmate.network.start_outcomes`) as CSV,
+    atomically, each column with a unit named with it (:data:`START_COLUMN_UNITS`;
+    ``units``: the spec's length unit, for the click)."""
+    names = {
+        col: f"{col}_{units if unit == 'length' else unit}"
+        for col, unit in START_COLUMN_UNITS.items()
+    }
+    return atomic_write_text(path, outcomes.rename(columns=names).to_csv(index=False))

@@ -4,7 +4,9 @@ reliably, quickly and cheaply.
 A *setting* is a held pitch of the grid (the pre-tilt the robot sets about the nut's Y
 axis) for one compliance (one library). Its starts are the library's starts at that held
 pitch whose held roll lies within the expected roll error (``|roll| <= roll_spread``), at
-every start phase. Over them, from :func:`start_outcomes` (the passive search):
+every start phase. Starts whose drop failed or whose descent did not reach a rest state
+are counted apart (``failed``, ``not_at_rest``) and left out of every figure. Over the
+others, from :func:`start_outcomes` (the passive search):
 
 - ``share_snap``: share that snap within one turn;
 - ``turn_mean``, ``turn_worst``: degrees turned to the snap (over those that snap);
@@ -72,8 +74,15 @@ METRICS = {
 }
 
 
+#: The class of a start whose descent did not reach a rest state (it did not converge).
+NOT_AT_REST = "unstable"
+
+
 def _figures(rows: pd.DataFrame) -> dict[str, Any]:
-    ok = rows[~rows["failed"]]
+    # A start whose descent did not reach a rest state has no search to speak of: it is
+    # counted apart (not_at_rest) and left out of every figure, as a failed one is.
+    unsettled = ~rows["failed"] & (rows["classification"] == NOT_AT_REST)
+    ok = rows[~rows["failed"] & ~unsettled]
     snapped = ok[ok["snapped"]]
     clicks = snapped.loc[snapped["turn"] > 0, "click"]
 
@@ -86,6 +95,7 @@ def _figures(rows: pd.DataFrame) -> dict[str, Any]:
     return {
         "starts": len(ok),
         "failed": int(rows["failed"].sum()),
+        "not_at_rest": int(unsettled.sum()),
         "share_snap": float(len(snapped) / len(ok)) if len(ok) else 0.0,
         "turn_mean": stat(snapped["turn"], "mean"),
         "turn_worst": stat(snapped["turn"], "max"),
@@ -145,6 +155,11 @@ class Recommendation:
         Length units.
     pitch_range : tuple of float
         Smallest and largest held pitch searched.
+    notes : list of str
+        What the figures do not say by themselves (the pick at the edge, equivalent
+        settings, an incomplete library).
+    progress : list of dict
+        Per network: ``done`` (starts), ``configurations`` (the grid's) and ``complete``.
     """
 
     settings: list[dict[str, Any]]
@@ -155,6 +170,7 @@ class Recommendation:
     units: str
     pitch_range: tuple[float, float]
     notes: list[str] = field(default_factory=list)
+    progress: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def best(self) -> dict[str, Any]:
@@ -183,6 +199,8 @@ class Recommendation:
             "azimuth_proof": self.azimuth_proof,
             "azimuth_proof_pick": self.azimuth_proof[0] if self.azimuth_proof else None,
             "notes": list(self.notes),
+            "complete": all(p["complete"] for p in self.progress),
+            "progress": [dict(p) for p in self.progress],
         }
 
 
@@ -192,7 +210,10 @@ def _compliance(graph: nx.DiGraph) -> dict[str, Any]:
 
 
 def recommend(
-    networks: nx.DiGraph | list[nx.DiGraph], roll_spread: float | None = None
+    networks: nx.DiGraph | list[nx.DiGraph],
+    roll_spread: float | None = None,
+    *,
+    partial: bool = False,
 ) -> Recommendation:
     """Rank the SRCC settings of one or more networks (see the module docstring).
 
@@ -202,6 +223,10 @@ def recommend(
         Networks of libraries on the same grid and thread, differing in compliance.
     roll_spread : float, optional
         Largest roll error expected (degrees, >= 0); default every roll of the grid.
+    partial : bool
+        Rank the starts of an incomplete library (a sweep unfinished or still running)
+        too, with a note saying how many are done; without it such a library is refused,
+        as a ranking of the held tilts swept so far may pick one the rest would beat.
 
     Returns
     -------
@@ -216,7 +241,20 @@ def recommend(
     grids = {g.graph["grid"] for g in graphs}
     if len(grids) > 1 or len({g.graph["spec"] for g in graphs}) > 1:
         raise InputError("the libraries to compare must share one thread and one grid")
+    _check_distinct(graphs)
+    many = len(graphs) > 1
     settings, proof, notes = [], [], []
+    swept = [_progress(g) for g in graphs]
+    for p in swept:
+        if not p["complete"]:
+            words = f"{p['done']} of {p['configurations']} starts done"
+            if not partial:
+                raise InputError(
+                    f"the library is incomplete ({words}): a ranking of the held tilts swept "
+                    "so far may pick one the rest would beat; finish its sweep (run the same "
+                    "sweep again), or pass --partial to rank the starts done"
+                )
+            notes.append(f"from an incomplete library: {words}; the ranking may change")
     rolls: set[float] = set()
     for graph in graphs:
         comp = _compliance(graph)
@@ -255,16 +293,19 @@ def recommend(
     at_edge = len(pitches) > 1 and best["held_pitch"] in (pitches[0], pitches[-1])
     if at_edge:
         notes.append(
-            f"the pick, held pitch {best['held_pitch']:+g} deg, is at the edge of "
+            f"the pick, {_setting_words(best, many)}, is at the edge of "
             f"the range searched ({pitches[0]:g}..{pitches[-1]:g} deg): a larger "
             "pre-tilt that way may do better; sweep a wider pitch range"
         )
-    equivalent = [x["held_pitch"] for x in settings[1:] if _equivalent(best, x)]
+    equivalent = [x for x in settings[1:] if _equivalent(best, x)]
     if equivalent:
+        # With several compliances each setting says which (a held pitch alone names a
+        # setting of every compliance).
+        pick = f"the pick ({_setting_words(best, True)})" if many else "the pick"
         notes.append(
-            "within this grid's resolution the pick is no better than held pitch "
-            + ", ".join(f"{p:+g}" for p in equivalent)
-            + " deg (same snap share, "
+            f"within this grid's resolution {pick} is no better than "
+            + "; ".join(_setting_words(x, many) for x in equivalent)
+            + " (same snap share, "
             f"mean turn and work within {EQUIVALENT:.0%}): prefer the one nearest "
             "upright, or refine the grid"
         )
@@ -282,8 +323,45 @@ def recommend(
     # Without a spread every held roll of the grid counts: say how far they reach.
     spread_out = spread if math.isfinite(spread) else float(max(rolls))
     return Recommendation(
-        settings, margin, at_edge, proof, spread_out, units, (pitches[0], pitches[-1]), notes
+        settings, margin, at_edge, proof, spread_out, units, (pitches[0], pitches[-1]), notes, swept
     )
+
+
+def _check_distinct(graphs: list[nx.DiGraph]) -> None:
+    """Refuse two networks of one compliance: the settings are told apart by force and
+    stiffness, so every row would be there twice."""
+    seen: dict[tuple[float, tuple[float, ...]], int] = {}
+    for i, graph in enumerate(graphs, 1):
+        comp = _compliance(graph)
+        key = (comp["force"], tuple(comp["stiffness"]))
+        if key in seen:
+            raise InputError(
+                f"libraries {seen[key]} and {i} hold the same compliance "
+                f"({_compliance_words(comp)}): give each compliance's library once "
+                "(recommend compares compliances)"
+            )
+        seen[key] = i
+
+
+def _compliance_words(s: dict[str, Any]) -> str:
+    return f"{s['force']:g} N, {s['stiffness'][0]:g}/{s['stiffness'][1]:g} N m/rad"
+
+
+def _setting_words(s: dict[str, Any], many: bool) -> str:
+    """A setting in words: its held pitch, and its compliance when several are compared."""
+    words = f"held pitch {s['held_pitch']:+g} deg"
+    return f"{words} at {_compliance_words(s)}" if many else words
+
+
+def _progress(graph: nx.DiGraph) -> dict[str, Any]:
+    """How far the library of a network was swept (a graph built without it: complete)."""
+    g = graph.graph
+    n = int(g.get("done", 0))
+    return {
+        "done": n,
+        "configurations": int(g.get("configurations", n)),
+        "complete": bool(g.get("complete", True)),
+    }
 
 
 def _azimuth_proof(out: pd.DataFrame, spread: float, comp: dict[str, Any]) -> list[dict[str, Any]]:
@@ -318,7 +396,8 @@ def _fmt(v: Any, spec: str) -> str:
 
 
 def format_recommendation(rec: Recommendation) -> str:
-    """The ranking as a Markdown table, the pick and its notes."""
+    """The ranking as a Markdown table, then the pick in words (the notes are
+    ``rec.notes``)."""
     many = len({(s["force"], tuple(s["stiffness"])) for s in rec.settings}) > 1
     head = (
         "| "
@@ -336,7 +415,27 @@ def format_recommendation(rec: Recommendation) -> str:
             f"{_fmt(s['click_mean'], '.2e')} | {_fmt(s['torque_peak'], '.3g')} | "
             f"{s['share_unstable']:.0%} |"
         )
-    return "\n".join(lines) + "\n"
+    return "\n".join([*lines, "", *_pick_lines(rec)]) + "\n"
+
+
+def _pick_lines(rec: Recommendation) -> list[str]:
+    """The pick in words: the setting, what it achieves, and the azimuth-proof pick."""
+    many = len({(s["force"], tuple(s["stiffness"])) for s in rec.settings}) > 1
+    best = rec.best
+    lines = [
+        f"Recommended: {_setting_words(best, many)}: {best['share_snap']:.0%} of "
+        f"{best['starts']} starts snap within one turn, after {_fmt(best['turn_mean'], '.0f')} "
+        f"deg and {_fmt(best['work_mean'], '.3g')} mJ on average."
+    ]
+    if rec.azimuth_proof:
+        p = rec.azimuth_proof[0]
+        comp = f" at {_compliance_words(p)}" if many else ""
+        lines.append(
+            f"Whatever the nut's thread-start azimuth: a pre-tilt of {p['tilt_size']:g} "
+            f"deg{comp} (worst direction {p['worst_direction']}: {p['share_snap']:.0%} "
+            "snap within one turn)."
+        )
+    return lines
 
 
 def write_recommendation(rec: Recommendation, path: str | os.PathLike[str]) -> Path:

@@ -6,7 +6,8 @@ Layout of the output folder::
                             several compliances, DIR/library-F<force>-k<stiffness>/ each
     DIR/network.graphml     the contact-state network (of the first compliance)
     DIR/network.json        the same graph as node-link JSON
-    DIR/starts.csv          every start's passive outcome (snap, turn, work, click, ...)
+    DIR/starts.csv          every start's passive outcome (snap, turn, work, click, ...),
+                            each column named with its unit (turn_deg, work_mJ, ...)
     DIR/recommendation.json the SRCC recommendation
     DIR/figures/            recommendation, click signature, click against tilt, class
                             map and strips, region combinations, planar figures
@@ -38,11 +39,13 @@ from ..network import (
     plot_recommendation,
     recommend,
     start_outcomes,
+    start_outcomes_csv,
     write_graphml,
     write_node_link,
     write_recommendation,
 )
 from ..planar import plot_pivot_axes, plot_region_disk
+from ._folder import check_run_folder
 
 __all__ = ["DEFAULT_DESIGNATION", "RUN_GRID", "RunResult", "run_pipeline"]
 
@@ -136,8 +139,10 @@ def run_pipeline(
     :func:`threadmate.library.sweep`); the report names them. ``clockwise``: also turn
     every start clockwise directly (the sweep's ``clockwise``); the report gives the share
     that engages against the held tilt.
+
+    ``out`` must be missing, empty or a previous run's folder (:func:`check_run_folder`).
     """
-    out = Path(out)
+    out = check_run_folder(out)
     for folder in (out, out / "figures"):
         remove_stale_temporaries(folder)  # left by a run killed while writing
     grid = {
@@ -169,9 +174,10 @@ def run_pipeline(
     graph = graphs[0]
     rec = recommend(graphs, roll_spread)
     outcomes = start_outcomes(graph)
-    graphml = write_graphml(graph, out / "network.graphml")
-    node_link = write_node_link(graph, out / "network.json")
-    starts_csv = atomic_write_text(out / "starts.csv", outcomes.to_csv(index=False))
+    # The files carry each state's rotation and contact points and normals from the library.
+    graphml = write_graphml(graph, out / "network.graphml", library=libs[0])
+    node_link = write_node_link(graph, out / "network.json", library=libs[0])
+    starts_csv = start_outcomes_csv(outcomes, out / "starts.csv", spec.units)
     rec_path = write_recommendation(rec, out / "recommendation.json")
 
     figdir = out / "figures"
@@ -186,7 +192,13 @@ def run_pipeline(
     figures["click_vs_tilt"] = plot_click_vs_tilt(
         outcomes, figdir / "click-vs-tilt.png", spec.units
     )
-    figures.update({f"library_{k}": Path(v) for k, v in write_figures(libs[0], figdir).items()})
+    map_phase = _telling_phase(outcomes)
+    figures.update(
+        {
+            f"library_{k}": Path(v)
+            for k, v in write_figures(libs[0], figdir, phase=map_phase[0]).items()
+        }
+    )
     figures["region_disk"] = plot_region_disk(spec, figdir / "planar-region-disk.png")
     figures["pivot_axes"] = plot_pivot_axes(spec, figdir / "planar-pivot-axes.png")
 
@@ -206,6 +218,7 @@ def run_pipeline(
         figures,
         out,
         meshes,
+        map_phase,
     )
     if clockwise:
         report += "\n" + _clockwise_section(load(libs[0]))
@@ -264,6 +277,94 @@ def _clockwise_section(rows: Any) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _not_at_rest(outcomes: Any) -> Any:
+    """The starts whose descent did not reach a rest state (class unstable: it did not
+    converge), failed ones aside."""
+    return outcomes[~outcomes["failed"] & (outcomes["classification"] == "unstable")]
+
+
+def _not_at_rest_line(unsettled: Any) -> str:
+    """The report's line on the starts that did not reach a rest state, shown apart."""
+    n = len(unsettled)
+    if n == 0:
+        return "0 starts did not reach a rest state: every start's descent converged."
+    shown = ", ".join(
+        f"({r:g}, {p:g}, {ph:g})"
+        for r, p, ph in zip(
+            unsettled["held_roll"].iloc[:20],
+            unsettled["held_pitch"].iloc[:20],
+            unsettled["phase"].iloc[:20],
+            strict=True,
+        )
+    ) + (f" and {n - 20} more (starts.csv: class unstable)" if n > 20 else "")
+    return (
+        f"**{n} start{'s' if n != 1 else ''} did not reach a rest state**: the descent "
+        "stopped short of the balance (it did not converge), so the state it left is not "
+        "at rest and the search from it is not a start's. They are left out of the ranking "
+        "and its figures (the snap share counts the starts at rest) and drawn red, "
+        f"*unstable*, in the class map and strips. Held roll, pitch, phase (deg): {shown}; "
+        "`threadmate settle` on one says how far its descent got."
+    )
+
+
+def _count_name(key: str) -> str:
+    """A count of the library's by-class tally as the report names it."""
+    return "starts not at rest (unstable)" if key == "starts unstable" else key
+
+
+def _telling_phase(outcomes: Any) -> tuple[float, int, int]:
+    """The start phase whose class map says most: where the classes of the held tilts
+    are most mixed (largest Shannon entropy of their shares; the first such phase).
+
+    Returns ``(phase, classes at that phase, classes over every phase)``.
+    """
+    best: tuple[float, float, int] | None = None
+    for phase, rows in outcomes.groupby("phase", sort=True):
+        shares = rows["classification"].value_counts(normalize=True)
+        entropy = -float(sum(q * math.log(q) for q in shares))
+        if best is None or entropy > best[1] + 1e-12:
+            best = (float(phase), entropy, len(shares))
+    if best is None:
+        return (0.0, 0, 0)
+    return best[0], best[2], int(outcomes["classification"].nunique())
+
+
+def _map_caption(map_phase: tuple[float, int, int] | None) -> str:
+    """The class map's caption: which start phase it shows and why."""
+    head = "Class of the rest state each start reaches, over the held tilts"
+    if map_phase is None:
+        return head + "."
+    phase, here, overall = map_phase
+    head += f", at start phase {phase:g} deg"
+    if overall <= 1:
+        return f"{head}: every start at every phase reaches the same class."
+    if here <= 1:
+        return (
+            f"{head}: at each start phase every held tilt reaches the same class; the "
+            "strips below show how it changes with the phase."
+        )
+    return (
+        f"{head}, the start phase where the classes of the held tilts differ most ({here} "
+        "classes); the strips below give every phase."
+    )
+
+
+def _planar_note(spec: ThreadSpec) -> str:
+    """What the planar figures leave out: they take flat ends, whatever the parts have."""
+    ends = []
+    if spec.bolt.point.form != "flat":
+        ends.append(f"a bolt point {spec.bolt.point.describe(spec.units)}")
+    if spec.nut.countersink is not None:
+        ends.append(f"a nut countersink {spec.nut.countersink.describe(spec.units)}")
+    if not ends:
+        return ""
+    return (
+        " It takes flat ends (a flat bolt tip on the nut's flat, sharp-edged bore, the "
+        f"thesis's bodies), while the parts analysed above have {' and '.join(ends)}: read it "
+        "for the thread's geometry over a turn, not for these parts' contacts."
+    )
+
+
 def _signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, float, float] | None:
     """A start of the recommended setting whose search snaps, with the median turn (the
     figure then shows a typical search); the smallest held roll preferred."""
@@ -272,6 +373,7 @@ def _signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, float, 
         (outcomes["held_pitch"] == best["held_pitch"])
         & outcomes["snapped"]
         & (outcomes["turn"] > 0)
+        & (outcomes["classification"] != "unstable")  # a start at rest
     ]
     if rows.empty:
         return None
@@ -342,11 +444,13 @@ def _report(
     figures: dict[str, Path],
     out: Path,
     meshes: dict[str, Any] | None = None,
+    map_phase: tuple[float, int, int] | None = None,
 ) -> str:
     name = spec.designation or "custom spec"
     u = spec.units
     best = rec.best
-    ok = outcomes[~outcomes["failed"]]
+    unsettled = _not_at_rest(outcomes)
+    ok = outcomes[~outcomes["failed"] & ~outcomes["node"].isin(unsettled["node"])]
     lines = [
         f"# threadmate run: {name}",
         "",
@@ -367,6 +471,16 @@ def _report(
         f"{_num(best['torque_peak'], '.3g')} N m. The click to listen for: "
         f"{_num(best['click_mean'], '.4g')} {u} of drop.",
     ]
+    snaps = outcomes[outcomes["snapped"] & (outcomes["turn"] > 0)]
+    windows = snaps[snaps["snap_window"] > 0]
+    if len(windows):
+        lines.append(
+            f"- {len(windows)} of the {len(snaps)} snaps (every setting) are windows: the "
+            "drop may come up to "
+            f"{float(windows['snap_window'].max()):.1f} deg before the phase given "
+            f"(median {float(windows['snap_window'].median()):.1f} deg), where the branch "
+            'before it is a shallow basin (docs/mechanics.md, "The snap\'s window").'
+        )
     if rec.margin is not None:
         m, nxt = rec.margin, rec.settings[1]
         lines.append(
@@ -446,12 +560,15 @@ def _report(
         "",
         format_recommendation(rec).rstrip(),
         "",
-        f"Starts: {len(outcomes)} ({int(outcomes['failed'].sum())} failed); snap within one "
+        f"Starts: {len(outcomes)} ({int(outcomes['failed'].sum())} failed, "
+        f"{len(unsettled)} not at rest); of those at rest, snap within one "
         f"turn: {int(ok['snapped'].sum())}; never within one turn: "
         f"{int((~ok['snapped']).sum())}; search passes an unstable transition: "
         f"{int(ok['passes_unstable'].sum())}. States by class: "
-        + ", ".join(f"{k} {v}" for k, v in counts.items())
+        + ", ".join(f"{_count_name(k)} {v}" for k, v in counts.items())
         + ".",
+        "",
+        _not_at_rest_line(unsettled),
         "",
         "## Figures",
         "",
@@ -469,12 +586,13 @@ def _report(
             + "; the snap dashed red."
         ),
         "click_vs_tilt": "The click and the turn to the snap against the tilt's size.",
-        "library_stability_map": "Class of the rest state each start reaches, over the held "
-        "tilts, at the first grid phase.",
-        "library_phase_strips": "The same over every start phase.",
+        "library_stability_map": _map_caption(map_phase),
+        "library_phase_strips": "The same over every start phase (phase 0 to 360 deg left to "
+        "right within each held tilt's strip); red: the descent did not reach a rest state.",
         "library_region_combinations": "Which regions touch at rest.",
-        "region_disk": "The planar analysis: regions in contact against phase (upright).",
-        "pivot_axes": "The planar analysis: pivot axes against phase.",
+        "region_disk": "The planar analysis: regions in contact against phase (upright)."
+        + _planar_note(spec),
+        "pivot_axes": "The planar analysis: pivot axes against phase." + _planar_note(spec),
     }
     for key, path in figures.items():
         rel = path.relative_to(out).as_posix()

@@ -7,16 +7,20 @@ thesis's Figure 2.6, and the pivot axes, its Figure 2.9). Angles are degrees in 
 frame F, measured from +X toward +Y; lengths are in the spec's units (conventions.md).
 """
 
-from ._analysis import (
-    CriticalPhase,
-    PlanarContact,
-    PlanarState,
-    critical_phases,
-    in_phase_window,
-    phase_sweep,
-    planar_state,
-)
-from ._plots import FIGURE_SUFFIXES, figure_format, plot_pivot_axes, plot_region_disk
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
+    from ._analysis import (
+        CriticalPhase,
+        PlanarContact,
+        PlanarState,
+        critical_phases,
+        in_phase_window,
+        phase_sweep,
+        planar_state,
+    )
+    from ._plots import FIGURE_SUFFIXES, figure_format, plot_pivot_axes, plot_region_disk
 
 __all__ = [
     "FIGURE_SUFFIXES",
@@ -31,3 +35,37 @@ __all__ = [
     "plot_pivot_axes",
     "plot_region_disk",
 ]
+
+#: The submodule of each public name, imported when the name is first used (PEP 562):
+#: importing the package loads none of them, so that a command that does not need
+#: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
+#: imports them. tests/test_cli_contract.py checks it against the imports above.
+_SOURCES = {
+    "._analysis": (
+        "CriticalPhase",
+        "PlanarContact",
+        "PlanarState",
+        "critical_phases",
+        "in_phase_window",
+        "phase_sweep",
+        "planar_state",
+    ),
+    "._plots": ("FIGURE_SUFFIXES", "figure_format", "plot_pivot_axes", "plot_region_disk"),
+}
+#: Public names that differ from their submodule's.
+_ALIASES: dict[str, str] = {}
+_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
+
+
+def __getattr__(name: str) -> Any:
+    """Import the submodule that holds ``name`` on first use (PEP 562)."""
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), _ALIASES.get(name, name))
+    globals()[name] = value  # later uses find it without this hook
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

@@ -12,15 +12,16 @@ import math
 import os
 from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib import colormaps
+from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Wedge
 
 from .._errors import InputError
-from .._figures import new_figure, save_figure
+from .._figures import freeze_layout, new_figure, place_text, save_figure
 from ..geometry import BOLT_REGIONS, NUT_REGIONS, nut_body
 from ._analysis import critical_phases, in_phase_window, phase_sweep
 
@@ -243,6 +244,11 @@ def plot_pivot_axes(
         The file written.
     """
     fmt = figure_format(path)
+    return save_figure(pivot_axes_figure(spec, phases), path, fmt)
+
+
+def pivot_axes_figure(spec: ThreadSpec, phases: Iterable[float] = range(0, 360, 15)) -> Figure:
+    """The figure :func:`plot_pivot_axes` writes, laid out (its labels placed)."""
     phases = [float(p) for p in phases]
     states = phase_sweep(spec, phases)
     fig = new_figure((8.0, 8.0))
@@ -254,31 +260,21 @@ def plot_pivot_axes(
     cmap = colormaps["viridis"]
     r_out = float(np.max(r))
     skipped = []
-    placed: list[tuple[float, float]] = []  # label positions so far
+    # Label ends: one label per point, naming every phase whose axis ends there.
+    ends_at: dict[tuple[float, float], list[tuple[str, tuple[float, float, float, float]]]] = {}
     for phase, state in zip(phases, states, strict=True):
         if state.pivot_axis is None or state.pivot_axis_length == 0.0:
             skipped.append(state.phase)
             continue
         colour = cmap(0.9 * state.phase / 360.0)
-        label = f"{phase % 360.0:g}°"
         # A thread of n starts rests on n arcs: draw each arc's axis (images of the first).
         ends = [(c.x, c.y) for c in state.contacts]
         for (x1, y1), (x2, y2) in zip(ends[0::2], ends[1::2], strict=True):
             ax.plot([x1, x2], [y1, y2], color=colour, lw=1.2, marker="o", ms=2.5)
         for x, y in ends:
-            rr = math.hypot(x, y) or 1.0
-            # Ends of many phases share points: put each label on the first ring outward
-            # where it keeps clear of the labels already placed.
-            for ring in range(8):
-                off = r_out * (0.07 + 0.06 * ring)
-                lx, ly = x + off * x / rr, y + off * y / rr
-                if all(math.hypot(lx - px, ly - py) >= 0.075 * r_out for px, py in placed):
-                    break
-            placed.append((lx, ly))
-            ax.text(lx, ly, label, color=colour, fontsize=7, ha="center", va="center")
-    lim = r_out * 1.3
-    if placed:
-        lim = max(lim, 1.05 * max(math.hypot(px, py) for px, py in placed))
+            key = (round(x / r_out, 6), round(y / r_out, 6))  # ends of many phases coincide
+            ends_at.setdefault(key, []).append((f"{phase % 360.0:g}°", colour))
+    lim = r_out * 1.5
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
     ax.set_aspect("equal")
@@ -293,15 +289,31 @@ def plot_pivot_axes(
             color=cmap(0.3),
             marker="o",
             ms=3,
-            label="pivot axis (contact 1 to contact 2), labelled with phase",
+            label="pivot axis (contact 1 to contact 2), ends labelled with phase",
         ),
     ]
     if skipped:
         shown = ", ".join(f"{p:g}°" for p in skipped[:8]) + (" ..." if len(skipped) > 8 else "")
         handles.append(Line2D([], [], color="none", label=f"in phase, no axis: {shown}"))
-    ax.legend(handles=handles, loc="upper right", fontsize=8)
+    legend = ax.legend(handles=handles, loc="upper right", fontsize=8)
     fig.suptitle(f"Pivot axis vs phase: {_spec_name(spec)}", fontsize=11)
     ax.set_title(
         "bolt flush on nut, frame F; angles from +X counter-clockwise seen from +Z", fontsize=8.5
     )
-    return save_figure(fig, path, fmt)
+    # Labels last, on the final layout: each on the first spot outward from its point
+    # where it overlaps no label placed before it (nor the legend).
+    freeze_layout(fig)
+    taken = [legend.get_window_extent()]
+    for (kx, ky), named in sorted(ends_at.items(), key=lambda kv: math.atan2(kv[0][1], kv[0][0])):
+        x, y = kx * r_out, ky * r_out
+        rr = math.hypot(x, y) or 1.0
+        ux, uy = x / rr, y / rr
+        spots = [
+            (x + d * ux - t * uy, y + d * uy + t * ux)
+            for d in (r_out * (0.03 + 0.035 * k) for k in range(12))
+            for t in (0.0, 0.04 * r_out, -0.04 * r_out)
+        ]
+        text = "/".join(name for name, _ in named)
+        ink: Any = named[0][1] if len(named) == 1 else "0.2"  # several phases: neutral
+        place_text(ax, spots, text, taken, outward=(ux, uy), color=ink, fontsize=7)
+    return fig
