@@ -1,6 +1,6 @@
 """In phase, the snap and clockwise starts, against what the states themselves show.
 
-design/mechanics.md: a state is in phase when turning moves the bolt along the helix (the
+docs/mechanics.md: a state is in phase when turning moves the bolt along the helix (the
 compliance centre rises or falls the lead, P/360 per degree); a snap is proved by screwing
 in; a clockwise start engages, rides or jams; no reported force exceeds what the load and
 the spring can explain. Each check recomputes from the returned poses and contacts, or
@@ -25,6 +25,7 @@ import pytest
 from _cli import run_cli
 from threadmate.contact import Compliance, Continuation, Mechanics, screw, search
 from threadmate.geometry import spec_from_designation
+from threadmate.library import sweep
 
 FRICTIONLESS = Compliance(friction=0.0)
 
@@ -142,10 +143,12 @@ def test_screw_engages_from_a_start_out_of_phase(flat):
 
 
 def test_screw_jams_where_the_tilted_bolt_wedges(flat):
-    """Held pitch -3 degrees from 30 degrees, turned clockwise: engaged on one side, the
+    """Held pitch -4 degrees from 30 degrees, turned clockwise: engaged on one side, the
     bolt's tip meets the nut's thread on the other and no rest state continues the turn:
-    the states end where it wedged, and the landing beyond it lies above the last one."""
-    run = screw(flat, 0.0, -3.0, 30.0, turns=1.0)
+    the states end where it wedged, and the landing beyond it lies above the last one.
+    (Held at -3 degrees the bolt rights itself between the flanks and screws in.)"""
+    assert screw(flat, 0.0, -3.0, 30.0, turns=1.0).outcome == "engaged"
+    run = screw(flat, 0.0, -4.0, 30.0, turns=1.0)
     assert run.outcome == "jammed"
     assert run.decided_phase is not None
     assert all(s.phase >= run.decided_phase - 1e-9 for s in run.states)
@@ -154,6 +157,55 @@ def test_screw_jams_where_the_tilted_bolt_wedges(flat):
     assert len(engaged) >= 5
     rate = _rate(engaged[0], engaged[-1])
     assert rate == pytest.approx(-flat.lead / 360.0, rel=0.1)
+
+
+def _exact_interference():
+    """``exact_interference`` of the dynamics check (docs/scripts): sampled surface points
+    of each exact body inside the other (the geometry's ThreadBody, no contact code)."""
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "docs" / "scripts" / "dynamics_check.py"
+    spec = importlib.util.spec_from_file_location("dynamics_check", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module.exact_interference
+
+
+def test_a_tilted_snap_screws_in_between_the_flanks(flat, mech):
+    """Held pitch -3 degrees from 30 degrees, frictionless: the bolt jumps into the thread
+    at 348.78 degrees, tilted 2.4 degrees. Screwed in from there, its tip meets the nut's
+    flank below and the edge where the nut's thread starts meets its crest above: the
+    thread pinches the bolt, and only tilting toward the nut's axis lets it go on (a
+    MuJoCo simulation of the compliance chain screws it in from the same landing). The
+    snap is proved; along the screw-in every pose is free of the exact bodies (within the
+    meshes' chord), the bolt descends at the lead over the last half turn, and its axis
+    turns toward the nut's."""
+    run = search(mech, 0.0, -3.0, 30.0)
+    assert run.snap is not None and run.snap.engagement is not None
+    assert run.snap.phase == pytest.approx(348.78, abs=0.05)
+    assert run.snap.engagement.engaged, run.snap.engagement.reason
+    landing = run.states[-1]
+    walk = Continuation(mech, 0.0, -3.0, contact_changes=False, sense="tighten")
+    _, events, states = walk.advance(landing, run.snap.phase, 180.0)
+    assert not [e for e in events if abs(e.drop) > flat.pitch / 40]
+    interference = _exact_interference()
+    for s in states[:: max(1, len(states) // 12)] + [states[-1]]:
+        pose = (s.centre[2], s.roll, s.pitch, s.phase)
+        assert interference(flat, pose) < 5e-6, s.phase
+    half = [s for s in states if s.phase <= run.snap.phase - 90.0]
+    fall = half[0].centre[2] - half[-1].centre[2]
+    assert fall * 360.0 / abs(half[0].phase - half[-1].phase) == pytest.approx(flat.lead, rel=0.1)
+
+    def tilt(s):
+        return math.degrees(
+            math.acos(math.cos(math.radians(s.roll)) * math.cos(math.radians(s.pitch)))
+        )
+
+    assert tilt(states[-1]) < tilt(landing) - 0.5
 
 
 def test_forces_stay_within_what_the_load_and_spring_explain(flat):
@@ -191,7 +243,7 @@ def test_cli_screw_json_and_exit(capsys):
     assert doc["outcome"] == "engaged"
     assert doc["units"]["length"] == "in" and doc["units"]["torque"] == "N m"
     assert doc["descent_per_turn"] == pytest.approx(0.05, rel=0.05)
-    code, out, _ = run_cli(capsys, *args, "--roll", "0", "--pitch", "-3", "--phase", "30", "--json")
+    code, out, _ = run_cli(capsys, *args, "--roll", "0", "--pitch", "-4", "--phase", "30", "--json")
     assert code == 3
     assert json.loads(out)["outcome"] == "jammed"
     code, out, err = run_cli(
@@ -248,3 +300,25 @@ def test_in_phase_on_the_exact_bodies(quarter_20, cfg, engaged):
     down = exact_centre_height(quarter_20, rot(roll, pitch, phase - 0.5))
     rate = (up - down) / (quarter_20.lead / 360.0)
     assert rate > 0.5 if engaged else abs(rate) < 0.1
+
+
+@pytest.mark.slow
+def test_the_library_records_the_snaps_window():
+    """The standard parts (chamfered point, countersunk nut) held (1, 1) from phase 0: the
+    point rides a shallow basin before the snap, and a settle started a little further
+    along it falls into the thread early: the snap is a window (``search``: from about
+    124 degrees to the snap at 135). The library's continuation keeps the states of its
+    steps, a subset of the search's (which adds one either side of each contact change),
+    so its window, looked for from those states, lies within the search's; its snap and
+    click are the search's. Only the snap's row has a window."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    run = search(spec, 1.0, 1.0, 0.0)
+    assert run.snap is not None and run.snap_window is not None
+    lo, hi = run.snap_window
+    assert hi == pytest.approx(run.snap.phase) and hi - lo > 1.0
+    rows = sweep(spec, [1.0], [1.0], [0.0], workers=1)
+    snaps = rows[rows["transition"] == "snap"]
+    assert len(snaps) == 1
+    assert 0.0 <= snaps["snap_window"].iloc[0] <= hi - lo + 0.01
+    assert snaps["drop"].iloc[0] == pytest.approx(run.snap.drop, rel=1e-6)
+    assert rows.loc[rows["transition"] != "snap", "snap_window"].isna().all()

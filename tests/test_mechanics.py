@@ -1,6 +1,6 @@
 """The mechanics of the compliance-held bolt against facts computed without it.
 
-design/mechanics.md, "Independent checks worth having". Nothing here compares the code
+docs/mechanics.md, "Independent checks worth having". Nothing here compares the code
 with its own earlier output:
 
 - KKT at rest states: python-fcl BVHs built here from the meshes (no collision at the pose,
@@ -204,7 +204,7 @@ def tip_face_top(spec, state):
 
 
 def check_kkt(spec, comp, rest):
-    """design/mechanics.md's KKT conditions at a rest state, each recomputed here."""
+    """docs/mechanics.md's KKT conditions at a rest state, each recomputed here."""
     s = rest.state
     label = (rest.held_roll, rest.held_pitch, rest.phase, s.classification)
     assert s.classification in ("stable", "quasi-stable", "in-phase"), label
@@ -777,9 +777,8 @@ def test_a_stalled_descent_stays_unbalanced_near_where_the_longer_one_ends(
     """Where the thread starts meet edge to edge (held (1, 4), 348.5 to 348.8 degrees) some
     descents of the continuation stall: they stop after ``stall_steps`` without progress.
     Carried on to the step limit, each stays unbalanced (no rest state was given up), and
-    ends within a tenth of the thresholds the continuation tells a jump by (a fall of
-    pitch / 40, a tilt of 0.5 degree) of where it stalled: the continuation's decisions
-    stand."""
+    ends within half the thresholds the continuation tells a jump by (a fall of pitch /
+    40, a tilt of 0.5 degree) of where it stalled: the continuation's decisions stand."""
     settled = _settles_of_a_continuation(mech, monkeypatch, (1, 4), 345.0, 5.0)
     stalled = [
         (a, k, rest)
@@ -800,8 +799,8 @@ def test_a_stalled_descent_stays_unbalanced_near_where_the_longer_one_ends(
         assert longer.classification == rest.classification
         assert max(longer.balance["force"], longer.balance["moment"]) > BALANCE
         a, b = rest.state, longer.state
-        assert math.dist(a.centre, b.centre) <= quarter_20.pitch / 400
-        assert axis_angle(a.rotation, b.rotation) <= 0.05
+        assert math.dist(a.centre, b.centre) <= quarter_20.pitch / 80
+        assert axis_angle(a.rotation, b.rotation) <= 0.25
     assert compared
 
 

@@ -51,7 +51,7 @@ ROLES = (
 )
 #: Kinds of passive transition (the ``transition`` column; "" for none).
 TRANSITIONS = ("settling", "turning", "jump", "snap")
-#: Labels of a transition, by its stability (design/mechanics.md, "The network").
+#: Labels of a transition, by its stability (docs/network.md, "The network").
 TRANSITION_LABELS = ("stable", "quasi-stable", "unstable")
 
 
@@ -110,6 +110,13 @@ STATE_COLUMNS: tuple[Column, ...] = (
     Column("torque_peak", _F, "N m", "largest driver torque along it (NaN: none)"),
     Column("drop", _F, "length", "fall of the compliance centre along it (the click at a snap)"),
     Column("tilt_change", _F, "deg", "angle between the bolt axes at its ends"),
+    Column(
+        "snap_window",
+        _F,
+        "deg",
+        "at a snap: how far before it the bolt may already drop into the thread (0: at the "
+        "snap alone; NaN: not a snap)",
+    ),
     Column(
         "engaged",
         _B,

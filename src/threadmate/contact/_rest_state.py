@@ -1,7 +1,7 @@
 """Results of the mechanics: rest states, the states passed on the way, the search.
 
 Plain frozen objects with a JSON form. Lengths in the spec's units, angles in degrees,
-forces in N, torques in N m, potentials and work in mJ (design/mechanics.md).
+forces in N, torques in N m, potentials and work in mJ (docs/mechanics.md).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ __all__ = [
 #: lead, for the bolt to count as engaged (:class:`Engagement`).
 LEAD_TOLERANCE = 0.1
 
-#: Classes of a mechanical state (design/mechanics.md, "Classes of states").
+#: Classes of a mechanical state (docs/mechanics.md, "Classes of states").
 REST_CLASSES = ("stable", "quasi-stable", "unstable", "in-phase")
 
 
@@ -118,6 +118,9 @@ class LoadedContact(RegionPair):
         Regions of the exact profiles (conventions.md names).
     bolt_feature, nut_feature : str
         ``rim``, ``cap``, ``corner`` or ``thread``.
+    above : bool
+        The nut's material lies above the bolt there (a nut flank over a bolt flank in
+        the thread): the contact opens as the bolt moves down, and ``gap`` is its rise.
     """
 
     point: Vec
@@ -128,6 +131,7 @@ class LoadedContact(RegionPair):
     nut_region: str
     bolt_feature: str = ""
     nut_feature: str = ""
+    above: bool = False
 
 
 @dataclass(frozen=True)

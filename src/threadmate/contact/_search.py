@@ -33,7 +33,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._errors import InputError
-from .._validate import check_open_range
+from .._validate import check_open_range, check_search_steps
 from ..geometry import ThreadSpec
 from ._compliance import Compliance
 from ._rest_state import (
@@ -99,10 +99,12 @@ def _tilt_between(a: MechanicalState, b: MechanicalState) -> float:
 
 
 def _signature(s: MechanicalState, floor: float) -> tuple[str, ...]:
-    """The contacts that carry the load (more than ``floor``, N): a contact touching
-    without force, or hovering at the touching threshold, changes nothing a driver or a
-    sensor sees."""
-    return tuple(sorted(c.regions for c in s.touching if c.force > floor))
+    """The region pairs of the contacts that carry the load (more than ``floor``, N): a
+    contact touching without force, or hovering at the touching threshold, changes
+    nothing a driver or a sensor sees, and neither does one more or one fewer point of
+    the same pair (the corners of a face flat on a face, the pieces of a line along the
+    helix)."""
+    return tuple(sorted({c.regions for c in s.touching if c.force > floor}))
 
 
 @dataclass(frozen=True)
@@ -291,7 +293,10 @@ class Continuation:
         continuation asks only whether it left the branch, and :meth:`_bisect` settles in
         full the jump it keeps."""
         fall = self._helical_fall(before, abs(phase - before.phase))
-        if fall:
+        if any(c.above for c in before.touching):
+            # Material over the bolt: the branch's tangent decides the tilt as well.
+            before = self.mech.predicted(before, phase)
+        elif fall:
             # Predicted along the helix: the descent starts where the thread takes the bolt,
             # and its departure is measured from there.
             x, y, z = before.centre
@@ -334,8 +339,11 @@ class Continuation:
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
         if b.classification == "in-phase" and a.classification != "in-phase":
             return False
+        # Either way: a rest state that climbs out of the thread within a step (turned at
+        # a tilt where the thread pinches the bolt, the lowering leaves it) is no more
+        # the branch than one that falls.
         fall = a.centre[2] - b.centre[2] - self._helical_fall(a, abs(b.phase - a.phase))
-        return fall <= self.drop_limit and _tilt_between(a, b) <= JUMP_TILT
+        return abs(fall) <= self.drop_limit and _tilt_between(a, b) <= JUMP_TILT
 
     def _bisect(
         self,
@@ -493,12 +501,21 @@ class Continuation:
                     return signature(y) == before and self._continuous(x, y)
 
                 lo, hi, s_lo, s_hi = self._bisect(phase, at_a, at_b, a, b, same, a)
+                if not self._continuous(s_lo, s_hi):
+                    # A settle within the step left the branch that the step's own settle
+                    # stayed on (pinched, a shorter turn's prediction can fall short): no
+                    # contact change to tell, the branch runs on to ``b``.
+                    integrate(a, b)
+                    states.append(b)
+                    branch.append(b)
+                    return
                 events.append(
                     SearchEvent(
                         phase + sign * 0.5 * (lo + hi),
                         "contact-change",
-                        a.region_combination,
-                        s_hi.region_combination,
+                        # What changed: the load-carrying pairs either side.
+                        " + ".join(before),
+                        " + ".join(signature(s_hi)),
                         s_lo.centre[2] - s_hi.centre[2],
                         _tilt_between(s_lo, s_hi),
                     )
@@ -513,14 +530,18 @@ class Continuation:
             branch.append(b)
 
         prev, at = state, 0.0
+        # The step taken: shorter where a step's predictor fell short of a branch that
+        # goes on (see below), growing back on each continuous step.
+        stride = self.step
         while at < turn - 1e-12:
             if progress is not None:
                 progress(at)
-            nxt = min(at + self.step, turn)
+            nxt = min(at + stride, turn)
             cur = self._settle(phase + sign * nxt, prev, arrive=arrive if nxt == turn else None)
             if self._continuous(prev, cur):
                 follow(prev, at, cur, nxt)
                 prev, at = cur, nxt
+                stride = min(2 * stride, self.step)
                 continue
             # A fold within (at, nxt]: close in on it from the side before.
             lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, self._continuous, prev)
@@ -532,13 +553,22 @@ class Continuation:
                 # A landing above the branch's potential is no jump (a jump goes down U):
                 # turned at its tilt the bolt meets the nut at every height in the thread
                 # (wedged between the flanks), and the lowering climbed out. A rest state
-                # may continue the branch at a tilt nearby: look there first.
-                s_hi = self._tilted(s_lo, phase + sign * hi) or s_hi
+                # may continue the branch: from the last state on it (whose contacts
+                # predict the tilt where material lies over the bolt), else at a tilt
+                # nearby.
+                again = self._settle(phase + sign * hi, s_lo, probe=False)
+                if self._continuous(s_lo, again):
+                    s_hi = again
+                else:
+                    s_hi = self._tilted(s_lo, phase + sign * hi) or s_hi
             if self._continuous(s_lo, s_hi):
                 # The probe left the branch, but its descent carried to its end came back
                 # to it (where the thread starts meet, a descent can wander that far along
-                # a nearly flat valley): no fold here. Carry on from the state at ``hi``.
+                # a nearly flat valley, or the step was longer than its predictor's
+                # reach): no fold here. Carry on from the state at ``hi``, in steps as
+                # long as the one that stayed on the branch.
                 follow(s_lo, lo, s_hi, hi)
+                stride = max(lo - at, hi - lo, 8 * self.phase_tolerance)
                 prev, at = s_hi, hi
                 continue
             close_branch(lo)
@@ -703,3 +733,4 @@ def check_continuation(
         ("phase_tolerance", phase_tolerance, 0.0, step),
     ):
         check_open_range(name, value, lo, hi)
+    check_search_steps(turns, step, option="step")

@@ -1,6 +1,6 @@
 """Rest states of the compliance-held bolt: an active-set descent of the potential.
 
-design/mechanics.md fixes the model. The bolt's free coordinates are the height ``z_C`` of
+docs/mechanics.md fixes the model. The bolt's free coordinates are the height ``z_C`` of
 the compliance centre C and the tilt ``(roll, pitch)`` (and ``x_C, y_C`` when the
 compliance has a lateral stiffness); the driver holds the phase. The potential is
 
@@ -56,12 +56,12 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import lsq_linear, nnls
+from scipy.optimize import LinearConstraint, lsq_linear, minimize, nnls
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError, cKDTree
@@ -71,6 +71,7 @@ from .._units import METRES_PER_UNIT
 from .._validate import check_open_range
 from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
 from ._analyzer import ContactAnalyzer, check_configuration
+from ._cad import off_spec
 from ._collision import pair_keys
 from ._compliance import Compliance
 from ._exact import (
@@ -84,7 +85,7 @@ from ._exact import (
 from ._lcp import contact_step
 from ._rest_state import LoadedContact, MechanicalState, RestState
 from ._result import _vec
-from ._vertical import vertical_touch
+from ._vertical import vertical_rise, vertical_touch
 
 __all__ = ["Mechanics", "BALANCE", "MAX_STEPS", "mechanics", "settle"]
 
@@ -108,7 +109,8 @@ STALL_STEPS = 20
 #: Tilt (degrees) within which a bolt touching the nut's entry with its end only is tried
 #: seated upright (:meth:`Mechanics._seat`), and the regions of such contacts.
 SEAT_TILT = 3.0
-SEAT_BOLT_REGIONS = frozenset({"base", "chamfer", "round"})
+# (``point``: a CAD bolt's end where it does not follow the spec, _exact.off_spec_region.)
+SEAT_BOLT_REGIONS = frozenset({"base", "chamfer", "round", "point"})
 SEAT_NUT_REGIONS = frozenset({"surface", "countersink"})
 #: Force above which a contact carries the load (relative to the axial load): one below it
 #: touches without load, or hovers at the touching threshold, and changes nothing a driver
@@ -117,6 +119,9 @@ LOAD_CARRYING = 1e-4
 #: Arc (degrees about the axis) of a contact along the helices that one point of it stands
 #: for (:meth:`Mechanics._along_helix`).
 HELIX_ARC = 30.0
+#: Pieces of its arc by which a contact with material above stands for a line of contact
+#: (:meth:`Mechanics.contacts`).
+UPPER_BINS = 5
 #: Features that lie on a body's helix: its thread's faces and the sharp corners between
 #: them (:class:`threadmate.contact._exact.Feature`).
 HELICAL_FEATURES = frozenset({"thread", "corner"})
@@ -159,6 +164,11 @@ class _Drop:
     gaps: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))  # vertical (>= 0)
     points: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 3)))  # (F)
     verified: bool = False  # at the first touch from ``top`` (Mechanics.verified)
+    # The nut's material above the bolt (Mechanics._overhead; None: not looked for yet):
+    # face pairs, each one's rise to its touch and where.
+    over_pairs: NDArray[np.int64] | None = None
+    rises: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))
+    over_points: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 3)))
 
 
 @dataclass
@@ -173,6 +183,7 @@ class _Near:
     bolt_feature: str
     nut_feature: str
     helical: bool = False  # on the helices (:func:`on_helix`)
+    upper: bool = False  # nut material above the bolt: opens as the bolt moves down
 
 
 class Mechanics:
@@ -263,6 +274,8 @@ class Mechanics:
         nv, bv = self.engine.nut_vertices, self.engine.bolt_vertices
         self._nut_top = nv[nv[:, 2] >= -spec.pitch - spec.countersink_depth]
         self._bolt_tip = bv[bv[:, 2] <= spec.pitch + spec.point_height]
+        #: Where meshes from CAD do not follow the spec (None: generated meshes).
+        self._off = off_spec(analyzer)
 
     # -- poses ----------------------------------------------------------------------------
     def _pose(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> Pose:
@@ -271,6 +284,11 @@ class Mechanics:
 
     def _rotation(self, tilt: NDArray[np.float64], phase: float) -> NDArray[np.float64]:
         return bolt_rotation(math.degrees(tilt[0]), math.degrees(tilt[1]), phase)
+
+    def _clear_of_top(self, rotation: NDArray[np.float64]) -> float:
+        """Height of the compliance centre at which the bolt's lowest point lies on the
+        nut's top face."""
+        return -self.engine.lowest_bolt_z(rotation) + self.compliance.compliance_z * rotation[2, 2]
 
     # -- lowering -------------------------------------------------------------------------
     def drop(
@@ -281,6 +299,8 @@ class Mechanics:
         span: float | None = None,
         *,
         verify: bool = True,
+        climb: bool = True,
+        reach: float = 0.0,
     ) -> _Drop | None:
         """Lower the bolt at ``rotation`` (compliance centre over ``xy``) onto the nut.
 
@@ -289,21 +309,22 @@ class Mechanics:
         Without ``verify`` the touch is the one the bracket's pairs give, which can lie
         below the first touch (see :meth:`verified`): a descent step asks for it only once
         the step would be kept there, since the first touch lies higher still.
+        Without ``climb``, a pose that meets material above where it is expected to touch
+        is lowered off it by as much as ``reach`` (the step's motion: what its linearised
+        contacts can miss by), else gives None: in the thread, with material above, a
+        climb can only leave the thread.
         """
-        eng = self.engine
         known_free = False
         # Where the lowest bolt point is just above the nut's top face: free for sure.
-        above = (
-            -eng.lowest_bolt_z(rotation)
-            + self.compliance.compliance_z * rotation[2, 2]
-            + self.tolerance
-        )
+        above = self._clear_of_top(rotation) + self.tolerance
         if zc is None or zc + (span or 0.0) >= above:
             # Short first steps, doubling: a thin wedge of material where a thread runs out
             # on the nut's face (a few 1e-5 in at the edge of the in-phase window) is met
             # by a step no longer than it before one can pass it unseen.
             zc, span, known_free = above, self.spec.pitch / 4096, True
-        span = max(span or 0.0, self.tolerance)
+        # (Under material a bracket may be shorter than the tolerance: it starts between
+        # the flanks, where the gap may be that narrow.)
+        span = max(span or 0.0, self.tolerance if climb else 0.0)
         # The bracket [top - span - near, top] reaches a little below the expected height
         # (a quarter of ``near`` at most): the linearised contacts predict the touch within
         # a few thousandths of a span, and half the touches fall just below the
@@ -311,7 +332,9 @@ class Mechanics:
         # within ``near`` of it. (No further: a deeper bracket can pass a thin wedge of
         # material whole, where a thread runs out on an end face.)
         top = zc if known_free else zc + span - min(0.25 * span, 0.25 * self.near)
-        found = self._bracket(rotation, xy, top, span, known_free, self.spec.pitch / 16)
+        found = self._bracket(
+            rotation, xy, top, span, known_free, self.spec.pitch / 16, None if climb else reach
+        )
         return self.verified(found) if verify and found is not None else found
 
     def _bracket(
@@ -322,9 +345,10 @@ class Mechanics:
         span: float,
         known_free: bool,
         cap: float,
+        reach: float | None = None,
     ) -> _Drop | None:
         """The touch the pairs crossing at a bracket's foot give, lowering from ``top`` in
-        steps of ``span`` doubling up to ``cap`` (see :meth:`drop`)."""
+        steps of ``span`` doubling up to ``cap`` (see :meth:`drop`; ``reach``: no climb)."""
         eng = self.engine
         start, hit = top, -math.inf  # hit: the highest height known to collide
         for _ in range(200):
@@ -332,6 +356,12 @@ class Mechanics:
             # longer cross a little lower, so one enumeration below cannot tell.
             if not known_free:
                 if eng.collides(self._pose(rotation, xy, top)):
+                    if reach is not None:
+                        under = self._under(rotation, xy, top, reach)
+                        if under is None:
+                            return None
+                        top, known_free = under, True
+                        continue
                     hit = top
                     top += span
                     span = min(2 * span, cap)
@@ -385,6 +415,29 @@ class Mechanics:
                 )
             )
         raise RuntimeError("lowering the bolt did not settle on a bracket")
+
+    def _under(
+        self, rotation: NDArray[np.float64], xy: NDArray[np.float64], top: float, reach: float
+    ) -> float | None:
+        """A free height just below ``top``, where the bolt there meets material above it
+        by no more than ``reach`` (or the length tolerance); None otherwise."""
+        eng = self.engine
+        pose = self._pose(rotation, xy, top)
+        pairs = eng.pairs(pose)
+        if len(pairs) == 0:
+            return None
+        bolt, nut = eng.triangles(pose, pairs)
+        # Bolt faces turned up, under the nut's material (its flank or the edge where its
+        # thread meets the top face, whose faces either side both cross).
+        up = np.cross(bolt[:, 1] - bolt[:, 0], bolt[:, 2] - bolt[:, 0])[:, 2]
+        if not np.all(up > 0):
+            return None  # material below crosses too: no height here is free
+        rise, _ = vertical_rise(bolt, nut)
+        depth = -float(rise[np.isfinite(rise)].min(initial=math.inf))
+        if not 0.0 <= depth <= max(reach, self.tolerance):
+            return None
+        lower = top - depth - 1e-3 * self.tolerance
+        return None if eng.collides(self._pose(rotation, xy, lower)) else lower
 
     def _with_pairs_at(
         self,
@@ -498,7 +551,7 @@ class Mechanics:
         drops, touches = vertical_touch(*eng.triangles(self._pose(rotation, xy, d.top), d.pairs))
         ok = np.isfinite(drops)
         first = float(drops[ok].min()) if ok.any() else d.top - d.zc
-        return self._touching(
+        nudged = self._touching(
             replace(
                 d,
                 rotation=rotation,
@@ -508,6 +561,41 @@ class Mechanics:
                 touches=touches,
                 verified=True,
             )
+        )
+        # The material above as well: its pairs are those known (the motion is as small).
+        return nudged if d.over_pairs is None else self._overhead(nudged)
+
+    def _overhead(self, d: _Drop) -> _Drop:
+        """``d`` knowing the nut's material within :attr:`near` above the bolt.
+
+        In the thread the bolt lies between two nut flanks. Tilted as it goes in, or
+        turned where the thread starts pinch it, its flank meets the nut's flank above:
+        that bounds its motion from above as the pairs below bound it from below (a
+        contact whose normal points down, opening as the bolt moves down). Only where the
+        bolt's end lies below the nut's top face can nut material lie over it. The pairs
+        are looked for once per lowering (one enumeration, lifted by ``near``) and their
+        rises re-evaluated exactly at each pose.
+        """
+        eng = self.engine
+        pairs = d.over_pairs
+        pose = self._pose(d.rotation, d.xy, d.zc)
+        if pairs is None:
+            if d.zc >= self._clear_of_top(d.rotation):
+                pairs = np.empty((0, 2), dtype=np.int64)
+            else:
+                found = eng.pairs(self._pose(d.rotation, d.xy, d.zc + self.near))
+                bolt, nut = eng.triangles(pose, found)
+                # A nut face turned down over a bolt face turned up (outward normals): the
+                # pairs of the contacts below, which a lift only separates, are not these.
+                up = np.cross(bolt[:, 1] - bolt[:, 0], bolt[:, 2] - bolt[:, 0])[:, 2]
+                down = np.cross(nut[:, 1] - nut[:, 0], nut[:, 2] - nut[:, 0])[:, 2]
+                pairs = found[(up > 0) & (down < 0)]
+        if len(pairs) == 0:
+            return replace(d, over_pairs=pairs, rises=np.empty(0), over_points=np.empty((0, 3)))
+        rise, points = vertical_rise(*eng.triangles(pose, pairs))
+        keep = np.isfinite(rise) & (rise <= self.near)
+        return replace(
+            d, over_pairs=pairs, rises=np.maximum(rise[keep], 0.0), over_points=points[keep]
         )
 
     def _embedded(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> bool:
@@ -547,7 +635,14 @@ class Mechanics:
                 maybe = r2 >= prof.r_lo**2 * (1 - 1e-9)
             points = points[maybe & (z >= body.z_min) & (z <= body.z_max)]
             inside = points[body.contains(points)]  # cheap; the distance only for these
-            if len(inside) and float(body.surface_distance(inside).max()) > depth:
+            deep = inside[body.surface_distance(inside) > depth]
+            # A mesh from CAD is taken as given: deep in the spec's body is not inside the
+            # mesh where it does not follow the spec (an unstated point or countersink).
+            if len(deep) and (
+                self._off is None
+                or body.kind not in self._off.bodies
+                or float(self.engine.signed_distance(body.kind, deep).min()) < -depth
+            ):
                 return True
         return False
 
@@ -631,23 +726,33 @@ class Mechanics:
 
     # -- contacts -------------------------------------------------------------------------
     def _contact(
-        self, d: _Drop, point: NDArray[np.float64], gap: float, refine: bool = True
+        self,
+        d: _Drop,
+        point: NDArray[np.float64],
+        gap: float,
+        refine: bool = True,
+        upper: bool = False,
     ) -> _Near:
         an = self.analyzer
-        pose = self._pose(d.rotation, d.xy, d.zc - gap)
+        pose = self._pose(d.rotation, d.xy, d.zc + gap if upper else d.zc - gap)
         refined = (
-            refined_contact(an.nut, an.bolt, pose, point, an.feature_tolerance, self.separation / 4)
+            refined_contact(
+                an.nut, an.bolt, pose, point, an.feature_tolerance, self.separation / 4, self._off
+            )
             if refine
             else None
         )
         # A contact a lowering found opens as the bolt rises: its normal points up. One
         # pointing down means the refinement slid along an edge onto another feature close
         # by (where two thread starts meet edge to edge, the nut's tooth over the bolt's
-        # flank): the contact then stays where the meshes touch.
-        if refined is not None and refined[0][2] >= 0.0:
+        # flank): the contact then stays where the meshes touch. (Material above: the
+        # other way round.)
+        if refined is not None and (refined[0][2] <= 0.0 if upper else refined[0][2] >= 0.0):
             n, point, fn, fb = refined
         else:
-            n, fn, fb = contact_normal(an.nut, an.bolt, pose, point, an.feature_tolerance)
+            n, fn, fb = contact_normal(
+                an.nut, an.bolt, pose, point, an.feature_tolerance, self._off
+            )
         return _Near(
             point,
             n,
@@ -657,6 +762,7 @@ class Mechanics:
             fb.kind,
             fn.kind,
             on_helix(fb.kind, fn.kind, on_thread(an.nut, point, fn, an.feature_tolerance)),
+            upper,
         )
 
     def _rim_modes(self, d: _Drop, c: _Near) -> list[_Near]:
@@ -709,17 +815,8 @@ class Mechanics:
         """
         if len(d.gaps) == 0:
             return []
-        # Pairs a sixteenth of the linkage apart touch at nearly one place: the least gap
-        # of each such cell stands for it in the clustering.
-        cell = np.floor(d.points / (self.separation / 16)).astype(np.int64)
-        # One integer per cell, ordered as the cells are lexicographically (the order
-        # ``np.unique(cell, axis=0)`` gives, at a fraction of its cost).
-        cell -= cell.min(axis=0)
-        size = cell.max(axis=0) + 1
-        key = (cell[:, 0] * size[1] + cell[:, 1]) * size[2] + cell[:, 2]
-        _, rep, inverse = np.unique(key, return_index=True, return_inverse=True)
-        labels = _single_linkage(d.points[rep], self.separation)[inverse.reshape(-1)]
         out: list[_Near] = []
+        labels = self._groups(d.points)
         for k in range(int(labels.max()) + 1):
             idx = np.flatnonzero(labels == k)
             gaps, pts = d.gaps[idx], d.points[idx]
@@ -737,8 +834,46 @@ class Mechanics:
                 )
             if first.helical:
                 out.extend(self._along_helix(d, pts, gaps, j))
+        if d.over_pairs is None:
+            # (Kept with the pose: its nudges re-evaluate the same pairs.)
+            over = self._overhead(d)
+            d.over_pairs, d.rises, d.over_points = over.over_pairs, over.rises, over.over_points
+        if len(d.rises):
+            labels = self._groups(d.over_points)
+            for k in range(int(labels.max()) + 1):
+                idx = np.flatnonzero(labels == k)
+                gaps, pts = d.rises[idx], d.over_points[idx]
+                # A line of contact (a crest under the edge where the nut's thread meets
+                # its top face, a flank under a flank): its least rise in each of
+                # UPPER_BINS pieces of its arc round the axis, so that the descent knows
+                # the line it may tip against, as a rim's corners stand for a rim below.
+                theta = np.arctan2(pts[:, 1], pts[:, 0])
+                j = int(np.argmin(gaps))
+                rel = (theta - theta[j] + math.pi) % (2 * math.pi) - math.pi
+                width = float(rel.max() - rel.min())
+                bins = np.minimum(
+                    ((rel - rel.min()) / max(width, 1e-300) * UPPER_BINS).astype(np.int64),
+                    UPPER_BINS - 1,
+                )
+                for b in np.unique(bins):
+                    inside = np.flatnonzero(bins == b)
+                    i = int(inside[np.argmin(gaps[inside])])
+                    out.append(self._contact(d, pts[i], float(gaps[i]), upper=True))
         out.sort(key=lambda c: c.gap)
         return out
+
+    def _groups(self, points: NDArray[np.float64]) -> NDArray[np.intp]:
+        """Labels of ``points`` grouped by single linkage :attr:`separation` apart."""
+        # Pairs a sixteenth of the linkage apart touch at nearly one place: one point of
+        # each such cell stands for it in the clustering.
+        cell = np.floor(points / (self.separation / 16)).astype(np.int64)
+        # One integer per cell, ordered as the cells are lexicographically (the order
+        # ``np.unique(cell, axis=0)`` gives, at a fraction of its cost).
+        cell -= cell.min(axis=0)
+        size = cell.max(axis=0) + 1
+        key = (cell[:, 0] * size[1] + cell[:, 1]) * size[2] + cell[:, 2]
+        _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+        return _single_linkage(points[first], self.separation)[inverse.reshape(-1)]
 
     def _along_helix(
         self, d: _Drop, pts: NDArray[np.float64], gaps: NDArray[np.float64], j: int
@@ -789,8 +924,16 @@ class Mechanics:
         cols = [normal[:, 2], moment[:, 0], moment @ pitch_axis]
         if not self.compliance.held_laterally:
             cols += [normal[:, 0], normal[:, 1]]
-        gaps = np.array([c.gap for c in near], dtype=float) * m * np.maximum(normal[:, 2], 0.05)
-        return np.column_stack(cols), gaps
+        gaps = np.array([c.gap for c in near], dtype=float) * m
+        return np.column_stack(cols), gaps * self._rate(near, range(len(near)))
+
+    @staticmethod
+    def _rate(near: list[_Near], rows: Iterable[int]) -> NDArray[np.float64]:
+        """Normal gap per vertical gap of contacts ``rows``: the normal's upward part
+        below the bolt, its downward part above (at least 0.05: a level normal)."""
+        return np.array(
+            [max(-near[i].normal[2] if near[i].upper else near[i].normal[2], 0.05) for i in rows]
+        )
 
     def _gradient(
         self, tilt: NDArray[np.float64], xy: NDArray[np.float64], held: NDArray[np.float64]
@@ -955,6 +1098,90 @@ class Mechanics:
                 friction -= float(axis @ np.cross(r, -mu * lam * v / speed))
         return normal + friction, friction
 
+    def predicted(self, state: MechanicalState, phase: float) -> MechanicalState:
+        """``state`` moved to where the rest state at ``phase`` (degrees) is looked for
+        when the nut's material lies over the bolt (:meth:`_overhead`).
+
+        Between material below and above (the bolt's flank between the nut's, or under the
+        edge where the nut's thread starts), the bolt turned at its own tilt can meet the
+        nut at every height: the rest state continuing ``state`` lies at another tilt. The
+        predictor is the least motion of the bolt (its points' displacement: the height,
+        and the tilts times the major radius) that keeps each contact of ``state`` open to
+        first order once turned to ``phase``, those above by half the touching gap (so
+        that the lowering starts free and below them): the tangent of the branch where it
+        is pinched, and the lead's share along the helices.
+        """
+        near = [
+            _Near(
+                np.array(c.point),
+                np.array(c.normal),
+                c.gap,
+                c.bolt_region,
+                c.nut_region,
+                c.bolt_feature,
+                c.nut_feature,
+                upper=c.above,
+            )
+            for c in state.touching
+        ]
+        if not any(c.upper for c in near):
+            return state
+        m = self.metres
+        centre = np.array(state.centre)
+        tilt = np.radians([state.roll, state.pitch])
+        G, gap = self._rows(near, centre, tilt)
+        axis = np.array(state.rotation)[:, 2]
+        r = (np.array([c.point for c in near]) - centre) * m
+        normal = np.array([c.normal for c in near])
+        # A bolt point's velocity per radian of phase is axis x r: each gap's rate.
+        turned = np.einsum("ij,ij->i", normal, np.cross(axis, r))
+        margin = np.array([0.5 * self.touching * m if c.upper else 0.0 for c in near])
+        bound = (
+            gap
+            + turned * math.radians(phase - state.phase)
+            - margin * self._rate(near, range(len(near)))
+        )
+        arm = self.radius * m
+        scale = np.array([1.0, arm, arm, 1.0, 1.0][: G.shape[1]])
+        A = G / scale  # in the points' displacement (m)
+        # The contacts that carry the load stay closed (the branch's tangent); the others
+        # stay open. Where that asks too much (more carrying contacts than coordinates,
+        # not independent), open is all that is asked.
+        carrying = np.array(
+            [c.force > LOAD_CARRYING * self.compliance.force for c in state.touching]
+        )
+        for tangent in (True, False):
+            closed = carrying if tangent else np.zeros_like(carrying)
+            # A y + bound = 0 on the closed rows, >= 0 on the others.
+            constraints = [
+                LinearConstraint(A[sel], -bound[sel], upper)
+                for sel, upper in ((closed, -bound[closed]), (~closed, np.inf))
+                if sel.any()
+            ]
+            # (scipy-stubs has no overload for a list of linear constraints with SLSQP.)
+            res = minimize(  # type: ignore[call-overload]
+                lambda y: 0.5 * float(y @ y),
+                np.zeros(A.shape[1]),
+                jac=lambda y: y,
+                constraints=constraints,
+                method="SLSQP",
+                options={"ftol": 1e-20, "maxiter": 200},
+            )
+            if res.success and np.all(np.isfinite(res.x)):
+                break
+        else:
+            return state
+        dq = res.x / scale
+        x, y, z = state.centre
+        if len(dq) > 3:
+            x, y = x + dq[3] / m, y + dq[4] / m
+        return replace(
+            state,
+            roll=state.roll + math.degrees(dq[1]),
+            pitch=state.pitch + math.degrees(dq[2]),
+            centre=(x, y, z + dq[0] / m),
+        )
+
     # -- the descent ----------------------------------------------------------------------
     def state(
         self,
@@ -999,6 +1226,7 @@ class Mechanics:
                 c.nut_region,
                 c.bolt_feature,
                 c.nut_feature,
+                c.upper,
             )
             for c, f, t in zip(near, forces, twin, strict=True)
             if not t
@@ -1160,7 +1388,11 @@ class Mechanics:
             seating = self._seating(near, tilt)
             progress.append((u, max(f_res, m_res)))
             window = self.stall_steps
-            if start is not None and len(progress) > window and not seating:
+            # (Pinched under material above, a descent slides along the flank in short
+            # steps whose gain is below the noise: it is not stalled, and the step limit
+            # bounds it.)
+            pinched = any(c.upper and c.gap <= self.touching for c in near)
+            if start is not None and len(progress) > window and not seating and not pinched:
                 u_then = progress[-window - 1][0]
                 best_then = min(r for _, r in progress[:-window])
                 if u_then - u <= noise and min(r for _, r in progress[-window:]) > (
@@ -1181,7 +1413,15 @@ class Mechanics:
                     continue
             metric = np.diag(k + prox)
             metric[1:3, 1:3] += curvature
-            dq, lam = contact_step(metric, grad, G, gap, support)
+            over = [i for i, c in enumerate(near) if c.upper]
+            held_off = gap
+            if over:
+                # Material above is kept half the touching gap away where it is farther,
+                # so that the lowering after the step starts free under it.
+                held_off = gap.copy()
+                margin = 0.5 * self.touching * self.metres * self._rate(near, over)
+                held_off[over] = np.maximum(gap[over] - margin, 0.0)
+            dq, lam = contact_step(metric, grad, G, held_off, support)
             if not np.all(np.isfinite(dq)):
                 break  # a degenerate contact problem: give up here, unconverged
             support = tuple(int(i) for i in np.flatnonzero(lam > 0))
@@ -1216,6 +1456,12 @@ class Mechanics:
             # Nudges add up: all of them since python-fcl last lowered the bolt stay within
             # the tolerance, so that no run of them walks into a contact it does not know.
             nudge = nudged + moved <= self.tolerance
+            span = max(4 * self.tolerance, 0.25 * moved)
+            if over:
+                # Under material, the lowering starts below it (where the linearised
+                # contacts put it) and does not climb: the bolt is between two flanks.
+                ahead_gap = (gap[over] + G[over] @ dq) / (self.metres * self._rate(near, over))
+                span = min(span, max(1e-3 * self.tolerance, 0.5 * float(ahead_gap.min())))
             lowered = (
                 self._nudged(d, self._rotation(new_tilt, phase), new_xy)
                 if nudge
@@ -1223,8 +1469,10 @@ class Mechanics:
                     self._rotation(new_tilt, phase),
                     new_xy,
                     d.zc + dq[0] / self.metres,
-                    span=max(4 * self.tolerance, 0.25 * moved),
+                    span=span,
                     verify=False,
+                    climb=not over,
+                    reach=moved,
                 )
             )
             if lowered is None:
@@ -1305,7 +1553,7 @@ class Mechanics:
                     opening = -float(row[0] @ step_q)
                     if opening > 0:
                         ahead.append(
-                            replace(c, gap=opening / (self.metres * max(c.normal[2], 0.05)))
+                            replace(c, gap=opening / (self.metres * self._rate([c], [0])[0]))
                         )
         centre = np.array([d.xy[0], d.xy[1], d.zc])
         if departed:

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["vertical_touch"]
+__all__ = ["vertical_rise", "vertical_touch"]
 
 #: The end of each triangle edge that starts at vertex 0, 1, 2: edges (0, 1), (1, 2), (2, 0).
 _NEXT = [1, 2, 0]
@@ -95,3 +95,15 @@ def vertical_touch(
     drop = d[rows, best]
     point = np.where(np.isfinite(drop)[:, None], pts[rows, best], np.nan)
     return drop, point
+
+
+def vertical_rise(
+    bolt_tris: NDArray[np.float64], nut_tris: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Rise at which each bolt triangle first meets its nut triangle above it, and where:
+    :func:`vertical_touch` of the pair mirrored in the XY plane (a rise is a drop there)."""
+    flip = np.array([1.0, 1.0, -1.0])
+    rise, point = vertical_touch(
+        np.asarray(bolt_tris, dtype=float) * flip, np.asarray(nut_tris, dtype=float) * flip
+    )
+    return rise, point * flip

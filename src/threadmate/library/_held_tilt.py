@@ -113,7 +113,9 @@ class _Tilt:
             tilt_change=math.degrees(math.acos(cos)),
         )
 
-    def link_leg(self, src: str, dst: str, leg: Leg) -> None:
+    def link_leg(self, src: str, dst: str, leg: Leg, snap_window: float = math.nan) -> None:
+        """The transition ``leg`` from ``src`` to ``dst`` (with its window, at a snap)."""
+        self.rows[src]["snap_window"] = snap_window if leg.kind == "snap" else math.nan
         self.link(
             src,
             dst,
@@ -296,7 +298,7 @@ def _continue(
     while not engaged(tilt.states[sid]) and turned < 360.0 * MAX_TURNS:
         k = (j + 1) % n
         try:
-            legs, _, _ = walk.advance(
+            legs, events, states = walk.advance(
                 tilt.states[sid], phase, turns[j], arrive=tilt.arrival(at_phase[k])
             )
         except Exception as exc:  # noqa: BLE001 - keep the states found so far
@@ -304,6 +306,12 @@ def _continue(
             return
         legs = [leg for leg in legs if not (leg.kind == "turning" and leg.after is leg.before)]
         snapped = bool(legs) and legs[-1].kind == "snap"
+        window = math.nan
+        if snapped:
+            # The window the drop may come in, looked for on the branch since this grid
+            # phase (as ``search`` looks on its own).
+            lo, hi = walk.snap_window([tilt.states[sid], *states], events[-1])
+            window = abs(hi - lo)
         for i, leg in enumerate(legs):
             last = i == len(legs) - 1 and not snapped
             if last:
@@ -321,13 +329,13 @@ def _continue(
                 # last branch); then the paths are one from here on.
                 known = tilt.known_event(leg.after, walk.phase_tolerance)
                 if known is not None:
-                    tilt.link_leg(sid, known, leg)
+                    tilt.link_leg(sid, known, leg, window)
                     return
                 dst = tilt.add(
                     leg.after, "before-jump" if leg.kind == "turning" else "after-jump", config_id
                 )
                 tilt.events.append(dst)
-            tilt.link_leg(sid, dst, leg)
+            tilt.link_leg(sid, dst, leg, window)
             sid = dst
         if snapped or not legs:
             return

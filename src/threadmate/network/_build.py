@@ -1,4 +1,4 @@
-"""The contact-state network of a mechanics library (design/mechanics.md, "The network").
+"""The contact-state network of a mechanics library (docs/mechanics.md, "The network").
 
 **Nodes** are the library's states, one per row of the state record
 (``threadmate.contact.STATE_COLUMNS``): the rest states each start reaches, the unstable
@@ -37,7 +37,7 @@ from .._errors import InputError, LibraryError
 from .._units import to_metres
 from .._validate import check_range
 from ..contact import STATE_COLUMNS, TRANSITIONS
-from ..library import Grid, load
+from ..library import Grid, load, progress
 
 __all__ = [
     "COST_UNITS",
@@ -74,6 +74,7 @@ _EDGE_COLUMNS = (
     "torque_peak",
     "drop",
     "tilt_change",
+    "snap_window",
 )
 #: Node attributes kept from the state record. The transition columns go to the edges;
 #: the rotation is ``Rx(roll) Ry(pitch) Rz(phase)`` of the attributes kept, and the contact
@@ -119,7 +120,9 @@ def build_network(
     networkx.DiGraph
         Node and edge attributes as in the module docstring; graph attributes ``units``,
         ``cost_units``, ``weight_formula``, ``spec``, ``grid``, ``compliance`` (JSON
-        strings), ``active``, ``jump_penalty``, ``move_penalty``.
+        strings), ``active``, ``jump_penalty``, ``move_penalty``, and how far the
+        library's sweep got: ``done`` (starts), ``configurations`` (the grid's) and
+        ``complete``.
     """
     meta = rows.attrs.get("threadmate")
     if not meta:
@@ -178,6 +181,7 @@ def build_network(
     )
     if active:
         _add_tilt_steps(graph, rows, meta, force, move_penalty)
+    graph.graph.update(progress(rows))  # done, configurations, complete
     return graph
 
 

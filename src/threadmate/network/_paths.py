@@ -329,7 +329,8 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
         ``classification`` (of the rest state reached), ``snapped`` (reaches the snap
         within one turn), ``reaches`` (at all, within the library's horizon), ``turn``
         (degrees to the snap, NaN if never), ``work`` (mJ: the sum of the passive edge
-        weights), ``click`` (the snap's drop, spec units), ``snap_phase``, ``torque_peak``
+        weights), ``click`` (the snap's drop, spec units), ``snap_phase``, ``snap_window``
+        (degrees before the snap within which the drop may already come), ``torque_peak``
         (largest driver torque on the way, N m), ``passes_unstable`` (a jump or an
         unstable transition before the snap), ``failed`` (the start's drop raised).
     """
@@ -346,14 +347,15 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
         return None
 
     def outcome(node: str) -> tuple[Any, ...]:
-        # (reaches, turn, work, click, snap_phase, torque_peak, unstable); iterative walk.
+        # (reaches, turn, work, click, snap_phase, torque_peak, unstable, window); an
+        # iterative walk.
         trail: list[tuple[str, dict[str, Any]]] = []
         seen: set[str] = set()
         n = node
         while n not in memo:
             d = graph.nodes[n]
             if is_snapped(d):
-                memo[n] = (True, 0.0, 0.0, 0.0, float(d["phase"]), nan, False)
+                memo[n] = (True, 0.0, 0.0, 0.0, float(d["phase"]), nan, False, 0.0)
                 break
             if n in seen:
                 # A cycle: never snaps, and the driver meets every edge of it, whichever
@@ -370,29 +372,40 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
                     nan,
                     peak,
                     any(e["label"] == "unstable" and e["kind"] != "snap" for e in ring),
+                    nan,
                 )
                 break
             step = passive_next(n)
             if step is None:  # horizon or failure: never snaps
-                memo[n] = (False, nan, nan, nan, nan, nan, False)
+                memo[n] = (False, nan, nan, nan, nan, nan, False, nan)
                 break
             seen.add(n)
             trail.append((n, step[1]))
             n = step[0]
         for m, e in reversed(trail):
-            reaches, turn, work, click, ph, peak, unstable = memo[n]
+            reaches, turn, work, click, ph, peak, unstable, window = memo[n]
             if e["kind"] == "snap":
                 click = float(e["drop"])
+                window = float(e.get("snap_window", nan))
             peak = _larger(peak, e["torque_peak"])
             unstable = unstable or (e["label"] == "unstable" and e["kind"] != "snap")
-            memo[m] = (reaches, turn + e["turn"], work + e["weight"], click, ph, peak, unstable)
+            memo[m] = (
+                reaches,
+                turn + e["turn"],
+                work + e["weight"],
+                click,
+                ph,
+                peak,
+                unstable,
+                window,
+            )
             n = m
         return memo[node]
 
     rows = []
     for (roll, pitch, phase), node in sorted(starts(graph).items()):
         d = graph.nodes[node]
-        reaches, turn, work, click, snap_phase, peak, unstable = outcome(node)
+        reaches, turn, work, click, snap_phase, peak, unstable, window = outcome(node)
         peak = _larger(peak, d["driver_torque"])
         rows.append(
             {
@@ -407,6 +420,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
                 "work": work,
                 "click": click,
                 "snap_phase": snap_phase,
+                "snap_window": window,
                 "torque_peak": peak,
                 "passes_unstable": bool(unstable),
                 "failed": d["classification"] == "error",
@@ -426,6 +440,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
             "work",
             "click",
             "snap_phase",
+            "snap_window",
             "torque_peak",
             "passes_unstable",
             "failed",
