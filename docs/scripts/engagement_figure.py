@@ -6,7 +6,8 @@ the heights alone tell the story): the search counter-clockwise to the snap, the
 screw-in that proves it, clockwise from the snap. A state in phase (every load-carrying
 contact on the helices) moves along the helix as it turns: its compliance centre rises
 or falls the lead, pitch / 360 per degree (the dashed slopes). The second start lands in
-phase but jams when screwed in: not a snap.
+phase tilted; screwed in, it is pinched between the nut's flank below and the edge of the
+nut's thread start above, and rights itself as it goes in.
 
     python docs/scripts/engagement_figure.py [--out docs/figures/engagement.png]
 """
@@ -32,7 +33,7 @@ COLOURS = {
 }
 STARTS = [
     ((0.0, 0.0), 40.0, "held upright, from 40 deg: snaps and screws in"),
-    ((0.0, -3.0), 30.0, "held pitch -3 deg, from 30 deg: lands in phase, jams screwed in"),
+    ((0.0, -3.0), 30.0, "held pitch -3 deg, from 30 deg: lands tilted, rights itself screwed in"),
 ]
 
 

@@ -88,10 +88,32 @@ SCREW_IN = 180.0
 #: driver that needs more is wedging the bolt, not screwing it in (the rigid form of
 #: jamming and cross-threading).
 TORQUE_LIMIT = 1.0
+#: Contact changes that undo each other within this turn (degrees) are a contact point
+#: flickering across the border of two regions (a chamfer on a nut flank's edge with its
+#: crest): neither is told (:func:`_without_flicker`).
+FLICKER = 1.0
 #: A probe's descent stops once it has gone this many times the jump's thresholds (the
 #: fall ``pitch / 40``, the tilt ``JUMP_TILT``) from the state it leaves: far enough that
 #: the rest state it would reach is not near that state either.
 DEPARTURE = 2.0
+
+
+def _without_flicker(events: list[SearchEvent]) -> list[SearchEvent]:
+    """``events`` without the contact changes that a later one within :data:`FLICKER`
+    undoes (A to B, then B to A): what the load rests on did not change."""
+    out: list[SearchEvent] = []
+    for e in events:
+        last = out[-1] if out else None
+        if (
+            last is not None
+            and e.kind == last.kind == "contact-change"
+            and e.after == last.before
+            and abs(e.phase - last.phase) < FLICKER
+        ):
+            out.pop()
+            continue
+        out.append(e)
+    return out
 
 
 def _tilt_between(a: MechanicalState, b: MechanicalState) -> float:
@@ -593,11 +615,11 @@ class Continuation:
             )
             states.append(s_hi)
             if kind == "snap":
-                return legs, events, states
+                return legs, _without_flicker(events), states
             prev, at = s_hi, hi
             branch, branch_start, work = [s_hi], hi, [0.0, 0.0]
         close_branch(at)
-        return legs, events, states
+        return legs, _without_flicker(events), states
 
 
 def search(
