@@ -429,8 +429,7 @@ class Mechanics:
         bolt, nut = eng.triangles(pose, pairs)
         # Bolt faces turned up, under the nut's material (its flank or the edge where its
         # thread meets the top face, whose faces either side both cross).
-        up = np.cross(bolt[:, 1] - bolt[:, 0], bolt[:, 2] - bolt[:, 0])[:, 2]
-        if not np.all(up > 0):
+        if not np.all(_facing(bolt) > 0):
             return None  # material below crosses too: no height here is free
         rise, _ = vertical_rise(bolt, nut)
         depth = -float(rise[np.isfinite(rise)].min(initial=math.inf))
@@ -587,9 +586,7 @@ class Mechanics:
                 bolt, nut = eng.triangles(pose, found)
                 # A nut face turned down over a bolt face turned up (outward normals): the
                 # pairs of the contacts below, which a lift only separates, are not these.
-                up = np.cross(bolt[:, 1] - bolt[:, 0], bolt[:, 2] - bolt[:, 0])[:, 2]
-                down = np.cross(nut[:, 1] - nut[:, 0], nut[:, 2] - nut[:, 0])[:, 2]
-                pairs = found[(up > 0) & (down < 0)]
+                pairs = found[(_facing(bolt) > 0) & (_facing(nut) < 0)]
         if len(pairs) == 0:
             return replace(d, over_pairs=pairs, rises=np.empty(0), over_points=np.empty((0, 3)))
         rise, points = vertical_rise(*eng.triangles(pose, pairs))
@@ -1583,6 +1580,13 @@ class Mechanics:
         if path and path[0].kind == "first-contact" and steps == 0:
             path.clear()
         return result(final, {"force": f_res, "moment": m_res, "converged": float(converged)})
+
+
+def _facing(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The Z part of each triangle's outward normal (unnormalised; the meshes wind their
+    triangles outward): positive for a face turned up."""
+    t = np.asarray(triangles, dtype=float)
+    return np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]
 
 
 def axis_turn(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
