@@ -7,8 +7,9 @@ thesis's Figure 2.6, and the pivot axes, its Figure 2.9). Angles are degrees in 
 frame F, measured from +X toward +Y; lengths are in the spec's units (conventions.md).
 """
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
 
 if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
     from ._analysis import (
@@ -57,15 +58,4 @@ _ALIASES: dict[str, str] = {}
 _WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 
 
-def __getattr__(name: str) -> Any:
-    """Import the submodule that holds ``name`` on first use (PEP 562)."""
-    module = _WHERE.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module, __name__), _ALIASES.get(name, name))
-    globals()[name] = value  # later uses find it without this hook
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_exports(__name__, globals(), _WHERE, _ALIASES)
