@@ -20,7 +20,7 @@ from pathlib import Path
 import pyarrow.parquet as pq
 import pytest
 
-from _cli import run_cli
+from _cli import refused, run_cli
 from threadmate import library
 from threadmate._errors import InputError, LibraryError
 
@@ -208,7 +208,7 @@ def test_every_command_takes_the_same_condition_spellings(capsys):
 
 
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc (Linux)")
-def test_unwritable_library_and_figure_folders_are_refused(small_library, capsys, quarter_20):
+def test_unwritable_library_and_figure_folders_arerefused(small_library, capsys, quarter_20):
     with pytest.raises(LibraryError, match="cannot create the library"):
         library.sweep(quarter_20, "0", "0", "0", out="/proc/threadmate-x/lib", model="thesis")
     for args in (
@@ -239,14 +239,6 @@ def _edit_grid(lib: Path, **grid) -> None:
     meta_file.write_text(json.dumps(meta))
 
 
-def _refused(capsys, *args) -> str:
-    code, out, err = run_cli(capsys, *args)
-    assert code == 2 and out == "", (code, out, err)
-    lines = [line for line in err.splitlines() if line.strip()]
-    assert len(lines) == 1 and "Traceback" not in err, err
-    return lines[0]
-
-
 @pytest.mark.parametrize(
     ("grid", "words"),
     [
@@ -258,7 +250,7 @@ def _refused(capsys, *args) -> str:
         ({"phase": [0.0, 90.0]}, "phase 180, where the grid"),
     ],
 )
-def test_rows_that_do_not_fit_the_grid_are_refused(small_library, tmp_path, capsys, grid, words):
+def test_rows_that_do_not_fit_the_grid_arerefused(small_library, tmp_path, capsys, grid, words):
     # small_library: roll 0, pitch 0, phases 0 and 180 (configurations 0 and 1, both done).
     lib = tmp_path / "lib"
     shutil.copytree(small_library, lib)
@@ -274,10 +266,10 @@ def test_rows_that_do_not_fit_the_grid_are_refused(small_library, tmp_path, caps
         ["library", "query", lib, "--roll", "0", "--pitch", "0", "--phase", "0"],
         ["library", "summary", lib],
     ):
-        assert words in _refused(capsys, *args)
+        assert words in refused(capsys, *args)
 
 
-def test_a_state_away_from_its_starts_held_tilt_is_refused(tmp_path, quarter_20):
+def test_a_state_away_from_its_starts_held_tilt_isrefused(tmp_path, quarter_20):
     from _libraries import SYNTH_COMPLIANCE, SYNTH_GRID, synthetic_rows
 
     rows = synthetic_rows()
@@ -378,7 +370,7 @@ def test_an_incomplete_library_says_how_far_it_got(unfinished, capsys, tmp_path)
 
 def test_recommend_refuses_an_incomplete_library_unless_partial(unfinished, capsys):
     lib, done, total = unfinished
-    line = _refused(capsys, "recommend", lib)
+    line = refused(capsys, "recommend", lib)
     assert f"library {lib}: {done} of {total} starts done" in line and "--partial" in line
     with pytest.raises(InputError, match="incomplete"):
         from threadmate.network import from_library, recommend

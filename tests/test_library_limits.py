@@ -8,7 +8,7 @@ import time
 
 import pytest
 
-from _cli import run_cli
+from _cli import refused
 from threadmate import library
 from threadmate._errors import InputError
 from threadmate._validate import (
@@ -22,14 +22,6 @@ from threadmate._validate import (
 DESIGNATION = "1/4-20 UNC-2A/2B"
 
 
-def _refused(capsys, *args) -> str:
-    code, out, err = run_cli(capsys, *args)
-    assert code == 2 and out == "", (code, out, err)
-    lines = [line for line in err.splitlines() if line.strip()]
-    assert len(lines) == 1 and "Traceback" not in err, err
-    return lines[0]
-
-
 def test_the_limits_are_the_stated_ones():
     # docs/network.md, "Cost and scale", states them.
     assert MAX_AXIS_VALUES == 100_000
@@ -39,7 +31,7 @@ def test_the_limits_are_the_stated_ones():
 
 def test_ten_million_rolls_are_refused_before_a_value_is_made(tmp_path, capsys):
     t0 = time.perf_counter()
-    line = _refused(capsys, "sweep", DESIGNATION, "--roll", "0:1:0.0000001", "-o", tmp_path / "lib")
+    line = refused(capsys, "sweep", DESIGNATION, "--roll", "0:1:0.0000001", "-o", tmp_path / "lib")
     # 1 / 1e-7 steps and the stop: 10,000,001 values.
     assert "--roll: '0:1:0.0000001' gives 10,000,001 values" in line
     assert f"more than the {MAX_AXIS_VALUES:,}" in line
@@ -47,7 +39,7 @@ def test_ten_million_rolls_are_refused_before_a_value_is_made(tmp_path, capsys):
     assert not (tmp_path / "lib").exists()
 
 
-def test_a_sequence_of_too_many_distinct_values_is_refused():
+def test_a_sequence_of_too_many_distinct_values_isrefused():
     values = [i * 1e-4 for i in range(MAX_AXIS_VALUES + 1)]  # 0 .. 10 deg by 1e-4
     with pytest.raises(InputError, match="--roll: 100,001 values, more than the 100,000"):
         library.parse_range(values, "roll")
@@ -71,7 +63,7 @@ def test_too_many_starts_are_refused_with_the_count_and_the_time(
     args = ["sweep", DESIGNATION, "--roll", roll, "--pitch", pitch, "--workers", "2"]
     args += ["--phase", phase] if phase else []
     t0 = time.perf_counter()
-    line = _refused(capsys, *args, "-o", tmp_path / "lib")
+    line = refused(capsys, *args, "-o", tmp_path / "lib")
     assert time.perf_counter() - t0 < 5.0
     assert f"has {count:,} configurations" in line
     # The estimate at the stated rate on the 2 workers asked for.
@@ -95,7 +87,7 @@ def test_max_starts_raises_and_lowers_the_limit(tmp_path, quarter_20, capsys):
     assert not (tmp_path / "a").exists()
     with pytest.raises(InputError, match="--max-starts must be a whole number from 1 to"):
         library.sweep(quarter_20, "0", "0", "0", out=tmp_path / "a", max_starts=10**8)
-    line = _refused(
+    line = refused(
         capsys,
         "sweep",
         DESIGNATION,
@@ -123,13 +115,13 @@ def test_max_starts_raises_and_lowers_the_limit(tmp_path, quarter_20, capsys):
 def test_a_search_step_too_fine_is_refused_with_its_count(capsys, command):
     base = [command, DESIGNATION, "--roll", "0", "--pitch", "0", "--phase", "0"]
     t0 = time.perf_counter()
-    line = _refused(capsys, *base, "--step", "1e-9")
+    line = refused(capsys, *base, "--step", "1e-9")
     assert time.perf_counter() - t0 < 5.0
     # One turn by 1e-9 deg: 360e9 steps.
     assert "--step 1e-09 deg over 1 turn(s) is 360,000,000,000 continuation steps" in line
     assert "give --step 0.01 or coarser" in line
     # Two turns by 0.01 deg: 72,000 steps; one turn by 0.01 is the most a search takes.
-    line = _refused(capsys, *base, "--step", "0.01", "--turns", "2")
+    line = refused(capsys, *base, "--step", "0.01", "--turns", "2")
     assert "72,000 continuation steps" in line and "--step 0.02" in line
 
 
