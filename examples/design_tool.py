@@ -37,7 +37,7 @@ def main(lib: Path, out: Path) -> None:
         p = network.least_resistance_path(g, roll=0.4, pitch=-1, phase=95, nearest=True)
         print(
             f"from {p.start}: snap after {p.turn:.1f} deg at phase {p.snap['phase']:.2f} "
-            f"deg, click {p.snap['drop']:.4g} in, driver's work {p.cost:.3g} mJ"
+            f"deg, click {p.snap['click']:.4g} in, driver's work {p.cost:.3g} mJ"
             + ("; passes an unstable transition" if p.passes_unstable else "")
         )
     except NoPathError as exc:

@@ -50,7 +50,7 @@ if run.snap is None:
 else:
     print(
         f"search from (4, 0, 300): snap at phase {run.snap.phase:.2f} deg after "
-        f"{run.snap_turn:.2f} deg, click {run.snap.drop:.5f} {spec.units}"
+        f"{run.snap_turn:.2f} deg, click {run.snap.click:.5f} {spec.units}"
     )
 print(
     f"  work {run.work:.3f} mJ (friction {run.work_friction:.3f}, potential "

@@ -372,7 +372,9 @@ def walk_starts(rows: pd.DataFrame, jump_penalty: float = 0.0) -> pd.DataFrame:
             turn += node["transition_turn"]
             work += expected_weight(node, jump_penalty)
             if node["transition"] == "snap":
-                click = node["drop"]
+                # the fall a sensor sees, recorded with the snap (a hand-built row has
+                # none: its drop)
+                click = node["click"] if np.isfinite(node["click"]) else node["drop"]
             elif node["transition_label"] == "unstable":
                 unstable = True
             path.append(nxt)

@@ -104,7 +104,8 @@ def thesis_library(tmp_path_factory):
         (lambda d: d.update(spec={"units": "in"}), "spec key 'pitch' is missing"),
         (lambda d: d.update(mesh="x"), "key 'mesh' must be a table"),
         (lambda d: d.update(units="mm"), "key 'units'"),
-        (lambda d: d["grid"].update(roll=[99.0]), "--roll: 99 deg is out of range"),
+        # The stored grid's roll (no option of the command): named as the metadata's.
+        (lambda d: d["grid"].update(roll=[99.0]), "_threadmate.json: roll: 99 deg is out of range"),
     ],
 )
 def test_library_with_hand_edited_metadata(tmp_path, capsys, thesis_library, edit, message):

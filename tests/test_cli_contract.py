@@ -111,6 +111,9 @@ def test_no_heavy_package_for_help_thread_or_refusals(tmp_path):
         ["sweep", "M6", "-o", str(tmp_path / "l"), "--roll", "0:50:5"],
         ["run", "-o", str(tmp_path / "r"), "--phase", "0:x:5"],
         ["run", "-o", str(tmp_path / "r"), "--roll-spread", "-1"],
+        ["recommend", str(tmp_path / "l"), "--roll-spread", "46"],
+        ["search", "M6", "--roll", "0", "--pitch", "0", "--phase", "0", "--step", "20"],
+        ["search", "M6", "--roll", "0", "--pitch", "0", "--phase", "0", "--screw-in", "800"],
         ["path", str(tmp_path / "l"), "--roll", "0", "--pitch", "0", "--phase", "1e7"],
         ["mesh", "M6", "-o", str(tmp_path / "m"), "--point", "hex"],
     ]
@@ -188,20 +191,36 @@ def test_lazy_package_exports_every_name_it_lists(package):
     assert proc.stdout.strip() == "[]"
 
 
-def test_the_api_values_the_help_quotes_are_the_apis():
-    """The values the options' help restates (so as not to import the stages that own
-    them) are the owners' values."""
+def test_the_options_defaults_are_the_apis_own():
+    """The options take their defaults and choices from the API's names (light modules,
+    so that the help imports no stage), restating none."""
     from threadmate import contact, geometry, library, network, pipeline
     from threadmate._validate import MAX_TILT
-    from threadmate.cli import _options as o
+    from threadmate.cli import _options
+    from threadmate.cli._main import _register, cli
 
-    assert o.CONTINUATION_STEP == contact.CONTINUATION_STEP
-    assert o.SCREW_IN == contact.SCREW_IN
-    assert o.DEFAULT_CHORD == geometry.DEFAULT_CHORD
-    assert o.MODELS == library.MODELS
-    assert o.MAX_K == network.MAX_K
-    assert o.DEFAULT_DESIGNATION == pipeline.DEFAULT_DESIGNATION
-    assert o.RUN_GRID == pipeline.RUN_GRID
+    _register()
+
+    def param(command: str, name: str):
+        return next(p for p in cli.commands[command].params if p.name == name)
+
+    for command in ("search", "screw", "sweep", "run"):
+        assert param(command, "step").default is contact.CONTINUATION_STEP
+    assert param("search", "screw_in").default is contact.SCREW_IN
+    assert param("sweep", "phase_tolerance").default is contact.PHASE_TOLERANCE
+    assert tuple(param("sweep", "model").type.choices) == library.MODELS
+    assert param("run", "spec_text").default is pipeline.DEFAULT_DESIGNATION
+    owners = {
+        "CONTINUATION_STEP": contact,
+        "SCREW_IN": contact,
+        "DEFAULT_CHORD": geometry,
+        "MODELS": library,
+        "MAX_K": network,
+        "DEFAULT_DESIGNATION": pipeline,
+        "RUN_GRID": pipeline,
+    }
+    for name, owner in owners.items():  # imported where used, never a copy
+        assert getattr(_options, name, getattr(owner, name)) is getattr(owner, name), name
     assert MAX_TILT == contact.MAX_TILT == library.MAX_TILT == 45.0
 
 

@@ -146,14 +146,16 @@ def test_settle_text_on_a_spec_file(spec_file, capsys):
 @pytest.mark.parametrize(
     "argv, words",
     [
-        (["--force", "-1"], "force"),
-        (["--force", "nan"], "force"),
-        (["--stiffness", "inf"], "stiffness"),
+        # The Compliance's refusals, each named as the option the user gave.
+        (["--force", "-1"], "--force -1 N is out of range"),
+        (["--force", "nan"], "--force must be a finite number"),
+        (["--stiffness", "inf"], "--stiffness must be a finite number"),
+        (["--stiffness", "1,-2"], "--stiffness (pitch) -2 N m/rad is out of range"),
         (["--stiffness", "1,2,3"], "--stiffness"),
         (["--stiffness", "stiff"], "--stiffness"),
-        (["--friction", "-0.1"], "friction"),
-        (["--lateral-stiffness", "0"], "lateral_stiffness"),
-        (["--roll", "100"], "--roll"),
+        (["--friction", "-0.1"], "--friction -0.1 is out of range"),
+        (["--lateral-stiffness", "0"], "--lateral-stiffness 0 N/m is out of range"),
+        (["--roll", "100"], "--roll 100 deg is out of range"),
     ],
 )
 def test_settle_bad_parameters_exit_2(capsys, argv, words):

@@ -196,7 +196,7 @@ def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
     assert rc == 0, err
     doc = json.loads(out)
     assert {"units", "start", "path", "labels", "cost", "snap"} <= set(doc)
-    assert set(doc["snap"]) >= {"phase", "turn", "drop"}
+    assert set(doc["snap"]) >= {"phase", "turn", "drop", "click"}
     assert doc["units"]["cost"] == "mJ" and doc["units"]["length"] == "in"
     assert doc["start"]["node"] == node and doc["start"]["moved"] is False
     assert doc["path"] == w["path"]
@@ -206,7 +206,7 @@ def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
     )
     assert doc["snap"]["phase"] == pytest.approx(w["snap_phase"])
     assert doc["snap"]["turn"] == pytest.approx(w["turn"])
-    assert doc["snap"]["drop"] == pytest.approx(w["click"])
+    assert doc["snap"]["click"] == pytest.approx(w["click"])
     assert doc["within_one_turn"] == bool(w["snapped"]) and doc["active"] is False
 
 

@@ -399,7 +399,7 @@ def test_run_passes_the_meshes_and_the_report_names_them(
         (["--bolt-mesh", "{lifted}"], "is not in its frame (tip face at z = 0"),
         (["--bolt-mesh", "{bolt}", "--mesh-units", "mm"], "header declares units=in"),
         (["--nut-mesh", "{missing}"], "mesh file not found"),
-        (["--bolt-mesh", "{bolt_obj_mm}"], "looks like mm"),
+        (["--bolt-mesh", "{bolt_obj_mm}"], "looks like mm (give its units, --mesh-units mm, or"),
         (["--mesh-units", "mm"], "--mesh-units needs --bolt-mesh or --nut-mesh"),
         (["--bolt-mesh", "{furlong}"], "declares units=furlong, which threadmate does not"),
         (["--bolt-mesh", "{nan}"], "2 of its"),

@@ -328,3 +328,32 @@ def test_the_library_records_the_snaps_window():
     assert 0.0 <= snaps["snap_window"].iloc[0] <= hi - lo + 0.01
     assert snaps["drop"].iloc[0] == pytest.approx(run.snap.drop, rel=1e-6)
     assert rows.loc[rows["transition"] != "snap", "snap_window"].isna().all()
+
+
+def test_the_click_is_the_whole_fall_from_the_smooth_ride(flat, mech):
+    """Held (2, -1.5) from 200 degrees, frictionless: the bolt rides the nut's top face
+    flat until about 348.7 degrees, then the branch falls steeply (many leads per
+    degree) for a few hundredths of a degree before it ends in the snap. A sensor sees
+    the whole fall, as a dynamic simulation does: the click is the height of the ride
+    before the steep stretch less the landing's. The ride is found independently here by
+    following the branch in fine steps to 348.6 degrees from the search's state at 345;
+    the click is larger than the jump's own drop."""
+    run = search(mech, 2.0, -1.5, 200.0)
+    assert run.snap is not None and run.snap.engagement is not None
+    assert run.snap.engagement.engaged
+    landing = run.states[-1]
+    walk = Continuation(mech, 2.0, -1.5)
+    state = next(s for s in run.states if s.phase == pytest.approx(345.0))
+    _, events, states = walk.advance(state, 345.0, 3.6)
+    assert not [e for e in events if e.kind in ("jump", "snap")]
+    ride = states[-1].centre[2]
+    assert run.snap.click == pytest.approx(ride - landing.centre[2], rel=0.01)
+    assert run.snap.click > run.snap.drop * 1.1
+
+
+def test_a_smooth_snap_clicks_its_drop(upright_search):
+    """Upright, the bolt rests on the top face, its branch flat up to the window's edge:
+    the click is the jump's own drop."""
+    snap = upright_search.snap
+    assert snap is not None
+    assert snap.click == pytest.approx(snap.drop, rel=1e-9)

@@ -185,7 +185,7 @@ def _search_run():
         SearchEvent(280.0, "jump", "a/c", "a/d", drop=0.001, tilt_change=0.5),
         *(SearchEvent(397.0 + 0.1 * k, "contact-change", "a/d", "a/e") for k in range(4)),
     )
-    snap = SearchEvent(462.5, "snap", "a/e", "b/f", drop=0.0113, tilt_change=3.0)
+    snap = SearchEvent(462.5, "snap", "a/e", "b/f", drop=0.0113, tilt_change=3.0, click=0.0113)
     return SearchResult(
         "in",
         1.0,
@@ -202,16 +202,16 @@ def _search_run():
 
 
 def test_search_figure_labels_do_not_overlap(monkeypatch, tmp_path):
-    import threadmate._figures
-    from threadmate.cli import _mechanics
+    import threadmate.contact._figures
+    from threadmate.contact import plot_search
 
     figures = []
-    # The figure as it would be saved (the command imports the saver when it plots).
+    # The figure as it would be saved.
     monkeypatch.setattr(
-        threadmate._figures, "save_figure", lambda fig, path, fmt=None: figures.append(fig)
+        threadmate.contact._figures, "save_figure", lambda fig, path, fmt=None: figures.append(fig)
     )
     spec = spec_from_designation("M10x1.5-6g/6H")
-    _mechanics.plot_search(spec, _search_run(), tmp_path / "s.png")
+    plot_search(_search_run(), tmp_path / "s.png", spec=spec)
     (fig,) = figures
     texts = [t for t in fig.axes[0].texts if t.get_text()]  # (leader lines are empty texts)
     assert {t.get_text() for t in texts} == {

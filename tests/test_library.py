@@ -377,13 +377,14 @@ def test_sweep_without_out_returns_the_rows(quarter_20, analyzer):
 def test_bad_requests_raise_input_errors(quarter_20, tmp_path):
     out = tmp_path / "never"
     for kwargs, words in (
-        ({"roll": "0:4:0"}, "--roll"),
-        ({"workers": 0}, "--workers"),
-        ({"chord": -1.0}, "--chord"),
+        # The API names its parameters (never the command line's options).
+        ({"roll": "0:4:0"}, "^roll"),
+        ({"workers": 0}, "^workers"),
+        ({"chord": -1.0}, "^chord"),
         ({"chord": 0.01}, "too coarse"),
-        ({"scheduler": 5}, "--scheduler"),
+        ({"scheduler": 5}, "^scheduler"),
         ({"chunk_size": 0}, "chunk_size"),
-        ({"model": "fixed"}, "--model"),
+        ({"model": "fixed"}, "^model"),
         ({"step": 0.0}, "step"),
         ({"step": 2.0, "phase_tolerance": 5.0}, "phase_tolerance"),
         ({"compliance": "stiff"}, "compliance"),
@@ -658,6 +659,7 @@ def test_passive_path_agrees_with_search(mech_rows, mech, quarter_20, roll, phas
     if joins == 0:  # the search's walk, step for step: the same snap and click
         assert _circular(end["phase"], run.snap.phase) <= 0.02
         assert snap_row["drop"] == pytest.approx(run.snap.drop, rel=1e-6)
+        assert snap_row["click"] == pytest.approx(run.snap.click, rel=1e-6)
     # A path that joins another start's states may reach the thread in two hops where the
     # search takes one (a jump a few hundredths of a degree before the snap, near the
     # window's edge): the click is then split, the landing the same (above).

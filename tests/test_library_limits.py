@@ -41,7 +41,7 @@ def test_ten_million_rolls_are_refused_before_a_value_is_made(tmp_path, capsys):
 
 def test_a_sequence_of_too_many_distinct_values_isrefused():
     values = [i * 1e-4 for i in range(MAX_AXIS_VALUES + 1)]  # 0 .. 10 deg by 1e-4
-    with pytest.raises(InputError, match="--roll: 100,001 values, more than the 100,000"):
+    with pytest.raises(InputError, match="^roll: 100,001 values, more than the 100,000"):
         library.parse_range(values, "roll")
     assert len(library.parse_range(values[:-1], "roll")) == MAX_AXIS_VALUES
 
@@ -85,7 +85,7 @@ def test_max_starts_raises_and_lowers_the_limit(tmp_path, quarter_20, capsys):
     with pytest.raises(InputError, match="has 2 configurations.*past the limit of 1 starts"):
         library.sweep(quarter_20, "0", "0", "0:180:180", out=tmp_path / "a", max_starts=1)
     assert not (tmp_path / "a").exists()
-    with pytest.raises(InputError, match="--max-starts must be a whole number from 1 to"):
+    with pytest.raises(InputError, match="^max_starts must be a whole number from 1 to"):
         library.sweep(quarter_20, "0", "0", "0", out=tmp_path / "a", max_starts=10**8)
     line = refused(
         capsys,

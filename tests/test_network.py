@@ -230,7 +230,7 @@ def test_every_passive_path_keeps_its_tilt_snaps_and_costs_its_weights(case):
         assert res.turn == pytest.approx(by_id.loc[res.path[:-1], "transition_turn"].sum())
         assert res.snap["phase"] == pytest.approx(by_id.loc[res.path[-1], "phase"])
         assert res.snap["turn"] == pytest.approx(w["turn"])
-        assert res.snap["drop"] == pytest.approx(w["click"])
+        assert res.snap["click"] == pytest.approx(w["click"])
         if len(res.path) > 1:
             assert res.kinds[-1] == "snap"
 
@@ -392,7 +392,7 @@ def test_recommend_synthetic_by_hand(synth_graph, synth_lib, synth_rows, tmp_pat
     upright = synth_rows[synth_rows["held_roll"] == 0]
     path = synthetic_library(tmp_path / "upright", quarter_20, rows=upright, roll=[0.0])
     assert recommend(from_library(path)).roll_spread == 0.0
-    with pytest.raises(InputError, match="roll-spread"):
+    with pytest.raises(InputError, match="^roll_spread"):
         recommend(synth_graph, roll_spread=-1)
 
 
@@ -555,7 +555,7 @@ def test_k_best_paths(synth_graph):
     one = k_best_paths(synth_graph, 3, 0, -1, 90)
     assert one.alternatives == []  # passively the dynamics are deterministic
     for bad in (0, MAX_K + 1, True, 2.0):
-        with pytest.raises(InputError, match="--k"):
+        with pytest.raises(InputError, match="^k must be a whole number"):
             k_best_paths(synth_graph, bad, 0, -1, 90)
 
 

@@ -10,12 +10,13 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 
 import pytest
 
 from _cli import THESIS_PARTS, run_cli
 from _libraries import synthetic_library
-from threadmate import SpecError
+from threadmate import InputError, SpecError
 from threadmate.geometry import (
     BoltPoint,
     Countersink,
@@ -25,6 +26,7 @@ from threadmate.geometry import (
     save_spec,
     spec_from_designation,
     standard_nut_height,
+    with_parts,
 )
 
 # -- the tables ------------------------------------------------------------------------------
@@ -225,6 +227,71 @@ def test_lengths_in_pitches_in_a_spec_file(tmp_path):
     data["bolt"]["length"] = "p3"
     with pytest.raises(SpecError, match="'bolt.length'"):
         ThreadSpec.from_dict(data)
+
+
+# -- with_parts: the parts applied to a designation, a spec or a spec file -----------------------
+def test_with_parts_on_a_designation_takes_the_standards_values():
+    # M6 (pitch 1 mm), ISO 4032: nut height m = 5.2 mm, countersink d_a from 6 to 6.75 mm.
+    spec = with_parts("M6", bolt_length="3p", nut_height="standard")
+    assert spec.bolt.length == pytest.approx(3.0) and spec.nut.height == pytest.approx(5.2)
+    assert spec.bolt.point.form == "chamfer" and spec.bolt.point.angle == 45.0
+    assert spec.bolt.point.diameter == pytest.approx(4.735 - 0.1)  # ISO 965-1 mean minor
+    assert spec.nut.countersink == Countersink(120.0, (6.0 + 6.75) / 2)
+    # ASME B18.2.2: the 1/4 in hex nut is 7/32 in high.
+    assert with_parts("1/4-20 UNC", nut_height="standard").nut.height == pytest.approx(7 / 32)
+    # Text that is a number is a length in the spec's units.
+    assert with_parts("M6", bolt_length="4.5").bolt.length == 4.5
+    # No parts: the designation's spec as it expands; the thesis's parts: one pitch each.
+    assert with_parts("M6") == spec_from_designation("M6")
+    thesis = with_parts("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    assert thesis.bolt.length == pytest.approx(0.05) and thesis.nut.height == pytest.approx(0.05)
+    assert thesis.nut.countersink is None and thesis.bolt.point.form == "flat"
+    mmc = with_parts("M6", condition="max", point="round")
+    assert mmc.bolt.major == pytest.approx(5.974) and mmc.bolt.point.form == "round"
+
+
+def test_with_parts_on_a_spec_keeps_its_own(tmp_path):
+    flat = spec_from_designation("M6", point="flat", countersink=False)
+    assert with_parts(flat) is flat
+    # A chamfer and the standard countersink (the spec names its designation): the default
+    # lengths follow the new ends, so this is the designation's own spec.
+    assert with_parts(flat, point="chamfer", countersink=True) == spec_from_designation("M6")
+    own = spec_from_designation("M6", point="flat", countersink=False, bolt_length=4.0)
+    assert with_parts(own, point="chamfer").bolt.length == 4.0  # its own length stays
+    # A spec file, as a path or as text: a countersink's diameter asks for one (120 deg).
+    path = save_spec(flat, tmp_path / "m6.toml")
+    for given in (path, str(path)):
+        got = with_parts(given, countersink_diameter=6.5, nut_height=2.0)
+        assert got.nut.countersink == Countersink(120.0, 6.5) and got.nut.height == 2.0
+        assert got.bolt == flat.bolt
+
+
+@pytest.mark.parametrize(
+    ("spec", "kwargs", "error", "start"),
+    [
+        ("M6", {"point": "flat", "chamfer_angle": 30.0}, InputError, "chamfer_angle applies"),
+        ("M6", {"countersink": False, "countersink_angle": 90}, InputError, "countersink_angle"),
+        (
+            "M6",
+            {"point_diameter": 5.0},
+            SpecError,
+            "point_diameter: spec key 'bolt.point.diameter'",
+        ),
+        ("M6", {"bolt_length": 0.5}, SpecError, "bolt_length: spec key 'bolt.length'"),
+        ("M6", {"bolt_length": "3x"}, SpecError, "bolt_length must be a length in mm"),
+        ("M7", {"nut_height": "standard"}, SpecError, "nut_height='standard': no standard"),
+        ("custom", {"nut_height": "standard"}, InputError, "nut_height='standard' needs a"),
+        ("custom", {"countersink": True}, InputError, "countersink: the spec has no countersink"),
+    ],
+)
+def test_with_parts_refuses_in_its_parameters_names(spec, kwargs, error, start):
+    if spec == "custom":  # a spec that names no designation
+        spec = replace(
+            spec_from_designation("M6", point="flat", countersink=False), designation=None
+        )
+    with pytest.raises(error) as exc:
+        with_parts(spec, **kwargs)
+    assert str(exc.value).startswith(start) and "--" not in str(exc.value), exc.value
 
 
 # -- files -----------------------------------------------------------------------------------

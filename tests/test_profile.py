@@ -117,3 +117,30 @@ def test_region_of_points_on_end_faces(quarter_20):
     z = t_target + 0.05 * theta / (2 * np.pi)
     r = float(bolt_profile(quarter_20).radius(t_target))
     assert b.region_of([[r * np.cos(theta), r * np.sin(theta), z]])[0] == "+F"
+
+
+@pytest.mark.parametrize("which", ["bolt", "nut"])
+def test_distance_matches_brute_force_near_and_far(quarter_20, which):
+    """The axial-section distance to the profile against the nearest of the profile's own
+    points sampled every 0.5 micro-inch over three pitches, for points inside and outside
+    the body, near the fillet arcs and far below them (where the arcs' whole circles, not
+    the arcs, pass close by)."""
+    prof = bolt_profile(quarter_20) if which == "bolt" else nut_profile(quarter_20)
+    p = quarter_20.pitch
+    spacing = 5e-7
+    ts = np.arange(-1.5 * p, 1.5 * p, spacing)
+    curve = np.column_stack([ts, prof.radius(ts)])
+    rng = np.random.default_rng(3)
+    a1, a2, a3, a4 = prof.breakpoints
+    t = np.concatenate(
+        [
+            rng.uniform(-p / 2, p / 2, 200),
+            rng.uniform(a1, a2, 100) * rng.choice([-1, 1], 100),
+            rng.uniform(a3, a4, 100) * rng.choice([-1, 1], 100),
+        ]
+    )
+    r = rng.uniform(prof.r_lo - 0.3 * p, prof.r_hi + 0.3 * p, t.size)
+    got = prof.distance(t, r)
+    for k in range(t.size):
+        brute = np.hypot(curve[:, 0] - t[k], curve[:, 1] - r[k]).min()
+        assert brute - spacing <= got[k] <= brute + 1e-12, (t[k], r[k], got[k], brute)

@@ -6,7 +6,8 @@ Run:  python docs/scripts/click_study.py [--start 30] [--out docs/figures/click.
 friction 0.15). For each held tilt of size 0 to 4 degrees toward +X, +Y, -X and -Y (the
 direction of the tilt relative to the nut's thread start, which a robot rarely knows),
 the counter-clockwise search from the start phase is simulated for one turn. Prints the
-Markdown table of docs/mechanics.md, "The click", and writes the figure.
+Markdown table of docs/validation.md, "The click against the tilt" (``python
+docs/scripts/validation.py --click FILE`` reads this output), and writes the figure.
 """
 
 from __future__ import annotations
@@ -50,7 +51,7 @@ def main() -> None:
                     "roll": roll,
                     "pitch": pitch,
                     "snap_turn": run.snap_turn,
-                    "click": None if run.snap is None else run.snap.drop,
+                    "click": None if run.snap is None else run.snap.click,
                     "tilt_change": None if run.snap is None else run.snap.tilt_change,
                     "work": run.work,
                     "events": len(run.events),

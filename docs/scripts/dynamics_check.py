@@ -46,12 +46,14 @@ start (and its search, to compare with):
   lead (within 10 %) over the last third, without the driver stalling; otherwise the
   turn goes on from the landing. Falls under 0.002 pitch are slips (a contact passing a
   seam of the pieces), not jumps. Jumps within half a degree before the snap are a
-  cascade: their drops add up to the fall a sensor sees.
+  cascade: the fall a sensor sees (the click) runs from where the first started, or
+  from the start of the steep stretch before it (falling faster than ``STEEP`` leads per
+  degree, threadmate's definition), to the last landing.
 - **Compared** with ``threadmate search`` (frictionless, same compliance): the snap's
-  phase and click, the whole fall (from the last state of the smooth ride to the
-  landing), the landing (height at the same phase, tilt), and whether each calls the
-  landing in phase. The simulated landing and screw-in are checked on the exact
-  bodies (:func:`exact_interference`).
+  phase and click (threadmate's ``SearchEvent.click``: the whole fall from the smooth
+  ride, its steep last stretch included), the landing (height at the same phase, tilt),
+  and whether each calls the landing in phase. The simulated landing and screw-in are
+  checked on the exact bodies (:func:`exact_interference`).
 
 Prints a table and, on request, writes the rows as JSON (with threadmate's events and
 the simulation's jumps). Progress goes to stderr. Lengths are in the spec's units unless
@@ -104,6 +106,10 @@ METRES = {"in": 0.0254, "mm": 0.001}
 SECTOR = 2.0
 #: Section polygons per piece (the piece's edges included: SUBDIVIDE + 1).
 SUBDIVIDE = 4
+#: A stretch falling faster than this many leads per degree of turn is part of the fall a
+#: sensor sees, not the ride before it: the definition of threadmate's click
+#: (``SearchEvent.click``), applied here to the simulated trace.
+STEEP = 10.0
 
 
 @dataclass(frozen=True)
@@ -505,8 +511,9 @@ class Jump:
     """A jump the simulation saw: phase where the fall started (degrees), drop of C
     (spec units), whether the bolt then screwed in, its descent per degree turned back
     (spec units; the lead / 360 when in phase), the tilts before and after (degrees),
-    whether the turn back jammed, and the poses ``(z_C, roll, pitch, phase)`` every 15
-    degrees of the turn back."""
+    whether the turn back jammed, the poses ``(z_C, roll, pitch, phase)`` every 15
+    degrees of the turn back, and the heights of C where the fall started and after the
+    landing (spec units)."""
 
     phase: float
     drop: float
@@ -516,6 +523,8 @@ class Jump:
     tilt_after: tuple[float, float]
     jammed: bool = False
     proof_poses: list[tuple[float, float, float, float]] = field(default_factory=list, repr=False)
+    z_before: float = math.nan
+    z_after: float = math.nan
 
 
 @dataclass
@@ -777,6 +786,8 @@ def simulate(
             tilt_after=(math.degrees(d.qpos[1]), math.degrees(d.qpos[2])),
             jammed=jammed,
             proof_poses=poses,
+            z_before=z_on / scale,
+            z_after=z_after / scale,
         )
         jumps.append(jump)
         if log:
@@ -911,15 +922,13 @@ def run_case(
     run = search(mech, case.roll, case.pitch, case.phase, turns=1)
     t_tm = time.time() - t0
     tm_phase = run.snap.phase if run.snap else None
-    tm_drop = run.snap.drop if run.snap else None
+    tm_click = run.snap.click if run.snap else None
     # without a snap, the jump threadmate located with the largest drop (the one it
     # refused as a snap, with its reason) is the one to compare
     tm_jumps = [e for e in run.events if e.kind in ("jump", "snap")]
     tm_jump = run.snap or max(tm_jumps, key=lambda e: e.drop, default=None)
     aim = tm_jump.phase if tm_jump is not None else case.phase + 360.0
-    # the jumps within half a degree before the snap (a cascade) and the landing
-    tm_cascade = [e for e in tm_jumps if tm_jump and tm_jump.phase - 0.5 <= e.phase <= aim]
-    tm_fall_start = tm_cascade[0].phase if tm_cascade else None
+    # the landing
     at = [s for s in run.states if abs(s.phase - aim) < 1e-9]
     land = min(at, key=lambda s: s.centre[2]) if at else None
     tm_landing = None if land is None else (land.centre[2], land.roll, land.pitch, land.phase)
@@ -929,7 +938,7 @@ def run_case(
     if log:
         print(
             f"[{case.name}] held ({case.roll:g}, {case.pitch:g}) k_r {case.stiffness:g} from "
-            f"{case.phase:g} deg: threadmate snap {tm_phase} click {tm_drop} "
+            f"{case.phase:g} deg: threadmate snap {tm_phase} click {tm_click} "
             f"(largest jump {None if tm_jump is None else (tm_jump.phase, tm_jump.drop)}; "
             f"{t_tm:.1f} s); "
             f"simulating from its rest state at {state.phase:.2f} deg",
@@ -959,18 +968,16 @@ def run_case(
         "stiffness": case.stiffness,
         "sim_start_phase": state.phase,
         "threadmate_snap_phase": tm_phase,
-        "threadmate_click": tm_drop,
+        "threadmate_click": None if tm_jump is None else tm_jump.click,
         "threadmate_jump_phase": None if tm_jump is None else tm_jump.phase,
         "threadmate_jump_drop": None if tm_jump is None else tm_jump.drop,
         "threadmate_jump_note": None if tm_jump is None else tm_jump.note,
-        "threadmate_fall_start": tm_fall_start,
         "threadmate_landing": tm_landing,
         "threadmate_events": [
             (e.phase, e.kind, e.before, e.after, e.drop, e.note) for e in run.events
         ],
         "threadmate_commit": _commit(),
         "sim_snap_phase": sim.snap.phase if sim.snap else None,
-        "sim_click": sim.snap.drop if sim.snap else None,
         "sim_jumps": [
             {k: v for k, v in asdict(j).items() if k != "proof_poses"} for j in sim.jumps
         ],
@@ -992,46 +999,36 @@ def run_case(
     row["sim_jump_drop"] = None if sim_jump is None else sim_jump.drop
     row["sim_jump_in_phase"] = None if sim_jump is None else sim_jump.in_phase
     if sim_jump is not None:
+        # the jumps within half a degree before it are a cascade: a sensor sees their
+        # whole fall, from where the first started to the last landing (threadmate's
+        # click is that fall too: ``SearchEvent.click``)
         cascade = [j for j in sim.jumps if sim_jump.phase - 0.5 <= j.phase <= sim_jump.phase]
-        row["sim_fall_start"] = cascade[0].phase
+        # and the steep stretch before the first (falling faster than STEEP leads per
+        # degree) is part of it
+        ride = [(q[3], q[0]) for q in sim.trace if q[3] < cascade[0].phase]
+        ride.append((cascade[0].phase, cascade[0].z_before))
+        i = len(ride) - 1
+        while i > 0 and ride[i - 1][1] - ride[i][1] > (
+            STEEP * spec.lead * (ride[i][0] - ride[i - 1][0]) / 360.0
+        ):
+            i -= 1
+        row["sim_fall_start"] = ride[i][0]
+        row["sim_click"] = ride[i][1] - sim_jump.z_after
         row["sim_landing"] = sim.final_pose if sim.snap is not None else None
-    if row.get("sim_landing") and tm_landing and tm_fall_start is not None:
+    if row.get("sim_landing") and tm_landing:
         # the landings compared at the same phase: the in-phase bolt rises at the lead
         rise = spec.lead / 360.0 * (row["sim_landing"][3] - tm_landing[3])
-        sim_land = row["sim_landing"][0] - rise
-        row["landing_height_difference"] = sim_land - tm_landing[0]
+        row["landing_height_difference"] = row["sim_landing"][0] - rise - tm_landing[0]
         row["landing_tilt_difference"] = (
             row["sim_landing"][1] - tm_landing[1],
             row["sim_landing"][2] - tm_landing[2],
         )
-        # the whole fall a sensor sees, from one phase of the smooth ride before either
-        # model starts to fall (a cascade of jumps, or a steep slide the simulation splits
-        # into several, fall from there) to the landing at threadmate's landing phase.
-        # Threadmate's ride is read from its continuation's states (a fresh settle there
-        # can reach another rest state: at held (0, -3), 348.68 degrees, one 24 um higher)
-        ride = sorted((s.phase, s.centre[2]) for s in run.states if s.phase < tm_fall_start)
-        ref = min(ride[-1][0], row["sim_fall_start"] - 0.02) if ride else None
-        if ref is not None and sim.trace and sim.trace[0][3] <= ref and ride[0][0] <= ref:
-            tm_ref = float(np.interp(ref, [a for a, _ in ride], [b for _, b in ride]))
-            trace = np.array(sim.trace)
-            sim_ref = float(np.interp(ref, trace[:, 3], trace[:, 0]))
-            row["fall_reference_phase"] = ref
-            row["ride_height_difference"] = sim_ref - tm_ref
-            row["threadmate_fall"] = tm_ref - tm_landing[0]
-            row["sim_fall"] = sim_ref - sim_land
-            row["fall_difference_pct"] = (
-                100.0 * (row["sim_fall"] - row["threadmate_fall"]) / row["threadmate_fall"]
-            )
     row["threadmate_jump_is_snap"] = run.snap is not None
-    if sim_jump is not None and tm_jump is not None and tm_jump.drop:
+    if sim_jump is not None and tm_jump is not None and tm_jump.click:
         row["phase_difference"] = sim_jump.phase - tm_jump.phase
-        row["click_difference_pct"] = 100.0 * (sim_jump.drop - tm_jump.drop) / tm_jump.drop
-    # agreement: both snap (or neither), the snap within 0.5 degree, and the click (the
-    # single jump's drop, or the whole fall where either model falls in a cascade)
-    # within 5 %
-    click_ok = abs(row.get("click_difference_pct", math.inf)) <= 5.0 or (
-        abs(row.get("fall_difference_pct", math.inf)) <= 5.0
-    )
+        row["click_difference_pct"] = 100.0 * (row["sim_click"] - tm_jump.click) / tm_jump.click
+    # agreement: both snap (or neither), the snap within 0.5 degree, the click within 5 %
+    click_ok = abs(row.get("click_difference_pct", math.inf)) <= 5.0
     row["agree"] = (
         sim_jump is not None
         and tm_jump is not None
@@ -1086,15 +1083,14 @@ def format_table(rows: list[dict[str, Any]]) -> str:
 
     "threadmate" is its snap, or (marked ``no snap``) the jump it located with the
     largest drop; "simulated" is the simulation's snap, or its largest jump (marked
-    ``not in phase``). Each click is the jump's drop; "fall" is the whole fall of C from
-    one phase of the smooth ride, just before either model starts to fall, to the landing
-    (at threadmate's landing phase), the figure to compare where a model falls in a
-    cascade of jumps or a steep slide; "landing dz" is the simulated landing's height
-    less threadmate's at the same phase.
+    ``not in phase``). Each click is the whole fall a sensor sees (threadmate's
+    ``SearchEvent.click``; the simulation's cascade of jumps within half a degree and
+    the steep stretch before them, to the last landing); "drop" is the last jump's own drop;
+    "landing dz" is the simulated landing's height less threadmate's at the same phase.
     """
     head = (
-        "| case | held (roll, pitch) | k_r | threadmate snap / click (fall) | "
-        "simulated snap / click (fall) | d phase | d click (d fall) | landing dz (um) | "
+        "| case | held (roll, pitch) | k_r | threadmate snap / click (drop) | "
+        "simulated snap / click (drop) | d phase | d click | landing dz (um) | "
         "agree | pen. ride / max (um) | sim s |"
     )
     lines = [head, "|" + "---|" * 11]
@@ -1107,13 +1103,12 @@ def format_table(rows: list[dict[str, Any]]) -> str:
         lines.append(
             f"| {r['case']} | ({r['held_roll']:g}, {r['held_pitch']:g}) | {r['stiffness']:g} "
             f"| {_fmt(r['threadmate_jump_phase'], '.2f')} / "
-            f"{_fmt(r['threadmate_jump_drop'], '.5f')} ({_fmt(r.get('threadmate_fall'), '.5f')})"
+            f"{_fmt(r.get('threadmate_click'), '.5f')} ({_fmt(r['threadmate_jump_drop'], '.5f')})"
             f"{tm} "
-            f"| {_fmt(r['sim_jump_phase'], '.2f')} / {_fmt(r['sim_jump_drop'], '.5f')} "
-            f"({_fmt(r.get('sim_fall'), '.5f')}){sim} "
+            f"| {_fmt(r['sim_jump_phase'], '.2f')} / {_fmt(r.get('sim_click'), '.5f')} "
+            f"({_fmt(r['sim_jump_drop'], '.5f')}){sim} "
             f"| {_fmt(r.get('phase_difference'), '+.2f')} "
             f"| {_fmt(r.get('click_difference_pct'), '+.1f')} % "
-            f"({_fmt(r.get('fall_difference_pct'), '+.1f')} %) "
             f"| {_fmt(None if dz is None else dz * um[r['units']], '+.2f')} "
             f"| {'yes' if r['agree'] else 'NO'} "
             f"| {ride:.3f} / {r['penetration_max_um']:.2f} "

@@ -4,12 +4,14 @@ Run:  python docs/scripts/ends_study.py [--workers 2] [--work DIR] [--out docs/f
 
 For 1/4-20 UNC-2A/2B and M6x1-6g/6H at mean material, default compliance (10 N, 1 N m/rad,
 held laterally, friction 0.15), two pairs of parts each: the thesis's flat tip and flat,
-sharp-edged bore, and the standard ends a designation now gets (a 45-degree chamfer to 0.1
+sharp-edged bore, and the standard ends a designation gets (a 45-degree chamfer to 0.1
 pitch below the minor diameter, a 120-degree countersink of the standard nut's diameter;
 docs/conventions.md, "Ends"). Each is swept on the grid of ``threadmate run`` (held roll
 and pitch -2..2 by 1 degree, start phases every 20 degrees), its network built, and every
 start's passive search to the snap read off (``threadmate.network.start_outcomes``).
-Prints the Markdown table of docs/mechanics.md, "Real parts", and writes the figure.
+Prints the Markdown table of docs/validation.md, "Flat ends against the standard ends"
+(``python docs/scripts/validation.py --ends FILE`` reads this output), and writes the
+figure.
 Libraries are kept in ``--work`` (resumable).
 """
 

@@ -1,7 +1,7 @@
 """The thesis's named examples under its fixed-pivot model and under the mechanics.
 
 Run:  python docs/scripts/thesis_examples.py  (prints the Markdown table of
-docs/mechanics.md, "The thesis's examples").
+docs/validation.md, "The thesis's examples", which ``docs/scripts/validation.py`` runs).
 
 The thesis (section 3.3, eq. 3.47-3.49) writes a pose with passive rotations
 ``x' = Rx(a) Ry(b) Rz(phi) x``, so its bolt-to-fixed rotation is the active

@@ -1,51 +1,80 @@
-"""Write docs/validation.md: what threadmate's mechanics measures against independent answers.
+"""Write docs/validation.md: the measured figures the documentation rests on.
 
-Run:  python docs/scripts/validation.py [--dynamics FILE] [--run DIR] [--out docs/validation.md]
+Run:  python docs/scripts/validation.py [--sections NAMES] [--dynamics FILE] [--click FILE]
+          [--ends FILE] [--run DIR] [--bench NAME=FILE ...] [--out docs/validation.md]
 
-Every figure on the page is computed by this script when it runs (nothing is copied from
-an earlier run), each beside the independent answer it is checked against:
+The other pages (mechanics.md, network.md, stages.md) say what threadmate computes and
+why; every figure measured on a run of it is on this page, each section stamped with the
+date, the commit and the machine it was measured on and the command that measures it
+again. Sections, in page order, by where their figures come from:
 
-- **Closed forms** (docs/mechanics.md, "Limits with closed forms"): the flat 1/4-20
-  UNC-2A/2B pair upright and stiffly held (1e2 N m/rad) snaps where the in-phase window
-  opens, ``360 (1 - c / (2 lead))``, and drops by the axial flank clearance
-  ``c = (nut pd - bolt pd) / sqrt(3)``; held through 1 N m/rad it snaps at the same edge.
-- **The snap proved** by screwing in: the tilted landing of the flat pair held (0, -3)
-  from 30 degrees, pinched between the nut's flank below and the edge of its thread start
-  above, screwed in half a turn: the descent per turn against the lead, the tilt at the
-  end.
-- **The snap's window**: the standard parts (chamfered point, countersunk nut) held (1, 1)
-  from 0 degrees.
-- **An independent dynamics simulation** (``--dynamics FILE``: the JSON that
-  ``docs/scripts/dynamics_check.py --json FILE`` writes): MuJoCo's snap phase and click
-  against the quasi-static search's, start by start.
-- **The default run** (``--run DIR``: a ``threadmate run`` directory): its counts, read
-  from the files it wrote.
+- **computed here** (``--sections``, a comma list of ``closed-forms``, ``screw-in``,
+  ``window``, ``thesis``; ``all``, the default, or ``none``), a minute in all:
 
-The page records the date, the commit and the host's load (``uptime``): timings on a
-shared host are comparable only within one run.
+  - closed forms (docs/mechanics.md, "Limits with closed forms"): the flat 1/4-20
+    UNC-2A/2B pair upright and stiffly held (1e2 N m/rad) snaps where the in-phase window
+    opens, ``360 (1 - c / (2 lead))``, and drops by the axial flank clearance
+    ``c = (nut pd - bolt pd) / sqrt(3)``; held through 1 N m/rad it snaps at the same edge;
+  - the snap proved by screwing in: the tilted landing of the flat pair held (0, -3) from
+    30 degrees, pinched between the nut's flank below and the edge of its thread start
+    above, screwed in half a turn: the descent per turn against the lead, the tilt at the
+    end;
+  - the snap's window: the standard parts (chamfered point, countersunk nut) held (1, 1)
+    from 0 degrees;
+  - the thesis's examples (``docs/scripts/thesis_examples.py``): its four named poses
+    under its fixed-pivot procedure and under the mechanics;
+
+- **read from a study's output** (the studies take minutes to hours):
+
+  - ``--dynamics FILE``: the JSON of ``docs/scripts/dynamics_check.py --json FILE``,
+    MuJoCo's snap phase and click against the quasi-static search's, start by start;
+  - ``--click FILE``: what ``python docs/scripts/click_study.py > FILE`` prints, the click
+    and the turn to the snap against the tilt;
+  - ``--ends FILE``: what ``python docs/scripts/ends_study.py > FILE`` prints, flat ends
+    against the standard point and countersink;
+  - ``--run DIR``: a ``threadmate run -o DIR`` folder on the built-in default, its counts
+    read from the report it wrote;
+  - ``--bench NAME=FILE`` (repeatable): what ``python benchmarks/bench_NAME.py`` prints,
+    NAME one of ``mechanics``, ``sweep``, ``network``, ``mesh``, ``contact``, given whole;
+
+- **recorded**: measurements with no script input here (the continuation's step, the
+  thread starts' sensitivity, the rules' measured effects), each stamped with the commit
+  it was measured at.
+
+A section that a run does not compute or read is carried over unchanged from the page at
+``--out`` as it stands, with its own stamp: ``--sections none`` with no input rewrites
+only the page's header. Timings on a shared host are comparable only within one run; the
+stamp gives the host's load (``uptime``) when the section was measured.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import datetime
+import io
 import json
 import math
 import os
+import platform
 import subprocess
 import sys
 import time
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 from threadmate.contact import Compliance, Continuation, Mechanics, search
 from threadmate.geometry import spec_from_designation
 
 ROOT = Path(__file__).resolve().parents[2]
+SCRIPTS = Path(__file__).resolve().parent
+TITLE = "# Validation: the measured figures"
 
 
 def _load() -> str:
     try:
-        return os.getloadavg().__repr__()
+        return ", ".join(f"{v:.2f}" for v in os.getloadavg())
     except OSError:  # pragma: no cover - not on every platform
         return "unknown"
 
@@ -69,18 +98,62 @@ def _commit() -> str:
     return out.stdout.strip() + (" (with uncommitted changes)" if dirty.stdout.strip() else "")
 
 
+def _machine() -> str:
+    """The host in a few words: system, processor, cores, Python."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text(encoding="utf-8").splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return (
+        f"{platform.system()} {platform.machine()}, {cpu}, {os.cpu_count()} cores, "
+        f"Python {platform.python_version()}"
+    )
+
+
+@dataclass(frozen=True)
+class Stamp:
+    """When, at which commit and on which machine this run measures."""
+
+    date: str
+    commit: str
+    machine: str
+
+    def measured(self, how: str) -> str:
+        """The stamp line of a section computed by this run."""
+        return (
+            f"*Measured {self.date} at commit {self.commit} on {self.machine}; host load "
+            f"(1, 5, 15 min) {_load()} at the start; by {how}.*"
+        )
+
+    def read(self, path: Path, how: str) -> str:
+        """The stamp line of a section read from a study's output file."""
+        written = datetime.date.fromtimestamp(path.stat().st_mtime).isoformat()
+        return (
+            f"*From `{path.name}`, written {written} by {how}; read {self.date} at commit "
+            f"{self.commit} on {self.machine}.*"
+        )
+
+
 def _tilt(roll: float, pitch: float) -> float:
     """Angle of the bolt axis off the nut's (degrees)."""
     c = math.cos(math.radians(roll)) * math.cos(math.radians(pitch))
     return math.degrees(math.acos(max(-1.0, min(1.0, c))))
 
 
-def closed_forms(lines: list[str]) -> None:
+def _here() -> str:
+    return "`python docs/scripts/validation.py`; times are CPU seconds of this process"
+
+
+def closed_forms(stamp: Stamp) -> list[str]:
     spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     c = (spec.nut.pitch_diameter - spec.bolt.pitch_diameter) / math.sqrt(3.0)
     edge = 360.0 * (1.0 - c / (2.0 * spec.lead))
-    lines += [
-        "## Closed forms: the upright bolt",
+    lines = [
+        stamp.measured(_here()),
         "",
         "Flat 1/4-20 UNC-2A/2B (flat tip, flat bore edge), upright, from phase 40 degrees, "
         "10 N, frictionless. The closed form: the snap where the in-phase window opens, "
@@ -105,17 +178,17 @@ def closed_forms(lines: list[str]) -> None:
         "",
         "Held through 1 N m/rad the bolt tips a little as it rides onto the edge where the "
         "nut's thread starts, and lands on that edge: its click is less than c.",
-        "",
     ]
+    return lines
 
 
-def pinched_screw_in(lines: list[str]) -> None:
+def pinched_screw_in(stamp: Stamp) -> list[str]:
     spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     mech = Mechanics(spec, Compliance(friction=0.0))
     t = time.process_time()
     run = search(mech, 0.0, -3.0, 30.0)
-    lines += [
-        "## The snap proved: a tilted landing screwed in",
+    lines = [
+        stamp.measured(_here()),
         "",
         "Flat 1/4-20 held (0, -3) degrees from 30 degrees, 10 N, 1 N m/rad, frictionless. "
         "The landing is pinched as it is screwed in (the tip on the nut's flank below, the "
@@ -124,126 +197,352 @@ def pinched_screw_in(lines: list[str]) -> None:
         "",
     ]
     if run.snap is None or run.snap.engagement is None:
-        lines += ["No snap within the turn.", ""]
-        return
+        return [*lines, "No snap within the turn."]
     landing = run.states[-1]
     walk = Continuation(mech, 0.0, -3.0, contact_changes=False, sense="tighten")
     _, events, states = walk.advance(landing, run.snap.phase, 180.0)
     took = time.process_time() - t
     proof = run.snap.engagement
     jumps = [e for e in events if abs(e.drop) > spec.pitch / 40]
-    lines += [
+    return [
+        *lines,
         "| snap (deg) | click (in) | descent per turn (in) | lead (in) | tilt at landing "
         "(deg) | tilt after half a turn (deg) | jumps in the screw-in | time (s) |",
         "|---:|---:|---:|---:|---:|---:|---:|---:|",
         f"| {run.snap.phase:.3f} | {run.snap.drop:.6f} | {proof.descent:.5f} | "
         f"{spec.lead:.5f} | {_tilt(landing.roll, landing.pitch):.3f} | "
         f"{_tilt(states[-1].roll, states[-1].pitch):.3f} | {len(jumps)} | {took:.1f} |",
-        "",
     ]
 
 
-def snap_window(lines: list[str]) -> None:
+def snap_window(stamp: Stamp) -> list[str]:
     spec = spec_from_designation("1/4-20 UNC-2A/2B")
     t = time.process_time()
     run = search(spec, 1.0, 1.0, 0.0)
     took = time.process_time() - t
-    lines += [
-        "## The snap's window",
+    lines = [
+        stamp.measured(_here()),
         "",
         "Standard 1/4-20 parts (chamfered point, countersunk nut) held (1, 1) from 0 "
         "degrees, default compliance.",
         "",
     ]
     if run.snap is None or run.snap_window is None:
-        lines += ["No snap within the turn.", ""]
-        return
+        return [*lines, "No snap within the turn."]
     lo, hi = run.snap_window
-    lines += [
+    return [
+        *lines,
         "| snap (deg) | window (deg) | click (in) | time (s) |",
         "|---:|---:|---:|---:|",
         f"| {run.snap.phase:.3f} | {lo:.2f} to {hi:.2f} | {run.snap.drop:.6f} | {took:.1f} |",
-        "",
     ]
 
 
-def dynamics(lines: list[str], path: Path) -> None:
+def thesis_examples(stamp: Stamp) -> list[str]:
+    """The table ``docs/scripts/thesis_examples.py`` prints, run here."""
+    sys.path.insert(0, str(SCRIPTS))
+    try:
+        import thesis_examples as study  # a script beside this one
+    finally:
+        sys.path.remove(str(SCRIPTS))
+    out = io.StringIO()
+    t = time.process_time()
+    with contextlib.redirect_stdout(out):
+        study.main()
+    took = time.process_time() - t
+    return [
+        stamp.measured(
+            f"`python docs/scripts/thesis_examples.py`, run by `python "
+            f"docs/scripts/validation.py` in {took:.0f} s of CPU"
+        ),
+        "",
+        "1/4-20 UNC-2A/2B with the thesis's flat parts at mean material. The thesis's "
+        '(a, b, phi) are its passive `Rx(a) Ry(b) Rz(phi)` (docs/mechanics.md, "The '
+        "thesis's examples\"); ours are the same orientation read in threadmate's "
+        "composition. The fixed-pivot model is `threadmate contact`; the mechanics "
+        "`threadmate settle` at the default compliance (10 N, 1 N m/rad) and a soft one "
+        "(0.01 N m/rad).",
+        "",
+        *out.getvalue().strip().splitlines(),
+        "",
+        "The thesis's embedding at (4, 0, 185) was measured on the coarse STL and RAPID of "
+        "1999 (0.004 in); on meshes within 5e-6 in the fixed pivot's embedding is the one "
+        "in the table, which the thesis's criterion compares with the drop.",
+    ]
+
+
+def _num(v: float | None, fmt: str) -> str:
+    return "-" if v is None else format(v, fmt)
+
+
+def dynamics(stamp: Stamp, path: Path) -> list[str]:
     rows = json.loads(path.read_text(encoding="utf-8"))
-    lines += [
-        "## Against an independent dynamics simulation",
+    lines = [
+        stamp.read(path, f"`python docs/scripts/dynamics_check.py --json {path.name}`"),
         "",
-        f"From `{path.name}` (`docs/scripts/dynamics_check.py --json`): MuJoCo with convex "
-        "pieces from the exact profile, frictionless, turned slowly and heavily damped, "
-        "against `threadmate search` on the same compliance.",
+        "MuJoCo with convex pieces from the exact profile, frictionless, turned slowly and "
+        "heavily damped, against `threadmate search` on the same compliance.",
         "",
-        "The click is the last jump's drop; the whole fall runs from the last state of "
-        "the smooth ride to the landing (a sensor sees it whole where the jumps come "
-        "within a fraction of a degree).",
+        "The click is the whole fall a sensor sees: threadmate's `SearchEvent.click` "
+        "(from the last state of the smooth ride, its steep last stretch included, to "
+        "the landing), the simulation's fall over its cascade of jumps within half a "
+        "degree and the steep stretch before them (by the same definition, on the "
+        "simulated trace) to the last landing. The drop is the last jump's own.",
         "",
         "| case | snap (deg): threadmate | simulated | difference | click: threadmate | "
-        "simulated | whole fall: threadmate | simulated | difference |",
+        "simulated | difference | drop: threadmate | simulated |",
         "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
-
-    def num(v: float | None, fmt: str) -> str:
-        return "-" if v is None else format(v, fmt)
-
     for r in rows:
         a, b = r.get("threadmate_snap_phase"), r.get("sim_snap_phase")
-        fa, fb = r.get("threadmate_fall"), r.get("sim_fall")
+        ca, cb = r.get("threadmate_click"), r.get("sim_click")
         held = f"held ({r['held_roll']:g}, {r['held_pitch']:g}) from {r['start_phase']:g}"
         lines.append(
-            f"| {r['case']}: {held}, {r['stiffness']:g} N m/rad | {num(a, '.2f')} | "
-            f"{num(b, '.2f')} | {'-' if a is None or b is None else f'{b - a:+.2f}'} | "
-            f"{num(r.get('threadmate_click'), '.6f')} | {num(r.get('sim_click'), '.6f')} | "
-            f"{num(fa, '.6f')} | {num(fb, '.6f')} | "
-            f"{'-' if not fa or fb is None else f'{(fb - fa) / fa:+.1%}'} |"
+            f"| {r['case']}: {held}, {r['stiffness']:g} N m/rad | {_num(a, '.2f')} | "
+            f"{_num(b, '.2f')} | {'-' if a is None or b is None else f'{b - a:+.2f}'} | "
+            f"{_num(ca, '.6f')} | {_num(cb, '.6f')} | "
+            f"{'-' if not ca or cb is None else f'{(cb - ca) / ca:+.1%}'} | "
+            f"{_num(r.get('threadmate_jump_drop'), '.6f')} | "
+            f"{_num(r.get('sim_jump_drop'), '.6f')} |"
         )
-    lines.append("")
+    return lines
 
 
-def default_run(lines: list[str], run_dir: Path) -> None:
+def _json_lines(path: Path) -> list[dict]:
+    """The JSON objects a study printed, one a line (its other lines skipped)."""
+    rows = []
+    for line in path.read_text(encoding="utf-8").splitlines():
+        if line.startswith("{"):
+            rows.append(json.loads(line))
+    if not rows:
+        raise SystemExit(f"validation: no JSON rows in {path}")
+    return rows
+
+
+def click_study(stamp: Stamp, path: Path) -> list[str]:
+    rows = _json_lines(path)
+    spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    clearance = spec.axial_clearance
+    lines = [
+        stamp.read(path, f"`python docs/scripts/click_study.py > {path.name}`"),
+        "",
+        "1/4-20 UNC-2A/2B with the thesis's flat parts, default compliance, one turn from "
+        "the study's start phase (30 degrees unless `--start`), held tilts of 0 to 4 "
+        "degrees toward +X, +Y, -X and -Y (the direction of the tilt relative to the "
+        "nut's thread start). The click is the drop of the compliance centre at the snap; "
+        f"the axial clearance (pitch-diameter difference / sqrt 3) is {clearance:.5f} in. "
+        "Figure: [figures/click.png](figures/click.png).",
+        "",
+        "| tilt (deg) | toward | turn to snap (deg) | click (in) | click / clearance | "
+        "axis jump at snap (deg) | other jumps | driver's work (mJ) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        snap = "no snap in 1 turn" if r["snap_turn"] is None else f"{r['snap_turn']:.2f}"
+        click = "-" if r["click"] is None else f"{r['click']:.5f}"
+        ratio = "-" if r["click"] is None else f"{r['click'] / clearance:.2f}"
+        jump = "-" if r["tilt_change"] is None else f"{r['tilt_change']:.2f}"
+        lines.append(
+            f"| {r['size']:g} | {r['direction']} | {snap} | {click} | {ratio} | {jump} | "
+            f"{r['jumps']} | {r['work']:.2f} |"
+        )
+    return lines
+
+
+def ends_study(stamp: Stamp, path: Path) -> list[str]:
+    rows = _json_lines(path)
+    failed = sum(int(r["failed"]) for r in rows)
+    lines = [
+        stamp.read(path, f"`python docs/scripts/ends_study.py > {path.name}`"),
+        "",
+        "The grid of `threadmate run` (held roll and pitch -2..2 by 1 degree, 18 start "
+        f"phases, {rows[0]['starts']} starts per row), default compliance, the standard "
+        "ends of each designation at mean material against the thesis's flat parts. "
+        "Figure: [figures/ends.png](figures/ends.png).",
+        "",
+        "| pair | parts | snap within a turn | upright | at 2 deg | turn mean / worst (deg) "
+        "| click mean | work mean (mJ) |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r['pair']} | {r['parts']} | {r['share_snap']:.0%} | "
+            f"{r['share_snap_upright']:.0%} | {r['share_snap_2deg']:.0%} | "
+            f"{r['turn_mean']:.0f} / {r['turn_worst']:.0f} | "
+            f"{r['click_mean']:.4g} {r['units']} ({r['click_mean_pitches']:.2f} P) | "
+            f"{r['work_mean']:.1f} |"
+        )
+    return [
+        *lines,
+        "",
+        '"at 2 deg": the starts held 2 degrees or more from upright; turn, click and work '
+        "are means over the starts that snap (a landing in phase counts only when it "
+        f"screws in). {'No start' if not failed else f'{failed} starts'} failed.",
+    ]
+
+
+def default_run(stamp: Stamp, run_dir: Path) -> list[str]:
     report = run_dir / "report.md"
-    lines += ["## The default run", ""]
     if not report.is_file():
-        lines += [f"No report in `{run_dir.name}`.", ""]
-        return
+        raise SystemExit(f"validation: no report.md in {run_dir}")
     text = report.read_text(encoding="utf-8").splitlines()
     wanted = ("- **Pre-tilt", "- With it,", "Starts:", "**")
     keep = [ln for ln in text if ln.startswith(wanted) and "did not reach" not in ln[:40]]
     not_at_rest = [ln for ln in text if "did not reach a rest state" in ln]
-    lines += [
-        "`threadmate run` on the built-in default (its report's lines):",
+    return [
+        stamp.read(report, "`threadmate run -o DIR` on the built-in default"),
+        "",
+        "Its report's lines:",
         "",
         *(ln if ln.startswith("-") else f"- {ln}" for ln in keep[:3]),
-        *(f"- {ln.split(':', 1)[0].strip('*')}" for ln in not_at_rest[:1]),
-        "",
+        *(f"- {ln.split(':', 1)[0].strip('*- ')}" for ln in not_at_rest[:1]),
     ]
+
+
+#: Benchmarks whose printed output a section holds whole: name -> (heading, command).
+BENCHMARKS = {
+    "mechanics": ("Cost: rest states and turns", "python benchmarks/bench_mechanics.py"),
+    "sweep": ("Cost: the sweep", "python benchmarks/bench_sweep.py --roll=-4:4:1 --pitch=-4:4:1"),
+    "network": ("Cost: the network", "python benchmarks/bench_network.py"),
+    "mesh": ("Cost: meshes and queries", "python benchmarks/bench_mesh.py"),
+    "contact": ("Cost: the thesis's stages", "python benchmarks/bench_contact.py"),
+}
+
+
+def benchmark(name: str) -> Callable[[Stamp, Path], list[str]]:
+    def section(stamp: Stamp, path: Path) -> list[str]:
+        command = BENCHMARKS[name][1]
+        return [
+            stamp.read(path, f"`{command} > {path.name}` (its own arguments as printed)"),
+            "",
+            "```",
+            *path.read_text(encoding="utf-8").rstrip().splitlines(),
+            "```",
+        ]
+
+    return section
+
+
+#: Sections computed by this script: name -> (heading, producer).
+LIVE: dict[str, tuple[str, Callable[[Stamp], list[str]]]] = {
+    "closed-forms": ("Closed forms: the upright bolt", closed_forms),
+    "screw-in": ("The snap proved: a tilted landing screwed in", pinched_screw_in),
+    "window": ("The snap's window", snap_window),
+    "thesis": ("The thesis's examples", thesis_examples),
+}
+#: Sections read from a study's output: option -> (heading, reader).
+READ: dict[str, tuple[str, Callable[[Stamp, Path], list[str]]]] = {
+    "dynamics": ("Against an independent dynamics simulation", dynamics),
+    "click": ("The click against the tilt", click_study),
+    "ends": ("Flat ends against the standard ends", ends_study),
+    "run": ("The default run", default_run),
+}
+#: Sections with no input here: carried over as the page holds them.
+RECORDED = (
+    "The model's rules, measured",
+    "The continuation's step",
+    "Where the thread starts meet",
+    "Robustness",
+)
+#: Every section's heading, in page order.
+ORDER = (
+    *(h for h, _ in LIVE.values()),
+    *(h for h, _ in READ.values()),
+    *RECORDED,
+    *(h for h, _ in BENCHMARKS.values()),
+)
+
+
+def _sections(text: str) -> dict[str, list[str]]:
+    """The page's sections by heading (``## ...``), each its lines after the heading."""
+    found: dict[str, list[str]] = {}
+    body: list[str] | None = None
+    for line in text.splitlines():
+        if line.startswith("## "):
+            body = found.setdefault(line[3:].strip(), [])
+        elif body is not None:
+            body.append(line)
+    for lines in found.values():
+        while lines and not lines[-1].strip():
+            lines.pop()
+        while lines and not lines[0].strip():
+            lines.pop(0)
+    return found
+
+
+def _bench_option(text: str) -> tuple[str, Path]:
+    name, sep, file = text.partition("=")
+    if not sep or name not in BENCHMARKS:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: give NAME=FILE, NAME one of {', '.join(BENCHMARKS)}"
+        )
+    return name, Path(file)
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser.add_argument(
+        "--sections",
+        default="all",
+        help=f"sections computed here: all, none or a comma list of {', '.join(LIVE)}",
+    )
     parser.add_argument("--dynamics", type=Path, help="dynamics_check.py's JSON")
+    parser.add_argument("--click", type=Path, help="click_study.py's printed output")
+    parser.add_argument("--ends", type=Path, help="ends_study.py's printed output")
     parser.add_argument("--run", type=Path, help="a threadmate run directory")
+    parser.add_argument(
+        "--bench", type=_bench_option, action="append", default=[], help="NAME=FILE"
+    )
     parser.add_argument("--out", type=Path, default=ROOT / "docs" / "validation.md")
     args = parser.parse_args(argv)
-    started = time.time()
+    names = {"all": list(LIVE), "none": []}.get(args.sections)
+    if names is None:
+        names = [n.strip() for n in args.sections.split(",") if n.strip()]
+        unknown = sorted(set(names) - set(LIVE))
+        if unknown:
+            parser.error(f"--sections: unknown {', '.join(unknown)}; known: {', '.join(LIVE)}")
+    for path in [p for p in (args.dynamics, args.click, args.ends) if p] + [
+        p for _, p in args.bench
+    ]:
+        if not path.is_file():
+            parser.error(f"no file {path}")
+
+    stamp = Stamp(datetime.date.today().isoformat(), _commit(), _machine())
+    old = _sections(args.out.read_text(encoding="utf-8")) if args.out.is_file() else {}
+    new: dict[str, list[str]] = {}
+    for name in names:
+        heading, produce = LIVE[name]
+        print(f"validation: {name}", file=sys.stderr, flush=True)
+        new[heading] = produce(stamp)
+    for option, (heading, read) in READ.items():
+        path = getattr(args, option)
+        if path is not None:
+            new[heading] = read(stamp, path)
+    for name, path in args.bench:
+        new[BENCHMARKS[name][0]] = benchmark(name)(stamp, path)
+
+    done = ", ".join(f'"{h}"' for h in new) or "none"
     lines = [
-        "# Validation: the mechanics against independent answers",
+        TITLE,
         "",
-        "Generated by `python docs/scripts/validation.py` "
-        f"on {datetime.date.today().isoformat()} at commit {_commit()}; host load "
-        f"(1, 5, 15 min) {_load()} at the start. Times are CPU seconds of this process.",
+        "Every figure threadmate's documentation quotes from a run of it is here; the other "
+        "pages say what the tool computes and why, and link to these sections. Written by "
+        "`python docs/scripts/validation.py` (its docstring lists the sections and their "
+        "inputs). Each section is stamped with the date, the commit and the machine it "
+        "was measured on and the command that measures it again; a section a run of the "
+        "script neither computes nor reads is carried over with its own stamp. Times on a "
+        "shared host are comparable only within one stamp.",
+        "",
+        f"Page last written {stamp.date} at commit {stamp.commit} on {stamp.machine}; "
+        f"sections computed or read by that run: {done}.",
         "",
     ]
-    for step in (closed_forms, pinched_screw_in, snap_window):
-        print(f"validation: {step.__name__}", file=sys.stderr, flush=True)
-        step(lines)
-    if args.dynamics is not None:
-        dynamics(lines, args.dynamics)
-    if args.run is not None:
-        default_run(lines, args.run)
-    lines += [f"Load at the end {_load()}; {time.time() - started:.0f} s wall.", ""]
+    extra = [h for h in old if h not in ORDER]
+    for heading in (*ORDER, *extra):
+        body = new.get(heading, old.get(heading))
+        if body is None:
+            continue
+        lines += [f"## {heading}", "", *body, ""]
     tmp = args.out.with_suffix(".md.tmp")
     tmp.write_text("\n".join(lines), encoding="utf-8")
     tmp.replace(args.out)

@@ -1,6 +1,7 @@
 """Figure output shared by the stages: an Agg canvas (no display needed), an atomic save
-that refuses an unwritable path with one clear message, and label placement that keeps
-labels from being drawn over one another."""
+that refuses an unwritable path with one clear message, label placement that keeps labels
+from being drawn over one another, and the signature of a turn (height, tilt and torque
+against phase) that a search, a screw-in and a network path share."""
 
 from __future__ import annotations
 
@@ -11,23 +12,27 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.text import Annotation, Text
 from matplotlib.transforms import Bbox
 
+from ._angles import Z_AXIS, axis_angle
 from ._errors import InputError
 from ._io import atomic_path
 
 __all__ = [
     "DPI",
     "EventLabel",
+    "Mark",
     "freeze_layout",
     "label_events",
     "new_figure",
     "place_text",
     "save_figure",
+    "signature_figure",
     "spread",
 ]
 
@@ -248,3 +253,69 @@ def place_text(
     label.set_position(tuple(to_data.transform(centre)))
     taken.append(label.get_window_extent(renderer))
     return label
+
+
+# -- the signature of a turn -----------------------------------------------------------------
+@dataclass(frozen=True)
+class Mark:
+    """A vertical line across every panel of a signature figure at ``x``: an event (a
+    jump, a contact change); ``bold`` for the one the figure is about (the snap)."""
+
+    x: float
+    bold: bool = False
+
+
+def signature_figure(
+    x: Sequence[float],
+    height: Sequence[float],
+    roll: Sequence[float],
+    pitch: Sequence[float],
+    torque: Sequence[float],
+    *,
+    units: str,
+    xlabel: str,
+    title: str,
+    marks: Sequence[Mark] = (),
+    labels: Sequence[EventLabel] = (),
+    size: tuple[float, float] = (8.0, 8.0),
+) -> Figure:
+    """What a robot's sensors see along a turn of the bolt, one panel each: the height of
+    the compliance centre (``units``), the tilt of the bolt axis from the nut's (degrees,
+    from the states' ``roll`` and ``pitch``) and the driver's torque (N m) against ``x``
+    (a phase, or the turn from a start), the events marked and labelled
+    (:func:`label_events`). The one drawing of a search's, a screw-in's and a network
+    path's signature. A turn that runs to smaller ``x`` (a clockwise turn) is drawn right
+    to left, as time runs."""
+    from .geometry import Pose
+
+    xs = np.asarray(x, dtype=float)
+    tilt = [
+        axis_angle(Pose.from_angles(r, p, 0.0).axis, Z_AXIS)
+        for r, p in zip(roll, pitch, strict=True)
+    ]
+    fig = new_figure(size)
+    axes = fig.subplots(3, 1, sharex=True)
+    series = (
+        (height, f"compliance centre height ({units})"),
+        (tilt, "tilt of the bolt axis (deg)"),
+        (torque, "driver torque (N m)"),
+    )
+    for ax, (values, label) in zip(axes, series, strict=True):
+        ax.plot(xs, np.asarray(values, dtype=float), ".-", color="#3182bd", lw=1.2, ms=3)
+        ax.set_ylabel(label)
+        ax.grid(True, color="0.9")
+        for m in marks:
+            ax.axvline(
+                m.x,
+                color="#d62728" if m.bold else "0.55",
+                lw=2.0 if m.bold else 0.8,
+                ls="-" if m.bold else "--",
+                zorder=0,
+            )
+    axes[-1].set_xlabel(xlabel)
+    if xs.size > 1 and xs[-1] < xs[0]:
+        axes[-1].invert_xaxis()
+    fig.suptitle(title, fontsize="medium")
+    # Labels last: they are placed on the final layout, none over another.
+    label_events(axes[0], labels)
+    return fig

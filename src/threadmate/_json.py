@@ -25,6 +25,8 @@ def to_jsonable(obj: Any) -> Any:
     integers and floats become ``bool``/``int``/``float``; a non-finite float becomes
     ``None``; a path becomes its text. Anything else is returned unchanged.
     """
+    if type(obj) is float:  # the commonest value first: a network writes one per attribute
+        return obj if math.isfinite(obj) else None
     if isinstance(obj, dict):
         return {str(k): to_jsonable(v) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
@@ -45,9 +47,11 @@ def to_jsonable(obj: Any) -> Any:
     return obj
 
 
-def json_text(obj: Any, indent: int | None = 2) -> str:
-    """``obj`` as one strict JSON document (via :func:`to_jsonable`), ending in a newline."""
-    return json.dumps(to_jsonable(obj), indent=indent, allow_nan=False) + "\n"
+def json_text(obj: Any, indent: int | None = 2, *, sort_keys: bool = False, end: str = "\n") -> str:
+    """``obj`` as one strict JSON document (via :func:`to_jsonable`), ending in ``end`` (a
+    newline; ``""`` for JSON kept inside another format: a GraphML attribute, a Parquet
+    schema's metadata)."""
+    return json.dumps(to_jsonable(obj), indent=indent, sort_keys=sort_keys, allow_nan=False) + end
 
 
 class _Object(dict[str, Any]):

@@ -2,7 +2,13 @@
 
 Each check returns the value as a plain ``float`` or raises :class:`InputError` (or the
 subclass given as ``error``) with one message that names the input and the allowed range.
-``name`` is how the user wrote the input: ``"spec key 'pitch'"``, ``"--compliance-z"``.
+``name`` is the input's name in the API: a parameter (``"compliance_z"``, ``"phase"``) or a
+spec key (``"spec key 'pitch'"``). A message names a parameter first, as the parameter's own
+name, and suggests a value as ``name=value``; the command line turns these into its option
+names (:mod:`threadmate.cli._options`), so no message here names an option.
+
+Everything here is light to import (numpy alone): the command line quotes these limits in
+its help and checks its options with them before any stage loads.
 """
 
 from __future__ import annotations
@@ -21,18 +27,25 @@ __all__ = [
     "MAX_WORKERS",
     "MAX_TILT",
     "MAX_PHASE",
+    "check_configuration",
     "check_number",
     "check_phase",
+    "check_roll_spread",
     "check_range",
     "check_length",
+    "check_max_faces",
     "check_workers",
     "check_search_steps",
     "check_starts",
     "duration_words",
+    "FIGURE_FORMATS",
     "MAX_AXIS_VALUES",
+    "MAX_FACES",
+    "MAX_K",
     "MAX_STARTS",
     "MAX_STARTS_CEILING",
     "MAX_SEARCH_STEPS",
+    "WARN_FACES",
 ]
 
 # The range of a length, in the spec's own units (in or mm). Real screw threads lie far
@@ -59,16 +72,16 @@ MAX_TILT = 45.0
 MAX_PHASE = 1e6
 
 # Limits on the size of a computation, counted before anything is allocated or written
-# (one place for all of them). The rates give a refusal's time estimate; they were
-# measured with threadmate's defaults (1/4-20 UNC-2A/2B, its chamfered point and
-# countersink, the default compliance and step) on a 2-core machine under load.
+# (one place for all of them). The rates give a refusal's time estimate: threadmate's
+# defaults (1/4-20 UNC-2A/2B, its chamfered point and countersink, the default compliance
+# and step) on a 2-core machine under load (docs/validation.md, "Cost: the sweep").
 #: Most values one grid angle (roll, pitch or phase) may hold: a tilt of +/-45 deg by
 #: 0.001 deg, or a turn of phase by 0.0036 deg.
 MAX_AXIS_VALUES = 100_000
-#: Most starts (grid configurations) a sweep takes unless told otherwise (``--max-starts``):
+#: Most starts (grid configurations) a sweep takes unless told otherwise (``max_starts``):
 #: 17 times the thesis's grid of 5,832.
 MAX_STARTS = 100_000
-#: Most starts a sweep takes at all, ``--max-starts`` included: a library is read whole by
+#: Most starts a sweep takes at all, whatever ``max_starts`` says: a library is read whole by
 #: the network, and its configuration numbers are listed in memory.
 MAX_STARTS_CEILING = 10_000_000
 #: Configurations a sweep computes per second and per worker (mechanics; thesis model).
@@ -78,6 +91,19 @@ SWEEP_RATE = {"mechanics": 1.4, "thesis": 20.0}
 MAX_SEARCH_STEPS = 36_000
 #: Continuation steps a search takes per second.
 SEARCH_STEP_RATE = 4.0
+#: Triangles above which a mesh from CAD is taken with a warning. A 1/4-20 bolt meshed at
+#: threadmate's default chord (5e-6 in) has about 53,000 over its default length; the
+#: set-up of the contact stages grows in time and memory with the count
+#: (docs/validation.md, "Cost: meshes and queries").
+WARN_FACES = 500_000
+#: Triangles above which a mesh from CAD is refused unless the caller raises the limit
+#: (``max_faces``).
+MAX_FACES = 2_000_000
+#: Most paths :func:`threadmate.network.k_best_paths` returns (Yen's k shortest paths,
+#: whose cost grows with k).
+MAX_K = 20
+#: File suffixes a figure may be written to, and their matplotlib formats.
+FIGURE_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
 
 
 def check_number(name: str, value: Any, *, error: type[InputError] = InputError) -> float:
@@ -114,9 +140,9 @@ def check_range(
 
 
 def check_phase(name: str, value: Any) -> float:
-    """A phase in degrees: a finite number within +/-:data:`MAX_PHASE` (``name`` as the
-    user wrote it, ``"--phase"``). The one limit of every command and function that takes
-    a phase."""
+    """A phase in degrees: a finite number within +/-:data:`MAX_PHASE` (``name``: the
+    parameter, ``"phase"``). The one limit of every command and function that takes a
+    phase, the grid's phases included."""
     value = check_number(name, value)
     if abs(value) > MAX_PHASE:
         raise InputError(
@@ -124,6 +150,31 @@ def check_phase(name: str, value: Any) -> float:
             "(a phase counts modulo 360)"
         )
     return value
+
+
+def check_configuration(roll: Any, pitch: Any, phase: Any) -> tuple[float, float, float]:
+    """A configuration in degrees: ``roll`` and ``pitch`` finite and within
+    +/-:data:`MAX_TILT`, ``phase`` within +/-:data:`MAX_PHASE` (:func:`check_phase`). The
+    one check of every function and command that takes one start of the bolt."""
+    out = []
+    for name, value in (("roll", roll), ("pitch", pitch)):
+        value = check_number(f"{name} (degrees)", value)
+        if abs(value) > MAX_TILT:
+            raise InputError(
+                f"{name} {value:g} deg is out of range: the contact stages take "
+                f"roll and pitch within +/-{MAX_TILT:g} deg"
+            )
+        out.append(value)
+    return out[0], out[1], check_phase("phase", phase)
+
+
+def check_roll_spread(roll_spread: Any) -> float | None:
+    """The roll error a recommendation expects (degrees): None (every roll of the grid) or
+    a number from 0 to :data:`MAX_TILT`, the largest held roll a grid holds. The one range
+    of :func:`threadmate.network.recommend` and of the pipeline."""
+    if roll_spread is None:
+        return None
+    return check_range("roll_spread (degrees)", roll_spread, 0.0, MAX_TILT)
 
 
 def check_whole(name: str, value: Any, lo: int = 1, hi: int | None = None, *, why: str = "") -> int:
@@ -140,15 +191,15 @@ def check_whole(name: str, value: Any, lo: int = 1, hi: int | None = None, *, wh
 
 
 def check_workers(workers: int | None) -> int | None:
-    """``--workers``: ``None`` (the default) or a whole number from 1 to ``MAX_WORKERS``."""
+    """``workers``: ``None`` (the default) or a whole number from 1 to ``MAX_WORKERS``."""
     if workers is None:
         return None
     if isinstance(workers, numbers.Integral) and not isinstance(workers, bool | np.bool_):
         if 1 <= workers <= MAX_WORKERS:
             return int(workers)
         if workers < 1:
-            raise InputError(f"--workers {workers} must be at least 1")
-    raise InputError(f"--workers must be a whole number from 1 to {MAX_WORKERS}, got {workers!r}")
+            raise InputError(f"workers {workers} must be at least 1")
+    raise InputError(f"workers must be a whole number from 1 to {MAX_WORKERS}, got {workers!r}")
 
 
 def check_open_range(name: str, value: Any, lo: float, hi: float, *, units: str = "") -> float:
@@ -174,7 +225,7 @@ def check_length(
     Parameters
     ----------
     name : str
-        The input as the user wrote it (``"--compliance-z"``, ``"spec key 'pitch'"``).
+        The input's name in the API (``"compliance_z"``, ``"spec key 'pitch'"``).
     value
         The number to check.
     units : {"in", "mm"}
@@ -215,17 +266,25 @@ def duration_words(seconds: float) -> str:
     return f"about {max(seconds, 1):.0f} s"
 
 
-def check_search_steps(turns: float, step: float, *, option: str = "--step") -> int:
+def check_max_faces(max_faces: Any) -> int:
+    """``max_faces``, the most triangles a mesh from CAD may have: None (the default,
+    :data:`MAX_FACES`) or a whole number of at least 4 (a tetrahedron's)."""
+    if max_faces is None:
+        return MAX_FACES
+    return check_whole("max_faces", max_faces, 4, why=" (triangles)")
+
+
+def check_search_steps(turns: float, step: float) -> int:
     """The continuation steps of a search over ``turns`` (turns x 360 / ``step`` degrees),
     refused past :data:`MAX_SEARCH_STEPS` with the count and the time it would take."""
     steps = math.ceil(float(turns) * 360.0 / float(step) - 1e-9)
     if steps > MAX_SEARCH_STEPS:
         need = float(turns) * 360.0 / MAX_SEARCH_STEPS
         raise InputError(
-            f"{option} {step:g} deg over {turns:g} turn(s) is {steps:,} continuation steps, "
+            f"step {step:g} deg over {turns:g} turn(s) is {steps:,} continuation steps, "
             f"more than the {MAX_SEARCH_STEPS:,} a search takes (at about "
             f"{SEARCH_STEP_RATE:g} steps/s: {duration_words(steps / SEARCH_STEP_RATE)}); give "
-            f"{option} {need:.3g} or coarser, or fewer turns"
+            f"step={need:.3g} or coarser, or fewer turns"
         )
     return steps
 
@@ -239,7 +298,7 @@ def check_starts(
     if max_starts is None:
         limit = MAX_STARTS
     else:
-        limit = check_whole("--max-starts", max_starts, 1, MAX_STARTS_CEILING)
+        limit = check_whole("max_starts", max_starts, 1, MAX_STARTS_CEILING)
     if count <= limit:
         return limit
     rate = SWEEP_RATE.get(model, SWEEP_RATE["mechanics"])
@@ -252,9 +311,9 @@ def check_starts(
     if count > MAX_STARTS_CEILING:
         raise InputError(
             f"{head}; a library holds at most {MAX_STARTS_CEILING:,} starts, whatever "
-            "--max-starts says: use a coarser grid"
+            "max_starts says: use a coarser grid"
         )
     raise InputError(
         f"{head}, past the limit of {limit:,} starts; use a coarser grid, or pass "
-        f"--max-starts {count} to run it"
+        f"max_starts={count} to run it"
     )

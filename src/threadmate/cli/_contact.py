@@ -11,8 +11,9 @@ from typing import TYPE_CHECKING
 
 import click
 
-from .._validate import MAX_LENGTH, MAX_TILT, check_length
-from ._common import SPEC_HELP, Parts, check_configuration_options, emit_json, resolve_spec
+from .._validate import MAX_LENGTH, MAX_TILT, check_configuration
+from ..geometry import check_chord
+from ._common import SPEC_HELP, Parts, emit_json, resolve_spec
 from ._main import cli
 from ._options import (
     MeshFiles,
@@ -153,14 +154,12 @@ def contact(
     meshes: MeshFiles,
 ) -> None:
     """Run the three contact stages for one configuration."""
-    check_configuration_options(roll, pitch, phase, chord)
+    check_configuration(roll, pitch, phase)
     spec = resolve_spec(spec_text, condition, parts)
-    check_length("--compliance-z", compliance_z, spec.units, signed=True)
+    check_chord(spec, chord)  # the meshes' own range, before any mesh is built
+    # The analyser checks the compliance centre and the meshes before it builds anything.
     from ..contact import ContactAnalyzer  # the mechanics (trimesh, fcl), once input is read
-    from ..geometry import check_chord
 
-    if chord is not None:
-        check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
     analyzer = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z, **meshes.arguments())
     echo_mesh_notes(analyzer.mesh_info, spec.units)
     result = analyzer.analyze(roll, pitch, phase)

@@ -14,20 +14,20 @@ from typing import Any
 import click
 
 from .._errors import InputError
-from .._validate import MAX_STARTS, MAX_STARTS_CEILING, check_phase, check_workers
-from ..contact import Compliance
+from .._validate import check_workers
+from ..contact import CONTINUATION_STEP, MAX_STEP, PHASE_TOLERANCE, Compliance
+from ..library import MODELS
 from ._common import SPEC_HELP, Parts, emit_json, resolve_spec, writable_directory
 from ._main import cli
 from ._options import (
-    CONTINUATION_STEP,
     DEFAULTS_NOTE,
-    MODELS,
     MeshFiles,
     chord_option,
     compliance_from_options,
     compliance_options,
     condition_option,
     echo_mesh_notes,
+    max_starts_option,
     mesh_files_option,
     parts_option,
 )
@@ -121,16 +121,14 @@ def progress_words(library: str | Path, done: int, total: int, model: str = "mec
     return f"{words}: INCOMPLETE, its sweep was interrupted (run the same sweep to finish it)"
 
 
-#: Largest ``--step`` of the continuation (degrees; the API's limit).
-MAX_STEP = 10.0
-#: The mechanics-only options, with the words that name them in a refusal.
+#: The mechanics-only options (the command's parameter names).
 _MECHANICS_ONLY = (
-    ("force", "--force"),
-    ("stiffness_text", "--stiffness"),
-    ("lateral_stiffness", "--lateral-stiffness"),
-    ("friction", "--friction"),
-    ("step", "--step"),
-    ("phase_tolerance", "--phase-tolerance"),
+    "force",
+    "stiffness_text",
+    "lateral_stiffness",
+    "friction",
+    "step",
+    "phase_tolerance",
 )
 
 
@@ -154,37 +152,27 @@ def _given(ctx: click.Context, name: str) -> bool:
     return source is not None and source != click.core.ParameterSource.DEFAULT
 
 
-def _check_sweep_options(
-    ctx: click.Context,
-    model: str,
-    workers: int | None,
-    chunk_size: int | None,
-    step: float,
-    phase_tolerance: float,
-) -> None:
-    """Refuse bad or misplaced sweep options (one message, before anything is built)."""
+def _flag(ctx: click.Context, name: str) -> str:
+    """The flag of the command's parameter ``name`` (as click declares it)."""
+    return next(p.opts[0] for p in ctx.command.params if p.name == name)
+
+
+def _check_sweep_options(ctx: click.Context, model: str, workers: int | None) -> None:
+    """Refuse misplaced sweep options and a bad worker count (one message, before the
+    library stage loads); the API checks every value's range."""
     check_workers(workers)
-    if chunk_size is not None and chunk_size < 1:
-        raise InputError(f"--chunk-size {chunk_size} must be at least 1")
     if model == "thesis":
-        given = [flag for name, flag in _MECHANICS_ONLY if _given(ctx, name)]
+        given = [_flag(ctx, name) for name in _MECHANICS_ONLY if _given(ctx, name)]
         if given:
             raise InputError(
                 f"{given[0]} applies to --model mechanics only (the thesis's "
                 "model uses the compliance centre, --compliance-z, alone)"
             )
         return
-    if chunk_size is not None:
+    if _given(ctx, "chunk_size"):
         raise InputError(
             "--chunk-size applies to --model thesis only (a mechanics chunk is "
             "one held tilt with all its phases)"
-        )
-    if not (math.isfinite(step) and 0 < step <= MAX_STEP):
-        raise InputError(f"--step {step:g} is out of range: give degrees within (0, {MAX_STEP:g}]")
-    if not (math.isfinite(phase_tolerance) and 0 < phase_tolerance <= step):
-        raise InputError(
-            f"--phase-tolerance {phase_tolerance:g} is out of range: give "
-            f"degrees within (0, --step {step:g}]"
         )
 
 
@@ -265,7 +253,7 @@ N/m, lengths in the spec's units, angles in degrees.
 @click.option(
     "--phase-tolerance",
     type=float,
-    default=0.01,
+    default=PHASE_TOLERANCE,
     show_default=True,
     help="Mechanics: how closely jumps and the snap are located in phase "
     "(degrees, > 0, at most --step).",
@@ -299,15 +287,7 @@ N/m, lengths in the spec's units, angles in degrees.
     help="Thesis model: configurations per chunk, i.e. per Parquet part (default: "
     "automatic). A mechanics chunk is one held tilt.",
 )
-@click.option(
-    "--max-starts",
-    type=int,
-    default=None,
-    metavar="N",
-    help=f"Most configurations the grid may hold (default {MAX_STARTS:,}; at most "
-    f"{MAX_STARTS_CEILING:,}): a larger grid is refused at once, with its count and the "
-    "time it would take.",
-)
+@max_starts_option
 @condition_option
 @parts_option
 @mesh_files_option
@@ -342,7 +322,7 @@ def sweep_command(
     meshes: MeshFiles,
 ) -> None:
     """Sweep the grid into a library."""
-    _check_sweep_options(ctx, model, workers, chunk_size, step, phase_tolerance)
+    _check_sweep_options(ctx, model, workers)
     if clockwise and model != "mechanics":
         raise InputError("--screw is for the mechanics model only")
     compliance = compliance_from_options(
@@ -563,11 +543,7 @@ def query_command(
 ) -> None:
     """The stored contact state of a configuration of the grid: the thesis's stages, or
     the rest state the mechanics' drop reaches."""
-    for name, value in (("roll", roll), ("pitch", pitch)):
-        if not math.isfinite(value):
-            raise InputError(f"--{name} {value:g} is not a finite angle")
-    check_phase("--phase", phase)
-    from ..library import query
+    from ..library import query  # it checks the configuration (threadmate._validate)
 
     doc = query(library, roll, pitch, phase, nearest=nearest)
     if as_json:
@@ -676,8 +652,6 @@ def _echo_thesis(rec: dict[str, Any], u: str) -> None:
 def summary_command(library: Path, phase: float | None, figdir: Path | None, as_json: bool) -> None:
     """Counts of the classes over the configurations (the mechanics: of the rest state
     each drop reaches, and of all states by role), region combinations, figures."""
-    if phase is not None:
-        check_phase("--phase", phase)
     if figdir is not None:
         writable_directory(figdir, "-o")
     from ..contact import ROLES

@@ -194,7 +194,10 @@ def _run(argv: list[str] | None) -> int:
         click.echo(f"threadmate: no path: {exc}", err=True)
         return 3
     except InputError as exc:
-        _error(str(exc))
+        # The API names its parameters; the user gave options (one map, _options.FLAGS).
+        from ._options import flag_words
+
+        _error(flag_words(str(exc)))
         return 2
     except _Terminated:
         click.echo("threadmate: aborted (SIGTERM)", err=True)

@@ -15,15 +15,24 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import click
-import numpy as np
 
 from .._errors import InputError, NoPathError
-from .._validate import MAX_TILT, check_search_steps
-from ..contact import Compliance
+from .._validate import FIGURE_FORMATS, MAX_TILT, check_configuration
+from ..contact import (
+    CONTINUATION_STEP,
+    MAX_SCREW_IN,
+    MAX_STEP,
+    MAX_TURNS,
+    PHASE_TOLERANCE,
+    SCREW_IN,
+    Compliance,
+    check_continuation,
+    check_screw,
+)
+from ..geometry import check_chord
 from ._common import (
     SPEC_HELP,
     Parts,
-    check_configuration_options,
     echo_err,
     emit_json,
     resolve_spec,
@@ -34,9 +43,7 @@ from ._common import (
 from ._library import _progress_bar
 from ._main import cli
 from ._options import (
-    CONTINUATION_STEP,
     DEFAULTS_NOTE,
-    SCREW_IN,
     MeshFiles,
     chord_option,
     compliance_from_options,
@@ -51,20 +58,10 @@ from ._options import (
 # The mechanics (scipy, trimesh, fcl) and the figures (matplotlib) are imported where they
 # are used, so that --help and a refused option answer at once.
 if TYPE_CHECKING:
-    from .._figures import EventLabel
     from ..contact import Mechanics, RestState, ScrewResult, SearchEvent, SearchResult
     from ..geometry import ThreadSpec
 
-__all__ = ["search_command", "settle_command", "screw_command", "plot_search", "plot_screw"]
-
-#: File suffixes ``--plot`` writes, and their matplotlib formats.
-_FIGURE_FORMATS = {".png": "png", ".pdf": "pdf", ".svg": "svg"}
-#: Largest ``--turns`` (the API's limit).
-MAX_TURNS = 10.0
-#: Largest ``--step`` (degrees; the API's limit).
-MAX_STEP = 10.0
-#: How closely the search locates its events in phase (degrees; the API's default).
-PHASE_TOLERANCE = 0.01
+__all__ = ["search_command", "settle_command", "screw_command"]
 
 
 # -- options ---------------------------------------------------------------------------------
@@ -125,16 +122,13 @@ def _setup(
 
     Every check runs before the meshes are built and before anything is written.
     """
-    check_configuration_options(roll, pitch, phase, chord)
+    check_configuration(roll, pitch, phase)
     # The Compliance refuses non-finite or out-of-range values with a message naming them.
     compliance = compliance_from_options(
         force, stiffness_text, lateral_stiffness, friction, compliance_z
     )
     spec = resolve_spec(spec_text, condition, parts)
-    if chord is not None:
-        from ..geometry import check_chord
-
-        check_chord(spec, chord, "--chord")  # the meshes' own range, before any mesh is built
+    check_chord(spec, chord)  # the meshes' own range, before any mesh is built
     compliance.check_for(spec.pitch)
     return spec, compliance
 
@@ -261,7 +255,8 @@ def _search_text(spec: ThreadSpec, run: SearchResult, step: float) -> str:
     else:
         lines.append(
             f"Snap: at phase {shown_phase(run.snap.phase):.4f} deg after a turn of "
-            f"{turn_words(run.snap_turn or 0.0)}; drop (click) {run.snap.drop:.6f} {u}"
+            f"{turn_words(run.snap_turn or 0.0)}; click {run.snap.click:.6f} {u} (the fall "
+            f"from the smooth ride; across the jump itself {run.snap.drop:.6f} {u})"
         )
         lo, hi = run.snap_window or (run.snap.phase, run.snap.phase)
         if hi > lo:
@@ -305,106 +300,14 @@ def _figure_path(plot: Path | None) -> Path | None:
     """Refuse a figure path with a wrong suffix or naming a folder, before any work."""
     if plot is None:
         return None
-    if plot.suffix.lower() not in _FIGURE_FORMATS:
+    if plot.suffix.lower() not in FIGURE_FORMATS:
         raise InputError(
             f"--plot {plot}: expected a file ending in "
-            f"{', '.join(_FIGURE_FORMATS)} (got {plot.suffix or 'no suffix'!r})"
+            f"{', '.join(FIGURE_FORMATS)} (got {plot.suffix or 'no suffix'!r})"
         )
     if plot.is_dir():
         raise InputError(f"--plot {plot}: is a folder; give a file name")
     return writable_output(plot, "--plot")
-
-
-def plot_search(spec: ThreadSpec, run: SearchResult, path: str | Path) -> Path:
-    """The snap signature of a search: height of the compliance centre, tilt of the bolt
-    axis from vertical and the driver's torque against phase, events marked.
-
-    Written atomically as PNG, PDF or SVG by the file's suffix.
-    """
-    outcome = (
-        f"no snap within {run.turns:g} turn(s)"
-        if run.snap is None
-        else f"snap at {shown_phase(run.snap.phase):.2f} deg after {run.snap_turn:.2f} deg"
-    )
-    torque = np.array([s.driver_torque for s in run.states])
-    return _plot_turn(spec, run, "search", outcome, torque, "snap", path)
-
-
-def plot_screw(spec: ThreadSpec, run: ScrewResult, path: str | Path) -> Path:
-    """A clockwise start: height of the compliance centre, tilt of the bolt axis and the
-    tightening torque against phase, events and the decision marked."""
-    where = "" if run.decided_phase is None else f" at {shown_phase(run.decided_phase):.2f} deg"
-    torque = np.array(run.torques)
-    return _plot_turn(spec, run, "clockwise start", f"{run.outcome}{where}", torque, "", path)
-
-
-def _plot_turn(
-    spec: ThreadSpec,
-    run: SearchResult | ScrewResult,
-    what: str,
-    outcome: str,
-    torque: np.ndarray,
-    marked: str,
-    path: str | Path,
-) -> Path:
-    """Height, tilt and driver torque of a turn's states against phase, its events
-    marked (those of kind ``marked`` in bold red, with their drop)."""
-    from .._figures import label_events, new_figure, save_figure
-
-    path = Path(path)
-    states = run.states
-    phase = np.array([s.phase for s in states])
-    height = np.array([s.centre[2] for s in states])
-    roll = np.radians([s.roll for s in states])
-    pitch = np.radians([s.pitch for s in states])
-    # The bolt axis is Rx(roll) Ry(pitch) Z: its vertical component is cos(roll) cos(pitch).
-    tilt = np.degrees(np.arccos(np.clip(np.cos(roll) * np.cos(pitch), -1.0, 1.0)))
-
-    fig = new_figure((8.0, 8.0))
-    axes = fig.subplots(3, 1, sharex=True)
-    series = (
-        (height, f"compliance centre height [{run.units}]"),
-        (tilt, "tilt of the bolt axis [deg]"),
-        (torque, "driver torque [N m]"),
-    )
-    for ax, (values, label) in zip(axes, series, strict=True):
-        ax.plot(phase, values, ".-", color="#3182bd", lw=1.2, ms=3)
-        ax.set_ylabel(label)
-        ax.grid(True, color="0.9")
-        for e in run.events:
-            bold = e.kind == marked
-            ax.axvline(
-                e.phase,
-                color="#d62728" if bold else "0.55",
-                lw=2.0 if bold else 0.8,
-                ls="-" if bold else "--",
-                zorder=0,
-            )
-    axes[-1].set_xlabel("phase [deg]")
-    if phase.size > 1 and phase[-1] < phase[0]:
-        axes[-1].invert_xaxis()  # turned clockwise: time runs right to left
-    p = run.parameters
-    k = p["stiffness"]
-    fig.suptitle(
-        f"{_name(spec)}: {what} from roll {run.held_roll:g}, pitch "
-        f"{run.held_pitch:g}, phase {run.start_phase:g} deg - {outcome}\n"
-        f"F {p['force']:g} N, k {k['roll']:g}/{k['pitch']:g} N m/rad, "
-        f"mu {p['friction']:g}, work {run.work:.4g} mJ",
-        fontsize="medium",
-    )
-    # Labels last (they are placed on the final layout, none over another).
-    label_events(axes[0], [_event_label(e, e.kind == marked, run.units) for e in run.events])
-    return save_figure(fig, path, _FIGURE_FORMATS[path.suffix.lower()])
-
-
-def _event_label(e: SearchEvent, bold: bool, units: str) -> EventLabel:
-    """An event's label on a turn's figure (the marked kind in bold red, with its drop)."""
-    from .._figures import EventLabel
-
-    if bold:
-        style = {"fontsize": "small", "fontweight": "bold", "color": "#d62728"}
-        return EventLabel(e.phase, f"{e.kind}: click {e.drop:.4g} {units}", style)
-    return EventLabel(e.phase, e.kind, {"fontsize": "x-small", "color": "0.35"})
 
 
 # -- commands --------------------------------------------------------------------------------
@@ -425,12 +328,16 @@ def _emit(
     mech: Mechanics,
     meshes: MeshFiles,
     figure: Path | None,
-    plotter: Callable[[ThreadSpec, Any, Path], Path],
 ) -> None:
     """A turn's result out: its figure, then its JSON document or its text."""
     spec = mech.spec
     if figure is not None:
-        plotter(spec, run, figure)
+        from ..contact import SearchResult, plot_screw, plot_search  # matplotlib, if asked
+
+        if isinstance(run, SearchResult):
+            plot_search(run, figure, spec=spec)
+        else:
+            plot_screw(run, figure, spec=spec)
     if as_json:
         emit_json({**run.to_dict(), "mesh": mech.analyzer.mesh_info})
         return
@@ -441,17 +348,9 @@ def _emit(
         click.echo(f"wrote {figure}")
 
 
-def _check_turning(turns: float, step: float) -> None:
-    if not (math.isfinite(turns) and 0 < turns <= MAX_TURNS):
-        raise InputError(f"--turns {turns:g} is out of range: give turns within (0, {MAX_TURNS:g}]")
-    if not (math.isfinite(step) and 0 < step <= MAX_STEP):
-        raise InputError(f"--step {step:g} is out of range: give degrees within (0, {MAX_STEP:g}]")
-    check_search_steps(turns, step)
-
-
-def _check_torque_limit(torque_limit: float | None) -> None:
-    if torque_limit is not None and not (math.isfinite(torque_limit) and torque_limit > 0):
-        raise InputError(f"--torque-limit {torque_limit:g} is out of range: give N m above 0")
+def _phase_tolerance(step: float) -> float:
+    """How closely a turn's events are located: the API's default, or the step if finer."""
+    return min(PHASE_TOLERANCE, step)
 
 
 @cli.command(
@@ -529,12 +428,12 @@ From the rest state at the held tilt ROLL, PITCH and the start PHASE, the driver
 bolt the way that unscrews it (counter-clockwise for a right-hand thread) in steps of
 --step degrees, and the bolt follows its rest state (a quasi-static continuation,
 docs/mechanics.md). Contact changes and jumps (the rest state ceases to exist and the
-bolt tips, rolls or drops) are located by bisection to 0.01 deg; the jump into the thread
-is the snap, and its drop of the compliance centre the click a sensor feels. Prints the
-start, the snap (phase, turn, drop) and the driver's work to it (mJ: total, against
-friction, against the potential) and the events. Exits 3 (after printing the result) when
-no snap comes within --turns. Forces in N, stiffness in N m/rad, lateral stiffness in
-N/m, lengths in the spec's units, angles in degrees, work in mJ.
+bolt tips, rolls or drops) are located by bisection to {PHASE_TOLERANCE:g} deg; the jump
+into the thread is the snap, and its drop of the compliance centre the click a sensor
+feels. Prints the start, the snap (phase, turn, drop) and the driver's work to it (mJ:
+total, against friction, against the potential) and the events. Exits 3 (after printing
+the result) when no snap comes within --turns. Forces in N, stiffness in N m/rad, lateral
+stiffness in N/m, lengths in the spec's units, angles in degrees, work in mJ.
 
 {DEFAULTS_NOTE}
 
@@ -569,9 +468,9 @@ N/m, lengths in the spec's units, angles in degrees, work in mJ.
     type=float,
     default=SCREW_IN,
     show_default=True,
-    help="Turn (degrees, within [0, 720]; 0: none) of the clockwise continuation that "
-    "proves each snap: a landing in phase that does not then descend at the lead is a "
-    "jump, and says why.",
+    help=f"Turn (degrees, within [0, {MAX_SCREW_IN:g}]; 0: none) of the clockwise "
+    "continuation that proves each snap: a landing in phase that does not then descend at "
+    "the lead is a jump, and says why.",
 )
 @_torque_limit_option
 def search_command(
@@ -596,10 +495,9 @@ def search_command(
     meshes: MeshFiles,
 ) -> None:
     """The simulated search (see the command's help)."""
-    _check_turning(turns, step)
-    if not (math.isfinite(screw_in) and 0 <= screw_in <= 720):
-        raise InputError(f"--screw-in {screw_in:g} is out of range: give degrees within [0, 720]")
-    _check_torque_limit(torque_limit)
+    # The API's checks, before anything is built.
+    check_continuation(turns=turns, step=step, phase_tolerance=_phase_tolerance(step))
+    check_screw(screw_in=screw_in, torque_limit=torque_limit)
     figure = _figure_path(plot)
     spec, compliance = _setup(
         spec_text,
@@ -626,7 +524,7 @@ def search_command(
             phase,
             turns=turns,
             step=step,
-            phase_tolerance=min(PHASE_TOLERANCE, step),
+            phase_tolerance=_phase_tolerance(step),
             progress=callback,
             screw_in=screw_in,
             torque_limit=torque_limit,
@@ -636,7 +534,7 @@ def search_command(
             "threadmate: warning: the start is not a rest state (its descent did not "
             "converge): the search begins where the descent stopped"
         )
-    _emit(run, _search_text(spec, run, step), as_json, mech, meshes, figure, plot_search)
+    _emit(run, _search_text(spec, run, step), as_json, mech, meshes, figure)
     if run.snap is None:
         raise NoPathError(
             f"no snap within {turns:g} turn(s) from roll {roll:g}, pitch "
@@ -740,8 +638,9 @@ def screw_command(
     meshes: MeshFiles,
 ) -> None:
     """A clockwise start (see the command's help)."""
-    _check_turning(turns, step)
-    _check_torque_limit(torque_limit)
+    # The API's checks, before anything is built.
+    check_continuation(turns=turns, step=step, phase_tolerance=_phase_tolerance(step))
+    check_screw(torque_limit=torque_limit)
     figure = _figure_path(plot)
     spec, compliance = _setup(
         spec_text,
@@ -768,11 +667,11 @@ def screw_command(
             phase,
             turns=turns,
             step=step,
-            phase_tolerance=min(PHASE_TOLERANCE, step),
+            phase_tolerance=_phase_tolerance(step),
             torque_limit=torque_limit,
             progress=callback,
         )
-    _emit(run, _screw_text(spec, run, step), as_json, mech, meshes, figure, plot_screw)
+    _emit(run, _screw_text(spec, run, step), as_json, mech, meshes, figure)
     if run.outcome != "engaged":
         raise NoPathError(
             f"{run.outcome}: the bolt does not screw in from roll {roll:g}, pitch "

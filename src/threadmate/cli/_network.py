@@ -10,9 +10,8 @@ from typing import Any
 import click
 
 from .._errors import InputError, NoPathError
-from .._validate import MAX_TILT, check_phase
+from .._validate import FIGURE_FORMATS, MAX_K, MAX_TILT, check_configuration, check_roll_spread
 from ._common import (
-    check_angle,
     echo_err,
     emit_json,
     shown_phase,
@@ -22,14 +21,11 @@ from ._common import (
 )
 from ._library import progress_words
 from ._main import cli
-from ._options import MAX_K
 
 # The graph stage (networkx, pandas, matplotlib) is imported where it is used, so that
 # --help and a refused option answer at once.
 
 __all__ = ["network_command", "path_command", "recommend_command"]
-
-_FIGURE_SUFFIXES = (".png", ".pdf", ".svg")
 
 
 def _out_file(path: str, option: str, suffixes: tuple[str, ...] | None = None) -> Path:
@@ -262,9 +258,7 @@ def path_command(
     computes it). Exit status 3 when no path reaches the snap (with --json, the document
     still, its path and snap null).
     """
-    check_angle("roll", roll, MAX_TILT)
-    check_angle("pitch", pitch, MAX_TILT)
-    check_phase("--phase", phase)
+    check_configuration(roll, pitch, phase)  # the API's check, before the stage loads
     from ..network import from_library, k_best_paths, no_path_document
 
     graph = from_library(
@@ -292,7 +286,7 @@ def path_command(
             f"{title}: {len(result.path) - 1} transitions, cost {result.cost:.4g} mJ, "
             f"turn {turn_words(result.turn, '.2f')}, snap at phase "
             f"{shown_phase(result.snap['phase']):.2f} deg, click "
-            f"{result.snap['drop']:.4g} {graph.graph['units']}"
+            f"{result.snap['click']:.4g} {graph.graph['units']}"
             + ("; passes an unstable transition" if result.passes_unstable else "")
         )
         click.echo(f"  {result.path[0]}  ({graph.nodes[result.path[0]]['classification']})")
@@ -310,8 +304,8 @@ def path_command(
     "--roll-spread",
     type=float,
     default=None,
-    help="Largest roll error expected [deg]: starts have |held roll| <= spread "
-    "(default: every roll of the grid).",
+    help=f"Largest roll error expected, degrees from 0 to {MAX_TILT:g}: starts have |held "
+    "roll| <= spread (default: every roll of the grid).",
 )
 @click.option(
     "--plot",
@@ -352,7 +346,8 @@ def recommend_command(
     the pick that holds whatever the nut's thread-start azimuth.
     """
     _check_once(libraries)
-    fig = _out_file(plot, "--plot", _FIGURE_SUFFIXES) if plot else None
+    check_roll_spread(roll_spread)  # the API's check, before the stage loads
+    fig = _out_file(plot, "--plot", tuple(FIGURE_FORMATS)) if plot else None
     out = _out_file(output, "-o", (".json",)) if output else None
     from ..network import (
         format_recommendation,

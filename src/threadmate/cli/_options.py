@@ -1,14 +1,16 @@
-"""Options shared by the commands that run the mechanics (``settle``, ``search``, ``sweep``):
-the compliance's parameters, declared once.
+"""Options shared by the commands, declared once, and the one map from the API's parameter
+names to the options' flags (:data:`FLAGS`, :func:`flag_words`).
 
-The defaults are those of :class:`threadmate.contact.Compliance`; the values are checked by
-it (one message naming the parameter and its range). Also the few API values that the help
-of the commands quotes, restated so that ``--help`` imports no stage.
+The options' defaults and ranges are the API's own names, imported from the light modules
+that own them (nothing here restates a value), and their values are checked by the API
+(one message naming the parameter and its range), which names parameters as the API does:
+:func:`flag_words` turns those names into the flags when the command line reports.
 """
 
 from __future__ import annotations
 
 import functools
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -17,26 +19,23 @@ from typing import Any
 import click
 
 from .._errors import InputError
-from .._units import MM_PER_UNIT
+from .._units import unit_scale
+from .._validate import MAX_FACES, MAX_STARTS, MAX_STARTS_CEILING, WARN_FACES
 from ..contact import Compliance
-from ..geometry import POINT_FORMS, material_condition
+from ..geometry import DEFAULT_CHORD, POINT_FORMS, material_condition
 from ._common import Parts
 
 __all__ = [
-    "CONTINUATION_STEP",
-    "DEFAULT_CHORD",
-    "DEFAULT_DESIGNATION",
-    "MAX_K",
-    "MODELS",
-    "RUN_GRID",
-    "SCREW_IN",
     "COMPLIANCE_PARAMETERS",
     "DEFAULTS_NOTE",
+    "FLAGS",
     "compliance_from_options",
     "chord_option",
     "compliance_option_list",
     "compliance_options",
     "condition_option",
+    "flag_words",
+    "max_starts_option",
     "parse_stiffness",
     "parts_option",
     "MeshFiles",
@@ -45,26 +44,90 @@ __all__ = [
     "mesh_summary",
 ]
 
-# -- the API's values that the options' help quotes -----------------------------------------
-# Every command's help is built when the command registers, and ``threadmate --help`` or
-# ``threadmate CMD --help`` must answer without importing the stages that define these
-# values (scipy, trimesh, fcl, pandas, matplotlib behind them). So each is restated here
-# beside the name that owns it; tests/test_cli_contract.py checks that they agree.
-#: :data:`threadmate.contact.CONTINUATION_STEP`, degrees.
-CONTINUATION_STEP = 5.0
-#: :data:`threadmate.contact.SCREW_IN`, degrees.
-SCREW_IN = 180.0
-#: :data:`threadmate.geometry.DEFAULT_CHORD`, per unit.
-DEFAULT_CHORD: dict[str, float] = {"in": 5e-6, "mm": 5e-6 * MM_PER_UNIT["in"]}
-#: :data:`threadmate.library.MODELS`.
-MODELS = ("mechanics", "thesis")
-#: :data:`threadmate.network.MAX_K`.
-MAX_K = 20
-#: :data:`threadmate.pipeline.DEFAULT_DESIGNATION`.
-DEFAULT_DESIGNATION = "1/4-20 UNC-2A/2B"
-#: :data:`threadmate.pipeline.RUN_GRID`.
-RUN_GRID = {"roll": "-2:2:1", "pitch": "-2:2:1", "phase": "0:340:20"}
+# -- the API's parameter names and the options' flags ----------------------------------------
+#: The flag of each API parameter that a command takes as an option: the one place the
+#: command line maps the API's names to its own.
+FLAGS: dict[str, str] = {
+    # the configuration and the grid
+    "roll": "--roll",
+    "pitch": "--pitch",
+    "phase": "--phase",
+    "nearest": "--nearest",
+    # the compliance
+    "force": "--force",
+    "stiffness": "--stiffness",
+    "lateral_stiffness": "--lateral-stiffness",
+    "friction": "--friction",
+    "compliance_z": "--compliance-z",
+    # the continuation
+    "turns": "--turns",
+    "step": "--step",
+    "phase_tolerance": "--phase-tolerance",
+    "screw_in": "--screw-in",
+    "torque_limit": "--torque-limit",
+    # the sweep
+    "model": "--model",
+    "workers": "--workers",
+    "scheduler": "--scheduler",
+    "chunk_size": "--chunk-size",
+    "max_starts": "--max-starts",
+    # the meshes
+    "chord": "--chord",
+    "bolt_mesh": "--bolt-mesh",
+    "nut_mesh": "--nut-mesh",
+    "mesh_units": "--mesh-units",
+    "max_faces": "--max-mesh-faces",
+    # the network and the recommendation
+    "k": "--k",
+    "active": "--active",
+    "jump_penalty": "--jump-penalty",
+    "move_penalty": "--move-penalty",
+    "roll_spread": "--roll-spread",
+    "partial": "--partial",
+    # the parts (threadmate.geometry.with_parts)
+    "condition": "--condition",
+    "point": "--point",
+    "chamfer_angle": "--chamfer-angle",
+    "point_diameter": "--point-diameter",
+    "round_radius": "--round-radius",
+    "countersink": "--countersink",
+    "countersink_angle": "--countersink-angle",
+    "countersink_diameter": "--countersink-diameter",
+    "bolt_length": "--bolt-length",
+    "nut_height": "--nut-height",
+}
+_NAMES = "|".join(sorted(FLAGS, key=len, reverse=True))
+#: ``name=value`` (a value the API suggests): ``step=0.01``, ``model='mechanics'``.
+_SUGGESTED = re.compile(rf"(?<![\w.])({_NAMES})=(?:'([^']*)'|\"([^\"]*)\"|([^\s,;:)]+))")
+#: The name a message starts with: the parameter it is about.
+_LEADING = re.compile(rf"^({_NAMES})(?=[\s:(]|$)")
+#: A parameter named within a message: only names of two or more words (``max_starts``),
+#: which no sentence uses, and not within a path, a dotted key or a quoted mapping's key.
+_NAMED = re.compile(rf"(?<![\w/.'\"-])({'|'.join(n for n in FLAGS if '_' in n)})(?![\w/.'\"-]|=)")
 
+
+def flag_words(message: str) -> str:
+    """An API message in the command line's words: each parameter of :data:`FLAGS` named
+    as its flag.
+
+    The API names the parameter a message is about first (``step must be within (0,
+    10]``), suggests a value as ``name=value`` (``pass max_starts=4000``; ``True`` for a
+    flag's) and otherwise names a parameter of two or more words as it is
+    (``countersink_diameter``); these, and only these, become ``--step must be ...``,
+    ``pass --max-starts 4000``, ``--countersink-diameter``.
+    """
+
+    def suggested(m: re.Match[str]) -> str:
+        value = next(v for v in m.groups()[1:] if v is not None)
+        flag = FLAGS[m[1]]
+        return flag if value == "True" else f"{flag} {value}"
+
+    message = _SUGGESTED.sub(suggested, message)
+    message = _LEADING.sub(lambda m: FLAGS[m[1]], message)
+    return _NAMED.sub(lambda m: FLAGS[m[1]], message)
+
+
+# -- the compliance --------------------------------------------------------------------------
 #: The defaults of the options are those of :class:`Compliance`.
 _D = Compliance()
 
@@ -72,11 +135,11 @@ _D = Compliance()
 COMPLIANCE_PARAMETERS = ("force", "stiffness_text", "lateral_stiffness", "friction", "compliance_z")
 
 DEFAULTS_NOTE = (
-    "Defaults (threadmate.contact.Compliance): 10 N is a light hand or float-spring push "
-    "on a small screw; 1 N m/rad is the soft end of remote-centre compliances for small "
-    "parts (Whitney's k_r = k_t l^2 with about 1.6 N/mm projected 25 mm); the centre is "
-    "held laterally at x = y = 0 and sits at the bolt's tip; friction 0.15 is steel on "
-    "steel in a thread (VDI 2230's 0.08 to 0.20)."
+    f"Defaults (threadmate.contact.Compliance): {_D.force:g} N is a light hand or "
+    f"float-spring push on a small screw; {_D.roll_stiffness:g} N m/rad is the soft end of "
+    "remote-centre compliances for small parts (Whitney's k_r = k_t l^2 with about 1.6 N/mm "
+    "projected 25 mm); the centre is held laterally at x = y = 0 and sits at the bolt's "
+    f"tip; friction {_D.friction:g} is steel on steel in a thread (VDI 2230's 0.08 to 0.20)."
 )
 
 
@@ -205,6 +268,20 @@ def chord_option(func: Callable[..., Any]) -> Callable[..., Any]:
     )(func)
 
 
+def max_starts_option(func: Callable[..., Any]) -> Callable[..., Any]:
+    """``--max-starts N``: the most configurations a grid may hold, for every command that
+    sweeps (the API's limit, :func:`threadmate._validate.check_starts`)."""
+    return click.option(
+        "--max-starts",
+        type=int,
+        default=None,
+        metavar="N",
+        help=f"Most configurations the grid may hold (default {MAX_STARTS:,}; at most "
+        f"{MAX_STARTS_CEILING:,}): a larger grid is refused at once, with its count and the "
+        "time it would take.",
+    )(func)
+
+
 def parts_option(func: Callable[..., Any]) -> Callable[..., Any]:
     """The bolt's point, the nut's countersink and their lengths, for every command that
     expands a designation or reads a spec: ``--point``, ``--chamfer-angle``,
@@ -306,12 +383,13 @@ def parts_option(func: Callable[..., Any]) -> Callable[..., Any]:
 # -- meshes from CAD ---------------------------------------------------------------------
 @dataclass(frozen=True)
 class MeshFiles:
-    """``--bolt-mesh``, ``--nut-mesh`` and ``--mesh-units`` as one keyword argument
-    ``meshes`` of a command."""
+    """``--bolt-mesh``, ``--nut-mesh``, ``--mesh-units`` and ``--max-mesh-faces`` as one
+    keyword argument ``meshes`` of a command."""
 
     bolt: Path | None = None
     nut: Path | None = None
     units: str | None = None
+    max_faces: int | None = None
 
     @property
     def given(self) -> bool:
@@ -320,20 +398,24 @@ class MeshFiles:
 
     def arguments(self) -> dict[str, Any]:
         """Keyword arguments of :class:`~threadmate.contact.ContactAnalyzer`,
-        :func:`~threadmate.library.sweep` and the pipeline (the paths, as given)."""
-        if self.units is not None and not self.given:
-            raise InputError("--mesh-units needs --bolt-mesh or --nut-mesh")
+        :func:`~threadmate.library.sweep` and the pipeline (the paths, as given; the
+        API checks the values)."""
+        for value, flag in ((self.units, "--mesh-units"), (self.max_faces, "--max-mesh-faces")):
+            if value is not None and not self.given:
+                raise InputError(f"{flag} needs --bolt-mesh or --nut-mesh")
         return {
             "bolt_mesh": None if self.bolt is None else str(self.bolt),
             "nut_mesh": None if self.nut is None else str(self.nut),
             "mesh_units": self.units,
+            "max_faces": self.max_faces,
         }
 
 
 def mesh_files_option(func: Callable[..., Any]) -> Callable[..., Any]:
-    """``--bolt-mesh FILE``, ``--nut-mesh FILE`` and ``--mesh-units in|mm``: meshes from CAD
-    instead of generated ones. The command receives them as one keyword argument
-    ``meshes`` (:class:`MeshFiles`); the API loads and checks the files."""
+    """``--bolt-mesh FILE``, ``--nut-mesh FILE``, ``--mesh-units in|mm`` and
+    ``--max-mesh-faces N``: meshes from CAD instead of generated ones. The command receives
+    them as one keyword argument ``meshes`` (:class:`MeshFiles`); the API loads and checks
+    the files."""
     options: list[Callable[[Any], Any]] = [
         click.option(
             "--bolt-mesh",
@@ -366,12 +448,25 @@ def mesh_files_option(func: Callable[..., Any]) -> Callable[..., Any]:
             "a threadmate STL's header declares, else the spec's; a header that disagrees "
             "is refused. A file in other units than the spec's is scaled into them.",
         ),
+        click.option(
+            "--max-mesh-faces",
+            "max_faces",
+            type=int,
+            default=None,
+            metavar="N",
+            help=f"Most triangles a mesh file may have (default {MAX_FACES:,}): a larger one "
+            "is refused at once, with its count (the contact stages' set-up grows with it); "
+            f"above {WARN_FACES:,} one is taken with a warning.",
+        ),
     ]
 
     @functools.wraps(func)
     def command(*args: Any, **kwargs: Any) -> Any:
         meshes = MeshFiles(
-            kwargs.pop("bolt_mesh"), kwargs.pop("nut_mesh"), kwargs.pop("mesh_units")
+            kwargs.pop("bolt_mesh"),
+            kwargs.pop("nut_mesh"),
+            kwargs.pop("mesh_units"),
+            kwargs.pop("max_faces"),
         )
         return func(*args, meshes=meshes, **kwargs)
 
@@ -391,7 +486,7 @@ def echo_mesh_notes(info: dict[str, Any] | None, units: str) -> None:
             continue
         scale = part.get("scale")
         if scale is None and part.get("units") not in (None, units):
-            scale = MM_PER_UNIT[part["units"]] / MM_PER_UNIT[units]
+            scale = unit_scale(part["units"], units)
         if scale is not None and scale != 1.0:
             click.echo(
                 f"threadmate: {kind} mesh {part.get('file')}: in {part.get('units')}, "

@@ -86,7 +86,7 @@ def planar(
     parts: Parts,
 ) -> None:
     """Report the planar contact state (see the command's help)."""
-    check_phase("--phase", phase)
+    check_phase("phase", phase)  # the API's one limit of a phase, before the stage loads
     if plot is not None or pivot_plot is not None:
         from ..planar import figure_format  # matplotlib, for a figure asked for
     # Refuse bad figure names before any work, so that nothing is half done.

@@ -9,21 +9,21 @@ from pathlib import Path
 import click
 
 from .._errors import InputError
-from .._validate import MAX_TILT, check_workers
+from .._validate import MAX_TILT, check_roll_spread, check_workers
+from ..contact import CONTINUATION_STEP
+from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID
 from ._common import SPEC_HELP, Parts, echo_err, emit_json, resolve_spec, writable_directory
 from ._library import _RANGE_HELP, _progress_bar
 from ._main import cli
 from ._options import (
-    CONTINUATION_STEP,
-    DEFAULT_DESIGNATION,
     DEFAULTS_NOTE,
-    RUN_GRID,
     MeshFiles,
     chord_option,
     compliance_from_options,
     compliance_options,
     condition_option,
     echo_mesh_notes,
+    max_starts_option,
     mesh_files_option,
     parts_option,
 )
@@ -107,8 +107,10 @@ on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["pha
     "--roll-spread",
     type=float,
     default=None,
-    help="Roll errors to expect, +/- degrees (default: the whole grid).",
+    help=f"Largest roll error expected, degrees from 0 to {MAX_TILT:g}: starts have |held "
+    "roll| <= spread (default: every roll of the grid).",
 )
+@max_starts_option
 @condition_option
 @parts_option
 @mesh_files_option
@@ -132,15 +134,17 @@ def run_command(
     scheduler: str | None,
     chord: float | None,
     roll_spread: float | None,
+    max_starts: int | None,
     condition: str,
     as_json: bool,
     parts: Parts,
     meshes: MeshFiles,
 ) -> None:
     """The main job (help text above)."""
+    # The API's checks of the cheap options, before the stages load (the pipeline checks
+    # them again, and every other value, before it sweeps).
     check_workers(workers)
-    if roll_spread is not None and not (0 <= roll_spread <= MAX_TILT):
-        raise InputError(f"--roll-spread {roll_spread:g} must be within 0..{MAX_TILT:g} degrees")
+    check_roll_spread(roll_spread)
     writable_directory(out, "-o")
     base = compliance_from_options(force, stiffness_text, lateral_stiffness, friction, compliance_z)
     forces = _values(compare_force, "--compare-force")
@@ -183,6 +187,7 @@ def run_command(
                 step=step,
                 progress=callback,
                 clockwise=clockwise,
+                max_starts=max_starts,
                 **meshes.arguments(),
             )
     except OSError as exc:  # the system refused a write (a full disk)

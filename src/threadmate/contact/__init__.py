@@ -16,7 +16,10 @@ that needs the compliance), ``unstable`` (not a rest state), ``in-phase`` (engag
 load-carrying contact lies on the helices). A snap is a jump into the in-phase state
 proved by screwing in: from it a clockwise continuation descends at the lead
 (:class:`Engagement`). :func:`screw` turns a start clockwise directly: ``engaged``,
-``riding`` or ``jammed`` (the thesis's clockwise question).
+``riding`` or ``jammed`` (the thesis's clockwise question). A continuation's settings have
+their defaults, ranges and checks in :mod:`._settings` (:data:`CONTINUATION_STEP`,
+:func:`check_continuation`, :func:`check_screw`); :func:`plot_search` and
+:func:`plot_screw` draw a turn's signature (height, tilt and torque against phase).
 
 **The thesis's fixed-pivot procedure** (:class:`ContactAnalyzer`, :func:`analyze`; its
 chapter 3 and section 4.2). The bolt, at a fixed tilt, comes down until it first touches
@@ -45,7 +48,7 @@ Example
 >>> rest = settle(spec, 4, 0, 185, compliance=Compliance(force=10))  # doctest: +SKIP
 >>> rest.classification, rest.state.roll                           # doctest: +SKIP
 >>> run = search(spec, 4, 0, 185)                                   # doctest: +SKIP
->>> run.snap.phase, run.snap.drop, run.work                         # doctest: +SKIP
+>>> run.snap.phase, run.snap.click, run.work                         # doctest: +SKIP
 """
 
 from typing import TYPE_CHECKING
@@ -55,13 +58,24 @@ from .._lazy import lazy_exports
 if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
     from .._validate import MAX_TILT
     from ._analyzer import TRAVEL_TOLERANCE, ContactAnalyzer, analyze, check_mesh_file
+    from ._classes import (
+        CLASSIFICATIONS,
+        ERROR_CLASS,
+        IN_PHASE,
+        NO_CONTACT,
+        QUASI_STABLE,
+        REST_CLASSES,
+        STABLE,
+        TRANSITION_LABELS,
+        UNSTABLE,
+    )
     from ._compliance import LIMITS as COMPLIANCE_LIMITS
     from ._compliance import Compliance
     from ._exact import OFF_SPEC_REGIONS, engagement_outline, off_spec_region, region_at
+    from ._figures import plot_screw, plot_search
     from ._records import (
         ROLES,
         STATE_COLUMNS,
-        TRANSITION_LABELS,
         TRANSITIONS,
         Column,
         blank_row,
@@ -72,7 +86,6 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
     )
     from ._rest_state import (
         LEAD_TOLERANCE,
-        REST_CLASSES,
         Engagement,
         LoadedContact,
         MechanicalState,
@@ -80,18 +93,19 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
         SearchEvent,
         SearchResult,
     )
-    from ._result import CLASSIFICATIONS, STAGES, Contact, ContactResult, StageResult, record_schema
+    from ._result import STAGES, Contact, ContactResult, StageResult, record_schema
     from ._screw import OUTCOMES as SCREW_OUTCOMES
     from ._screw import ScrewResult, screw
-    from ._search import (
+    from ._search import STEEP, Continuation, Leg, default_torque_limit, search, sensor_click
+    from ._settings import (
         CONTINUATION_STEP,
+        MAX_SCREW_IN,
+        MAX_STEP,
+        MAX_TURNS,
+        PHASE_TOLERANCE,
         SCREW_IN,
-        Continuation,
-        Leg,
         check_continuation,
         check_screw,
-        default_torque_limit,
-        search,
     )
     from ._settle import BALANCE, MAX_STEPS, Mechanics, settle
 
@@ -102,6 +116,12 @@ __all__ = [
     "off_spec_region",
     "region_at",
     "CLASSIFICATIONS",
+    "ERROR_CLASS",
+    "IN_PHASE",
+    "NO_CONTACT",
+    "QUASI_STABLE",
+    "STABLE",
+    "UNSTABLE",
     "COMPLIANCE_LIMITS",
     "BALANCE",
     "Compliance",
@@ -114,6 +134,8 @@ __all__ = [
     "SearchEvent",
     "SearchResult",
     "search",
+    "sensor_click",
+    "STEEP",
     "settle",
     "screw",
     "ScrewResult",
@@ -127,6 +149,12 @@ __all__ = [
     "Continuation",
     "Leg",
     "check_continuation",
+    "MAX_SCREW_IN",
+    "MAX_STEP",
+    "MAX_TURNS",
+    "PHASE_TOLERANCE",
+    "plot_screw",
+    "plot_search",
     "Column",
     "ROLES",
     "STATE_COLUMNS",
@@ -157,12 +185,22 @@ _SOURCES = {
     # commands check --roll and --pitch with it before anything is built.
     ".._validate": ("MAX_TILT",),
     "._analyzer": ("TRAVEL_TOLERANCE", "ContactAnalyzer", "analyze", "check_mesh_file"),
+    "._classes": (
+        "CLASSIFICATIONS",
+        "ERROR_CLASS",
+        "IN_PHASE",
+        "NO_CONTACT",
+        "QUASI_STABLE",
+        "REST_CLASSES",
+        "STABLE",
+        "TRANSITION_LABELS",
+        "UNSTABLE",
+    ),
     "._compliance": ("COMPLIANCE_LIMITS", "Compliance"),
     "._exact": ("OFF_SPEC_REGIONS", "engagement_outline", "off_spec_region", "region_at"),
     "._records": (
         "ROLES",
         "STATE_COLUMNS",
-        "TRANSITION_LABELS",
         "TRANSITIONS",
         "Column",
         "blank_row",
@@ -173,7 +211,6 @@ _SOURCES = {
     ),
     "._rest_state": (
         "LEAD_TOLERANCE",
-        "REST_CLASSES",
         "Engagement",
         "LoadedContact",
         "MechanicalState",
@@ -182,7 +219,6 @@ _SOURCES = {
         "SearchResult",
     ),
     "._result": (
-        "CLASSIFICATIONS",
         "STAGES",
         "Contact",
         "ContactResult",
@@ -190,15 +226,26 @@ _SOURCES = {
         "record_schema",
     ),
     "._screw": ("SCREW_OUTCOMES", "ScrewResult", "screw"),
+    "._figures": ("plot_screw", "plot_search"),
     "._search": (
-        "CONTINUATION_STEP",
-        "SCREW_IN",
+        "STEEP",
         "Continuation",
         "Leg",
-        "check_continuation",
-        "check_screw",
         "default_torque_limit",
         "search",
+        "sensor_click",
+    ),
+    # The continuation's settings and their checks, light to import: the commands quote
+    # and check them before anything is built.
+    "._settings": (
+        "CONTINUATION_STEP",
+        "MAX_SCREW_IN",
+        "MAX_STEP",
+        "MAX_TURNS",
+        "PHASE_TOLERANCE",
+        "SCREW_IN",
+        "check_continuation",
+        "check_screw",
     ),
     "._settle": ("BALANCE", "MAX_STEPS", "Mechanics", "settle"),
 }

@@ -18,8 +18,14 @@ from numpy.typing import NDArray
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from .._errors import InputError
-from .._units import MM_PER_UNIT
-from .._validate import MAX_TILT, check_number, check_open_range
+from .._units import MM_PER_UNIT, unit_scale
+from .._validate import (
+    MAX_TILT,
+    check_configuration,
+    check_length,
+    check_max_faces,
+    check_open_range,
+)
 from ..geometry import (
     DEFAULT_CHORD,
     Pose,
@@ -55,7 +61,7 @@ __all__ = [
 ]
 
 #: Bisection tolerance on travel (bolt motion), per unit.
-TRAVEL_TOLERANCE = {u: 1e-7 * MM_PER_UNIT["in"] / MM_PER_UNIT[u] for u in ("in", "mm")}
+TRAVEL_TOLERANCE = {u: 1e-7 * unit_scale("in", u) for u in MM_PER_UNIT}
 #: With a mesh from CAD, a contact farther than the feature tolerance plus this many mesh
 #: deviations from the exact surface lies where the mesh does not follow the spec. A
 #: contact point lies on both meshes (:func:`._triangles.cluster_location`), so within a
@@ -70,35 +76,26 @@ def _positive(name: str, value: float | None) -> float | None:
     return check_open_range(name, value, 0.0, math.inf)
 
 
-def check_configuration(roll: float, pitch: float, phase: float) -> tuple[float, float, float]:
-    """Refuse non-finite angles and roll or pitch beyond +/-:data:`MAX_TILT` degrees."""
-    out = []
-    for name, value in (("roll", roll), ("pitch", pitch), ("phase", phase)):
-        value = check_number(f"{name} (degrees)", value)
-        if name != "phase" and abs(value) > MAX_TILT:
-            raise InputError(
-                f"{name} {value:g} deg is out of range: the contact stages take "
-                f"roll and pitch within +/-{MAX_TILT:g} deg"
-            )
-        out.append(value)
-    return out[0], out[1], out[2]
-
-
 def _user_mesh(
-    mesh: Any, kind: Literal["bolt", "nut"], spec: ThreadSpec, units: str | None = None
+    mesh: Any,
+    kind: Literal["bolt", "nut"],
+    spec: ThreadSpec,
+    units: str | None = None,
+    max_faces: int | None = None,
 ) -> trimesh.Trimesh:
     """A user mesh from a path (validated by :func:`threadmate.geometry.load_mesh`, in
-    ``units``: see :func:`._cad.file_units`) or a Trimesh (in ``units``, default the
-    spec's; checked to sit in its frame)."""
+    ``units``: see :func:`._cad.file_units`; at most ``max_faces`` triangles) or a Trimesh
+    (in ``units``, default the spec's; checked to sit in its frame)."""
     if isinstance(mesh, str | Path):
-        return load_mesh(mesh, kind, spec=spec, units=file_units(mesh, units, spec))
+        units = file_units(mesh, units, spec)
+        return load_mesh(mesh, kind, spec=spec, units=units, max_faces=max_faces)
     if not isinstance(mesh, trimesh.Trimesh):
         raise InputError(
             f"{kind}_mesh must be a mesh file path or a trimesh.Trimesh, got {type(mesh).__name__}"
         )
     if units is not None and units != spec.units:
         mesh = mesh.copy()
-        mesh.apply_scale(MM_PER_UNIT[units] / MM_PER_UNIT[spec.units])
+        mesh.apply_scale(unit_scale(units, spec.units))
     lo, hi = mesh.bounds
     size = float(np.max(hi - lo))
     slack = 1e-6 * max(size, spec.pitch)
@@ -125,11 +122,12 @@ def _cad_mesh(
     spec: ThreadSpec,
     body: ThreadBody,
     units: str | None,
+    max_faces: int | None = None,
 ) -> tuple[trimesh.Trimesh, MeshFit, dict[str, Any]]:
     """A mesh from CAD, validated, with how it follows ``body`` and its description."""
     path = given if isinstance(given, str | Path) else None
     resolved = file_units(path, units, spec) if path is not None else (units or spec.units)
-    mesh = _user_mesh(given, kind, spec, units)
+    mesh = _user_mesh(given, kind, spec, units, max_faces)
     name = f"{kind} mesh {Path(path).name}" if path is not None else f"{kind} mesh"
     fit = mesh_fit(mesh, body, spec, name)
     info = describe(path, resolved, spec)
@@ -138,11 +136,17 @@ def _cad_mesh(
 
 
 def check_mesh_file(
-    path: str | Path, kind: Literal["bolt", "nut"], spec: ThreadSpec, units: str | None = None
+    path: str | Path,
+    kind: Literal["bolt", "nut"],
+    spec: ThreadSpec,
+    units: str | None = None,
+    *,
+    max_faces: int | None = None,
 ) -> dict[str, Any]:
-    """Validate a mesh file as :class:`ContactAnalyzer` would (format, closed volume, size,
-    frame, units, that it follows the spec somewhere) without building anything, and
-    describe it: ``{"file", "path", "sha256", "units", "scale", "deviation"}``.
+    """Validate a mesh file as :class:`ContactAnalyzer` would (format, triangle count,
+    closed volume, size, frame, units, that it follows the spec somewhere) without
+    building anything, and describe it: ``{"file", "path", "sha256", "units", "scale",
+    "deviation"}``. ``max_faces``: as :func:`threadmate.geometry.load_mesh`'s.
 
     For a caller that hands the path on to other processes (the library sweep): the
     refusal comes here, before anything is written.
@@ -150,7 +154,7 @@ def check_mesh_file(
     if units is not None and units not in MM_PER_UNIT:
         raise InputError(f"mesh_units must be 'in' or 'mm', got {units!r}")
     body = bolt_body(spec) if kind == "bolt" else nut_body(spec)
-    return _cad_mesh(path, kind, spec, body, units)[2]
+    return _cad_mesh(path, kind, spec, body, units, max_faces)[2]
 
 
 def _share(cluster: Cluster, corners: NDArray[np.float64]) -> list[Cluster]:
@@ -231,6 +235,9 @@ class ContactAnalyzer:
         Length units of the mesh files (default: the units a threadmate STL declares in
         its header, else the spec's; a header that disagrees is refused). A mesh in other
         units than the spec's is scaled into them.
+    max_faces : int, optional
+        Most triangles a mesh file may have (default ``threadmate._validate.MAX_FACES``;
+        see :func:`threadmate.geometry.load_mesh`).
     quasi_tolerance : float, optional
         Largest pivot offset of a quasi-stable two-point state (default pitch / 10).
     interference_tolerance : float, optional
@@ -257,11 +264,13 @@ class ContactAnalyzer:
         interference_tolerance: float | None = None,
         max_turn: float = 30.0,
         mesh_units: str | None = None,
+        max_faces: int | None = None,
     ) -> None:
         if not isinstance(spec, ThreadSpec):
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
         chord = _positive("chord", chord)
-        compliance_z = check_number("compliance_z", compliance_z)
+        max_faces = check_max_faces(max_faces)  # before any mesh is built
+        compliance_z = check_length("compliance_z", compliance_z, spec.units, signed=True)
         if not (isinstance(max_turn, int | float) and 0 < max_turn <= 90):
             raise InputError(f"max_turn must be within (0, 90] degrees, got {max_turn!r}")
         self.spec = spec
@@ -296,7 +305,7 @@ class ContactAnalyzer:
                 }
                 continue
             meshes[kind], fits[kind], self._mesh_info[kind] = _cad_mesh(
-                given, kind, spec, body, mesh_units
+                given, kind, spec, body, mesh_units, max_faces
             )
         deviation = max(float(info["deviation"]) for info in self._mesh_info.values())
         self._setup(

@@ -64,7 +64,7 @@ import trimesh
 from numpy.typing import NDArray
 
 from .._errors import MeshError
-from .._units import MM_PER_UNIT
+from .._units import MM_PER_UNIT, unit_scale
 from ..geometry import ThreadBody, ThreadSpec, stl_units
 from ._exact import CREASE, OffSpec
 
@@ -345,5 +345,5 @@ def describe(path: str | os.PathLike[str] | None, units: str, spec: ThreadSpec) 
         "path": None if path is None else str(path),
         "sha256": None if path is None else sha256_of(path),
         "units": units,
-        "scale": MM_PER_UNIT[units] / MM_PER_UNIT[spec.units],
+        "scale": unit_scale(units, spec.units),
     }

@@ -8,13 +8,14 @@ The nut is held split into :data:`SECTORS` angular sectors about its axis (each 
 its centroid's angle), each its own BVH, and every query is asked of the sectors. A
 threaded pair is close to contact all round its circumference, so a query must prove
 separation nearly everywhere, and the sectors' bounding volumes fit a ring of thread far
-more tightly than those of one BVH of the whole nut: a yes/no query of all the sectors
-costs 10-30 % less than one of the whole nut, an enumeration of the pairs up to 15 % less
-over a sweep, with the same answers. The sectors serve two ends besides. The turning
-stages look for a new contact while ignoring the interference beside the contacts the
-bolt turns about: they leave those sectors out. And a search, once it has a colliding
-pose, asks again only of the sectors that collide there. A yes/no query asks first the
-sector that collided last: consecutive poses of a descent collide in the same place.
+more tightly than those of one BVH of the whole nut: a yes/no query of all the sectors,
+and an enumeration of the pairs, costs less than one of the whole nut, with the same
+answers (docs/validation.md, "Cost: meshes and queries"). The sectors serve two ends
+besides. The turning stages look for a new contact while ignoring the interference beside
+the contacts the bolt turns about: they leave those sectors out. And a search, once it
+has a colliding pose, asks again only of the sectors that collide there. A yes/no query
+asks first the sector that collided last: consecutive poses of a descent collide in the
+same place.
 
 Queries, each one yes/no question counted in :attr:`queries`:
 
@@ -44,6 +45,7 @@ import trimesh
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
+from .._angles import TWO_PI
 from ..geometry import Pose
 
 __all__ = ["CollisionPair", "MeshSolid", "pair_keys"]
@@ -304,7 +306,7 @@ class CollisionPair:
         centroid = self.nut_vertices[self.nut_faces].mean(axis=1)
         angle = np.arctan2(centroid[:, 1], centroid[:, 0])
         #: Sector (0 .. SECTORS-1, counter-clockwise from -pi) of each nut face.
-        sector = np.floor((angle + np.pi) / (2 * np.pi) * SECTORS).astype(np.intp)
+        sector = np.floor((angle + np.pi) / TWO_PI * SECTORS).astype(np.intp)
         self.nut_sector = sector % SECTORS
         self._sectors: dict[int, tuple[fcl.CollisionObject, NDArray[np.int64]]] = {}
         for k in range(SECTORS):
@@ -391,7 +393,7 @@ class CollisionPair:
         """Sectors within arc length ``reach`` of any of ``points`` (F), measured at each
         point's radius (not below ``min_radius``)."""
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
-        width = 2 * np.pi / SECTORS
+        width = TWO_PI / SECTORS
         angle = np.arctan2(pts[:, 1], pts[:, 0]) + np.pi
         half = reach / np.maximum(np.hypot(pts[:, 0], pts[:, 1]), min_radius)
         lo = np.floor((angle - half) / width).astype(np.intp)

@@ -94,8 +94,8 @@ class Compliance:
             if len(k) != 2:
                 raise InputError(f"stiffness must be one number or (roll, pitch), got {k!r}")
             pair = (
-                _in_range("roll stiffness", k[0], "stiffness"),
-                _in_range("pitch stiffness", k[1], "stiffness"),
+                _in_range("stiffness (roll)", k[0], "stiffness"),
+                _in_range("stiffness (pitch)", k[1], "stiffness"),
             )
         else:
             value = _in_range("stiffness", k)

@@ -50,6 +50,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
+from .._angles import SQRT3, TWO_PI
 from ..geometry import Pose, ThreadBody
 
 __all__ = [
@@ -70,8 +71,6 @@ __all__ = [
     "on_thread",
 ]
 
-TWO_PI = 2.0 * math.pi
-SQRT3 = math.sqrt(3.0)
 #: Angle (degrees) between a CAD mesh's faces above which they meet at an edge (a
 #: ``mesh-edge``); below it they tessellate one smooth surface (a chord of a thousandth
 #: of a radius turns the faces by some 5 degrees).
@@ -801,7 +800,7 @@ def _edge_crossing(
         return q[0] - w[0], q[1] - w[1]
 
     # Plain floats throughout: a 2 x 2 Newton solve is a few hundred flops, and numpy's
-    # per-call overhead on arrays this small was most of a descent step's cost.
+    # per-call overhead on arrays this small would outweigh them.
     a = math.atan2(point_f[1], point_f[0])
     b = math.atan2(anchor_b[1], anchor_b[0])
     h = 1e-7

@@ -24,7 +24,9 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-from ._rest_state import REST_CLASSES, MechanicalState
+from .._angles import wrap_phase
+from ._classes import REST_CLASSES, TRANSITION_LABELS
+from ._rest_state import MechanicalState
 from ._result import record_schema
 
 __all__ = [
@@ -32,7 +34,6 @@ __all__ = [
     "ROLES",
     "STATE_COLUMNS",
     "TRANSITIONS",
-    "TRANSITION_LABELS",
     "blank_row",
     "state_id",
     "state_row",
@@ -51,8 +52,6 @@ ROLES = (
 )
 #: Kinds of passive transition (the ``transition`` column; "" for none).
 TRANSITIONS = ("settling", "turning", "jump", "snap")
-#: Labels of a transition, by its stability (docs/network.md, "The network").
-TRANSITION_LABELS = ("stable", "quasi-stable", "unstable")
 
 
 @dataclass(frozen=True)
@@ -108,7 +107,14 @@ STATE_COLUMNS: tuple[Column, ...] = (
     Column("work_friction", _F, "mJ", "driver's work against friction along it"),
     Column("work_potential", _F, "mJ", "driver's work against the potential along it"),
     Column("torque_peak", _F, "N m", "largest driver torque along it (NaN: none)"),
-    Column("drop", _F, "length", "fall of the compliance centre along it (the click at a snap)"),
+    Column("drop", _F, "length", "fall of the compliance centre along it"),
+    Column(
+        "click",
+        _F,
+        "length",
+        "at a jump or a snap: the fall a sensor sees, from the smooth ride before it (its "
+        "steep last stretch included) to the landing (NaN: neither)",
+    ),
     Column("tilt_change", _F, "deg", "angle between the bolt axes at its ends"),
     Column(
         "snap_window",
@@ -167,7 +173,7 @@ def blank_row(schema: pa.Schema) -> dict[str, Any]:
 
 def state_id(held_roll: float, held_pitch: float, phase: float, serial: int) -> str:
     """The id of a state: ``r+1_p-2_ph135.000_s7`` (held tilt, phase, serial in the tilt)."""
-    return f"r{held_roll:+g}_p{held_pitch:+g}_ph{phase % 360.0:07.3f}_s{serial}"
+    return f"r{held_roll:+g}_p{held_pitch:+g}_ph{wrap_phase(phase):07.3f}_s{serial}"
 
 
 def state_row(
@@ -187,7 +193,7 @@ def state_row(
         state_id=state_id,
         held_roll=float(held_roll),
         held_pitch=float(held_pitch),
-        phase=float(state.phase % 360.0),
+        phase=float(wrap_phase(state.phase)),
         role=role,
         classification=state.classification,
         roll=float(state.roll),

@@ -24,15 +24,11 @@ __all__ = [
     "RestState",
     "SearchEvent",
     "SearchResult",
-    "REST_CLASSES",
 ]
 
 #: Largest departure of a screwed-in bolt's descent per turn from the lead, relative to the
 #: lead, for the bolt to count as engaged (:class:`Engagement`).
 LEAD_TOLERANCE = 0.1
-
-#: Classes of a mechanical state (docs/mechanics.md, "Classes of states").
-REST_CLASSES = ("stable", "quasi-stable", "unstable", "in-phase")
 
 
 def turn_units(length: str) -> dict[str, str]:
@@ -325,13 +321,18 @@ class SearchEvent:
     before, after : str
         Region combinations before and after.
     drop : float
-        Fall of the compliance centre across the event (spec units; the click at a snap).
+        Fall of the compliance centre across the event (spec units).
     tilt_change : float
         Angle between the bolt axes before and after (degrees).
     note : str
         Why a jump into a state whose contacts lie on the helices is not a snap ('' else).
     engagement : Engagement or None
         The screw-in proof of a landing in phase (None for other events).
+    click : float
+        At a jump or the snap, the fall a sensor sees: from the last state of the smooth
+        ride to the landing, a steep stretch of the branch just before the jump included
+        (``sensor_click`` in :mod:`threadmate.contact`; spec units). At least the drop
+        where the branch falls into the jump; 0 for a contact change.
     """
 
     phase: float
@@ -342,6 +343,7 @@ class SearchEvent:
     tilt_change: float = 0.0
     note: str = ""
     engagement: Engagement | None = None
+    click: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""
@@ -351,6 +353,7 @@ class SearchEvent:
             "before": self.before,
             "after": self.after,
             "drop": self.drop,
+            "click": self.click,
             "tilt_change": self.tilt_change,
             "note": self.note,
             "engagement": None if self.engagement is None else self.engagement.to_dict(),
@@ -424,6 +427,7 @@ class SearchResult:
                 "phase": self.snap.phase,
                 "turn": self.snap_turn,
                 "drop": self.snap.drop,
+                "click": self.snap.click,
                 "window": None if self.snap_window is None else list(self.snap_window),
                 "engagement": None
                 if self.snap.engagement is None

@@ -18,12 +18,10 @@ from ..geometry import Pose
 if TYPE_CHECKING:
     from _typeshed import DataclassInstance
 
-__all__ = ["Contact", "StageResult", "ContactResult", "record_schema", "STAGES", "CLASSIFICATIONS"]
+__all__ = ["Contact", "StageResult", "ContactResult", "record_schema", "STAGES"]
 
 #: Stage names, in order.
 STAGES = ("first", "second", "third")
-#: Every classification a result can carry (the library adds ``error``).
-CLASSIFICATIONS = ("stable", "quasi-stable", "unstable", "in-phase", "no-contact")
 #: Contact slots per stage in the flat record.
 SLOTS = 3
 

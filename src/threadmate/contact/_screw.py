@@ -31,14 +31,8 @@ from ._rest_state import (
     tightening_torque,
     turn_units,
 )
-from ._search import (
-    CONTINUATION_STEP,
-    Continuation,
-    Leg,
-    check_continuation,
-    check_screw,
-    wedged,
-)
+from ._search import Continuation, Leg, wedged
+from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE, check_continuation, check_screw
 from ._settle import Mechanics, mechanics
 
 __all__ = ["OUTCOMES", "ENGAGED_TURN", "ScrewResult", "screw"]
@@ -166,7 +160,7 @@ def screw(
     compliance: Compliance | None = None,
     turns: float = 1.0,
     step: float = CONTINUATION_STEP,
-    phase_tolerance: float = 0.01,
+    phase_tolerance: float = PHASE_TOLERANCE,
     torque_limit: float | None = None,
     chord: float | None = None,
     progress: Callable[[int, int], None] | None = None,

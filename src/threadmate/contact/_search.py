@@ -10,8 +10,10 @@ degree). Otherwise the rest state ceased to exist within the step (a fold): the 
 jumped (tipped, rolled or dropped) to another one. Jumps, and changes of the touching
 contacts along a continuous branch, are located by bisection in phase to
 ``phase_tolerance`` (0.01 degree): each half is settled from the state on the side before
-it. A jump that lands in-phase is the snap; its drop (the fall of the compliance centre)
-is the click.
+it. A jump that lands in-phase is the snap. Its click is the fall of the compliance
+centre a sensor sees: from the last state of the smooth ride to the landing, a steep
+stretch of the branch just before the jump (falling faster than :data:`STEEP` leads per
+degree) and jumps down within it included (:func:`sensor_click`).
 
 The driver's torque at each rest state (:meth:`Mechanics.driver_torque`) is integrated
 over phase by the trapezoidal rule along continuous branches; during a jump the phase
@@ -27,13 +29,14 @@ library's passive paths and a search from the same start are the same computatio
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._angles import Z_AXIS, axis_angle
 from .._errors import InputError
-from .._validate import check_open_range, check_search_steps
+from .._units import MJ_PER_J
 from ..geometry import ThreadSpec
 from ._compliance import Compliance
 from ._rest_state import (
@@ -44,7 +47,8 @@ from ._rest_state import (
     SearchResult,
     tightening_torque,
 )
-from ._settle import LOAD_CARRYING, Mechanics, axis_turn, mechanics
+from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE, SCREW_IN, check_continuation, check_screw
+from ._settle import Mechanics, mechanics
 
 __all__ = [
     "CONTINUATION_STEP",
@@ -57,15 +61,12 @@ __all__ = [
     "default_torque_limit",
     "engagement",
     "search",
+    "sensor_click",
     "wedged",
 ]
 
 #: Tilt of the bolt axis within one step above which the step is a jump (degrees).
 JUMP_TILT = 0.5
-#: The continuation's default step (degrees): the thesis's phase step. Folds and contact
-#: changes inside a step are located by bisection; a step this size is what the library's
-#: sweep and ``threadmate search`` both take by default, so that they agree.
-CONTINUATION_STEP = 5.0
 #: Senses a continuation turns the bolt in: ``unscrew`` (the search: counter-clockwise for a
 #: right-hand thread) or ``tighten`` (screwing in: clockwise).
 SENSES = ("unscrew", "tighten")
@@ -81,8 +82,6 @@ TILT_PROBES = (0.02, 0.1)
 #: :meth:`Continuation.snap_window`).
 WINDOW = 15.0
 WINDOW_PROBE = 1.0
-#: Default turn of the screw-in that proves a snap (degrees).
-SCREW_IN = 180.0
 #: Default limit of the tightening torque, in units of the axial force times the bolt's
 #: major radius (a contact force equal to the load acting tangentially at the crest): a
 #: driver that needs more is wedging the bolt, not screwing it in (the rigid form of
@@ -92,6 +91,12 @@ TORQUE_LIMIT = 1.0
 #: flickering across the border of two regions (a chamfer on a nut flank's edge with its
 #: crest): neither is told (:func:`_without_flicker`).
 FLICKER = 1.0
+#: A stretch of a rest-state branch that falls faster than this many leads per degree of
+#: turn belongs to the fall of the jump that ends it, not to the ride before: a driver
+#: turning at any practical speed passes it in a fraction of a degree, so a sensor sees it
+#: with the jump (and a dynamic simulation passes it dynamically). The ride itself, a
+#: flank or a face on the nut's helix or top, falls at most about the lead per degree.
+STEEP = 10.0
 #: A probe's descent stops once it has gone this many times the jump's thresholds (the
 #: fall ``pitch / 40``, the tilt ``JUMP_TILT``) from the state it leaves: far enough that
 #: the rest state it would reach is not near that state either.
@@ -116,11 +121,51 @@ def _without_flicker(events: list[SearchEvent]) -> list[SearchEvent]:
     return out
 
 
+def sensor_click(ride: Sequence[MechanicalState], landing: MechanicalState, lead: float) -> float:
+    """The click a sensor sees at a jump: the fall of the compliance centre from the last
+    state of the smooth ride to ``landing``.
+
+    Parameters
+    ----------
+    ride : sequence of MechanicalState
+        The states before the jump along the turn, ending with the last one on the branch
+        (states that are not rest states are passed over; of states at one phase, the
+        last counts).
+    landing : MechanicalState
+        Where the jump lands.
+    lead : float
+        The thread's lead (spec units).
+
+    Walking back from the end of ``ride``, each pair of consecutive rest states that falls
+    faster than :data:`STEEP` leads per degree of turn between them (a steep stretch of
+    the branch, or an earlier jump down) belongs to the fall; the first pair that falls
+    slower, or rises, ends it. Where the branch runs smoothly to the jump this is the
+    jump's own drop.
+    """
+    rest: list[MechanicalState] = []
+    for s in ride:
+        if s.classification == "unstable":
+            continue
+        if rest and rest[-1].phase == s.phase:
+            rest[-1] = s  # a state met twice (a bisection's last and the branch's)
+        else:
+            rest.append(s)
+    if not rest:
+        return 0.0
+    i = len(rest) - 1
+    while i > 0:
+        a, b = rest[i - 1], rest[i]
+        if a.centre[2] - b.centre[2] <= STEEP * lead * abs(b.phase - a.phase) / 360.0:
+            break
+        i -= 1
+    return float(rest[i].centre[2] - landing.centre[2])
+
+
 def _tilt_between(a: MechanicalState, b: MechanicalState) -> float:
-    return axis_turn(np.array(a.rotation)[:, 2], np.array(b.rotation)[:, 2])
+    return axis_angle(np.array(a.rotation)[:, 2], np.array(b.rotation)[:, 2])
 
 
-def _signature(s: MechanicalState, floor: float) -> tuple[str, ...]:
+def _carrying_pairs(s: MechanicalState, floor: float) -> tuple[str, ...]:
     """The region pairs of the contacts that carry the load (more than ``floor``, N): a
     contact touching without force, or hovering at the touching threshold, changes
     nothing a driver or a sensor sees, and neither does one more or one fewer point of
@@ -152,6 +197,9 @@ class Leg:
         one is quasi-stable, ``unstable`` for a jump or a snap.
     engagement : Engagement or None
         The screw-in proof of a landing in phase (a snap's, or a jump's that failed it).
+    click : float
+        The fall a sensor sees at a jump or a snap (:func:`sensor_click`; spec units;
+        NaN for a turning leg).
     """
 
     kind: str
@@ -163,6 +211,7 @@ class Leg:
     torque_peak: float
     label: str
     engagement: Engagement | None = None
+    click: float = math.nan
 
     @property
     def drop(self) -> float:
@@ -200,7 +249,7 @@ def engagement(
     half = min(path, key=lambda s: abs(abs(s.phase - start.phase) - 0.5 * turned))
     span = abs(end.phase - half.phase)
     descent = (half.centre[2] - end.centre[2]) * 360.0 / span if span > 0 else math.nan
-    tilt = math.degrees(math.acos(min(1.0, abs(end.rotation[2][2]))))
+    tilt = axis_angle(np.abs(np.asarray(end.rotation)[:, 2]), Z_AXIS)  # either way up
     torques = [t for t, _ in map(walk.torque, path) if math.isfinite(t)]
     peak = max(torques, default=math.nan)
     units = walk.mech.units
@@ -276,7 +325,7 @@ class Continuation:
         pitch: float,
         *,
         step: float = CONTINUATION_STEP,
-        phase_tolerance: float = 0.01,
+        phase_tolerance: float = PHASE_TOLERANCE,
         contact_changes: bool = True,
         sense: str = "unscrew",
         screw_in: float = SCREW_IN,
@@ -297,7 +346,7 @@ class Continuation:
         # thread; tightening turns the other way.
         self.sign = mech.spec.handedness * (-1 if self.tightening else 1)
         self.drop_limit = mech.spec.pitch / 40
-        self.floor = LOAD_CARRYING * mech.compliance.force
+        self.floor = mech.load_carrying
         #: Turn of the clockwise continuation that proves a snap (degrees; 0: none).
         self.screw_in = float(screw_in)
         self.torque_limit = default_torque_limit(mech) if torque_limit is None else torque_limit
@@ -376,16 +425,21 @@ class Continuation:
         s_hi: MechanicalState,
         same: Callable[[MechanicalState, MechanicalState], bool],
         hi_from: MechanicalState,
+        ride: list[MechanicalState] | None = None,
     ) -> tuple[float, float, MechanicalState, MechanicalState]:
         """Close in on where ``same(s_lo, state)`` stops holding, from the side before
         (``lo``, ``hi``: turns from ``phase``; ``s_hi`` was settled from ``hi_from``). An
         in-phase or departed ``s_hi`` (a probe) is settled in full: settles depend only on
-        the state they leave, so this is the same computation carried to its end."""
+        the state they leave, so this is the same computation carried to its end.
+        ``ride``, when given, collects the states found on the side before: they resolve
+        the branch's last stretch, where the bisection closes in (:func:`sensor_click`)."""
         while hi - lo > self.phase_tolerance:
             mid = 0.5 * (lo + hi)
             s_mid = self._settle(phase + self.sign * mid, s_lo)
             if same(s_lo, s_mid):
                 lo, s_lo = mid, s_mid
+                if ride is not None:
+                    ride.append(s_mid)
             else:
                 hi, s_hi, hi_from = mid, s_mid, s_lo
         if s_hi.kind == "departed":
@@ -481,6 +535,7 @@ class Continuation:
         states: list[MechanicalState] = []
         sign = self.sign
         branch = [state]  # states of the current turning leg
+        ride: list[MechanicalState] = []  # the folds' bisections' states before the fold
         branch_start = 0.0
         work = [0.0, 0.0]  # friction, potential (mJ) along the current turning leg
 
@@ -489,8 +544,8 @@ class Continuation:
             (ta, fa), (tb, fb) = self.torque(a), self.torque(b)
             if not (math.isfinite(ta) and math.isfinite(tb)):
                 return
-            work[0] += 1e3 * 0.5 * (fa + fb) * dphi
-            work[1] += 1e3 * 0.5 * ((ta - fa) + (tb - fb)) * dphi
+            work[0] += MJ_PER_J * 0.5 * (fa + fb) * dphi
+            work[1] += MJ_PER_J * 0.5 * ((ta - fa) + (tb - fb)) * dphi
 
         def close_branch(at: float) -> None:
             if at > branch_start or len(branch) > 1:
@@ -508,19 +563,19 @@ class Continuation:
                     )
                 )
 
-        def signature(s: MechanicalState) -> tuple[str, ...]:
-            return _signature(s, self.floor)
+        def carrying(s: MechanicalState) -> tuple[str, ...]:
+            return _carrying_pairs(s, self.floor)
 
         def follow(a: MechanicalState, at_a: float, b: MechanicalState, at_b: float) -> None:
             """Extend the branch from ``a`` (at turn ``at_a``) to ``b``, continuous with it,
             locating a change of the load-carrying contacts between them."""
-            before = signature(a)
-            if self.contact_changes and signature(b) != before:
+            before = carrying(a)
+            if self.contact_changes and carrying(b) != before:
 
                 def same(
                     x: MechanicalState, y: MechanicalState, before: tuple[str, ...] = before
                 ) -> bool:
-                    return signature(y) == before and self._continuous(x, y)
+                    return carrying(y) == before and self._continuous(x, y)
 
                 lo, hi, s_lo, s_hi = self._bisect(phase, at_a, at_b, a, b, same, a)
                 if not self._continuous(s_lo, s_hi):
@@ -537,7 +592,7 @@ class Continuation:
                         "contact-change",
                         # What changed: the load-carrying pairs either side.
                         " + ".join(before),
-                        " + ".join(signature(s_hi)),
+                        " + ".join(carrying(s_hi)),
                         s_lo.centre[2] - s_hi.centre[2],
                         _tilt_between(s_lo, s_hi),
                     )
@@ -566,7 +621,9 @@ class Continuation:
                 stride = min(2 * stride, self.step)
                 continue
             # A fold within (at, nxt]: close in on it from the side before.
-            lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, self._continuous, prev)
+            lo, hi, s_lo, s_hi = self._bisect(
+                phase, at, nxt, prev, cur, self._continuous, prev, ride
+            )
             # The branch up to the last state on it (``prev`` itself when the fold lies
             # within the tolerance of it), its contact changes located.
             if s_lo is not prev:
@@ -600,7 +657,11 @@ class Continuation:
                 note = "" if proof.engaged else f"not a snap: {proof.reason}"
                 s_hi = replace(s_hi, engagement=proof)
             kind = "snap" if proof is not None and proof.engaged else "jump"
-            legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, "unstable", proof))
+            passed = sorted([state, *states, *ride], key=lambda s: sign * s.phase)
+            click = sensor_click(passed, s_hi, self.mech.spec.lead)
+            legs.append(
+                Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, "unstable", proof, click)
+            )
             events.append(
                 SearchEvent(
                     phase + sign * hi,
@@ -611,6 +672,7 @@ class Continuation:
                     _tilt_between(s_lo, s_hi),
                     note,
                     proof,
+                    click,
                 )
             )
             states.append(s_hi)
@@ -631,7 +693,7 @@ def search(
     compliance: Compliance | None = None,
     turns: float = 1.0,
     step: float = CONTINUATION_STEP,
-    phase_tolerance: float = 0.01,
+    phase_tolerance: float = PHASE_TOLERANCE,
     chord: float | None = None,
     progress: Callable[[int, int], None] | None = None,
     screw_in: float = SCREW_IN,
@@ -735,24 +797,3 @@ def search(
         mech.engine.queries - q0,
         window,
     )
-
-
-def check_screw(*, screw_in: float = SCREW_IN, torque_limit: float | None = None) -> None:
-    """Refuse screw-in settings out of range (InputError naming the setting)."""
-    if not (math.isfinite(screw_in) and 0.0 <= screw_in <= 720.0):
-        raise InputError(f"screw_in must be within [0, 720] degrees, got {screw_in!r}")
-    if torque_limit is not None and not (math.isfinite(torque_limit) and torque_limit > 0):
-        raise InputError(f"torque_limit must be a positive torque (N m), got {torque_limit!r}")
-
-
-def check_continuation(
-    *, turns: float = 1.0, step: float = CONTINUATION_STEP, phase_tolerance: float = 0.01
-) -> None:
-    """Refuse continuation settings out of range (InputError naming the setting)."""
-    for name, value, lo, hi in (
-        ("turns", turns, 0.0, 10.0),
-        ("step", step, 0.0, 10.0),
-        ("phase_tolerance", phase_tolerance, 0.0, step),
-    ):
-        check_open_range(name, value, lo, hi)
-    check_search_steps(turns, step, option="step")

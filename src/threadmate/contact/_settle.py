@@ -66,11 +66,12 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
+from .._angles import TWO_PI, axis_angle, phase_difference
 from .._errors import InputError
-from .._units import METRES_PER_UNIT
-from .._validate import check_open_range
+from .._units import METRES_PER_UNIT, MJ_PER_J
+from .._validate import check_configuration, check_open_range
 from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
-from ._analyzer import ContactAnalyzer, check_configuration
+from ._analyzer import ContactAnalyzer
 from ._cad import off_spec
 from ._collision import pair_keys
 from ._compliance import Compliance
@@ -101,10 +102,10 @@ MAX_STEPS = 60
 #: Descent steps over which a continued descent (one leaving a rest state at a nearby
 #: phase) that neither lowered the potential by more than the mesh's noise nor its least
 #: equilibrium residual by 1 % has stalled. It stops there: at the thread starts, where
-#: both bodies' run-outs meet edge to edge, such descents went on to ``MAX_STEPS`` without
-#: moving, in a third of a sweep's bisection time. (Not while tipping into a seat, nor from
-#: first contact: an upright point settling on the countersink's ring of edges can wander
-#: that long before it finds its support.)
+#: both bodies' run-outs meet edge to edge, such descents would run on to ``MAX_STEPS``
+#: without moving. (Not while tipping into a seat, nor from first contact: an upright
+#: point settling on the countersink's ring of edges can wander that long before it finds
+#: its support.)
 STALL_STEPS = 20
 #: Tilt (degrees) within which a bolt touching the nut's entry with its end only is tried
 #: seated upright (:meth:`Mechanics._seat`), and the regions of such contacts.
@@ -204,6 +205,8 @@ class Mechanics:
         Meshes from CAD, each in its own frame (see :class:`ContactAnalyzer`).
     mesh_units : {"in", "mm"}, optional
         Units of the mesh files (see :class:`ContactAnalyzer`).
+    max_faces : int, optional
+        Most triangles a mesh file may have (see :class:`ContactAnalyzer`).
     tolerance : float, optional
         Length tolerance of the descent (spec units, default the contact stages' travel
         tolerance, 1e-7 in): a rest state's tilt is converged when no bolt point would
@@ -221,6 +224,7 @@ class Mechanics:
         mesh_units: str | None = None,
         tolerance: float | None = None,
         analyzer: ContactAnalyzer | None = None,
+        max_faces: int | None = None,
     ) -> None:
         if compliance is None:
             compliance = Compliance()
@@ -237,6 +241,7 @@ class Mechanics:
                 bolt_mesh=bolt_mesh,
                 nut_mesh=nut_mesh,
                 mesh_units=mesh_units,
+                max_faces=max_faces,
             )
         elif analyzer.compliance_z != compliance.compliance_z or analyzer.spec != spec:
             raise InputError(
@@ -276,6 +281,12 @@ class Mechanics:
         self._bolt_tip = bv[bv[:, 2] <= spec.pitch + spec.point_height]
         #: Where meshes from CAD do not follow the spec (None: generated meshes).
         self._off = off_spec(analyzer)
+
+    @property
+    def load_carrying(self) -> float:
+        """Force (N) above which a contact carries the load: :data:`LOAD_CARRYING` times
+        the axial load. The one threshold of the descent, the search and the sweep."""
+        return LOAD_CARRYING * self.compliance.force
 
     # -- poses ----------------------------------------------------------------------------
     def _pose(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> Pose:
@@ -656,7 +667,7 @@ class Mechanics:
         if forces is None:
             carrying = [c for c in near if c.gap <= self.touching]
         else:
-            floor = LOAD_CARRYING * self.compliance.force
+            floor = self.load_carrying
             carrying = [c for c, f in zip(near, forces, strict=True) if f > floor]
         return bool(carrying) and all(c.helical for c in carrying)
 
@@ -846,7 +857,7 @@ class Mechanics:
                 # the line it may tip against, as a rim's corners stand for a rim below.
                 theta = np.arctan2(pts[:, 1], pts[:, 0])
                 j = int(np.argmin(gaps))
-                rel = (theta - theta[j] + math.pi) % (2 * math.pi) - math.pi
+                rel = phase_difference(theta, theta[j], TWO_PI)
                 width = float(rel.max() - rel.min())
                 bins = np.minimum(
                     ((rel - rel.min()) / max(width, 1e-300) * UPPER_BINS).astype(np.int64),
@@ -881,7 +892,7 @@ class Mechanics:
         ``j``, the group's least) is a contact of its own, so that the descent knows
         the whole line it may tip onto, not its lowest point alone."""
         theta = np.arctan2(pts[:, 1], pts[:, 0])
-        rel = (theta - theta[j] + math.pi) % (2 * math.pi) - math.pi
+        rel = phase_difference(theta, theta[j], TWO_PI)
         arc = math.radians(HELIX_ARC)
         if float(rel.max() - rel.min()) <= arc:
             return []
@@ -1144,9 +1155,7 @@ class Mechanics:
         # The contacts that carry the load stay closed (the branch's tangent); the others
         # stay open. Where that asks too much (more carrying contacts than coordinates,
         # not independent), open is all that is asked.
-        carrying = np.array(
-            [c.force > LOAD_CARRYING * self.compliance.force for c in state.touching]
-        )
+        carrying = np.array([c.force > self.load_carrying for c in state.touching])
         for tangent in (True, False):
             closed = carrying if tangent else np.zeros_like(carrying)
             # A y + bound = 0 on the closed rows, >= 0 on the others.
@@ -1239,7 +1248,7 @@ class Mechanics:
             rot,
             _vec(centre),
             contacts,
-            1e3 * self.potential(d.zc, tilt, d.xy, held),
+            MJ_PER_J * self.potential(d.zc, tilt, d.xy, held),
             torque,
             friction,
             turn,
@@ -1311,7 +1320,7 @@ class Mechanics:
                 and start_axis is not None
                 and (
                     start.centre[2] - d.zc > leave[0]
-                    or axis_turn(d.rotation[:, 2], start_axis) > leave[1]
+                    or axis_angle(d.rotation[:, 2], start_axis) > leave[1]
                 )
             )
 
@@ -1352,7 +1361,7 @@ class Mechanics:
         # Upright, the spring's moment is k x held; the end's contacts can hold at most the
         # load times the bolt's radius against it: beyond that no seat can be a rest state.
         seat_tried = float(np.hypot(*(k[1:3] * held))) > f * arm_m
-        touching = _signature(near, self.touching)
+        touching = _touching_pairs(near, self.touching)
 
         def result(state: MechanicalState, balance: dict[str, float]) -> RestState:
             return RestState(
@@ -1406,7 +1415,7 @@ class Mechanics:
                     d, near, tilt, u = seat
                     nudged = 0.0
                     ahead, support, prox = [], (), prox0[: len(k)].copy()
-                    touching = _signature(near, self.touching)
+                    touching = _touching_pairs(near, self.touching)
                     continue
             metric = np.diag(k + prox)
             metric[1:3, 1:3] += curvature
@@ -1492,7 +1501,7 @@ class Mechanics:
                 u_new = self.potential(trial.zc, new_tilt, new_xy, held)
             step_q = np.concatenate([[(trial.zc - d.zc) * self.metres], dq[1:]])
             if kept(u_new):
-                old_rows, old_sig = G[: len(near), 1:3], _signature(near, self.touching)
+                old_rows, old_sig = G[: len(near), 1:3], _touching_pairs(near, self.touching)
                 near = self.contacts(trial)
                 # In phase as long as the pose's contacts lie on the helices: a contact
                 # that leaves them (the bolt rolls back onto its end) ends the snap.
@@ -1508,7 +1517,7 @@ class Mechanics:
                     break
                 nudged = nudged + moved if nudge else 0.0
                 ahead = []
-                if _signature(near, self.touching) == old_sig and len(near) == len(old_rows):
+                if _touching_pairs(near, self.touching) == old_sig and len(near) == len(old_rows):
                     # The contacts' moment changes with the tilt as their points slide (a
                     # rim's lowest point turns with the tilt's direction): its rate, the
                     # contacts' geometric stiffness, is learnt by damped BFGS.
@@ -1519,7 +1528,7 @@ class Mechanics:
                         -(new_rows - old_rows).T @ lam[: len(old_rows)],
                         1e3 * f * arm_m,
                     )
-                now = _signature(near, self.touching)
+                now = _touching_pairs(near, self.touching)
                 if float(dq[1:3] @ last_step) < 0:
                     # Turned back on the last step: the contact model flickers between two
                     # poses (a contact at the touching threshold); damp to meet between.
@@ -1531,7 +1540,7 @@ class Mechanics:
                 if now != touching and not engaged:
                     kind = "new-contact" if len(now) >= len(touching) else "rolling"
                     axis = d.rotation[:, 2]
-                    turn = axis_turn(axis, last_axis)
+                    turn = axis_angle(axis, last_axis)
                     path.append(self.state(kind, "unstable", d, near, phase, held, tilt, turn=turn))
                     last_axis = axis.copy()
                     touching = now
@@ -1560,7 +1569,7 @@ class Mechanics:
             )
         forces, f_res, m_res = self.forces(near, centre, tilt, d.xy, held)
         axis = d.rotation[:, 2]
-        turn = axis_turn(axis, last_axis)
+        turn = axis_angle(axis, last_axis)
         if self.engaged(near, forces):
             cls, kind = "in-phase", "in-phase"
         elif self.holds_without_compliance(near, centre, tilt):
@@ -1587,11 +1596,6 @@ def _facing(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
     triangles outward): positive for a face turned up."""
     t = np.asarray(triangles, dtype=float)
     return np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]
-
-
-def axis_turn(a: NDArray[np.float64], b: NDArray[np.float64]) -> float:
-    """Angle between two unit bolt axes (degrees)."""
-    return math.degrees(math.acos(min(1.0, float(a @ b))))
 
 
 def _bfgs(
@@ -1649,7 +1653,8 @@ def _single_linkage(points: NDArray[np.float64], separation: float) -> NDArray[n
     return np.argsort(np.argsort(first))[inverse].astype(np.intp)
 
 
-def _signature(near: list[_Near], touching: float) -> tuple[str, ...]:
+def _touching_pairs(near: list[_Near], touching: float) -> tuple[str, ...]:
+    """The region pairs (``bolt/nut``) of the contacts within ``touching`` of touch, sorted."""
     return tuple(sorted(f"{c.bolt_region}/{c.nut_region}" for c in near if c.gap <= touching))
 
 

@@ -1,7 +1,9 @@
 """Exact thread geometry: standards, specs, profiles, regions, frames and meshes.
 
 Everything here follows ``conventions.md`` (see the package documentation, "Conventions"):
-lengths in the spec's ``units``, angles in degrees at every interface.
+lengths in the spec's ``units``, angles in degrees at every interface. A designation or a
+spec takes its bolt's point, its nut's countersink and their lengths from
+:func:`with_parts`; the meshes' chord from :data:`DEFAULT_CHORD` and :func:`check_chord`.
 """
 
 from typing import TYPE_CHECKING
@@ -10,6 +12,7 @@ from .._lazy import lazy_exports
 
 if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
     from ._body import ThreadBody, bolt_body, nut_body
+    from ._chord import DEFAULT_CHORD, check_chord
     from ._designation import (
         MATERIAL_CONDITIONS,
         Designation,
@@ -21,17 +24,10 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
     )
     from ._ends import POINT_FORMS, BoltPoint, Countersink, Envelope
     from ._frames import Pose, axis_angle_rotation, bolt_rotation, rot_x, rot_y, rot_z
-    from ._mesh import (
-        DEFAULT_CHORD,
-        TessellatedBody,
-        bolt_mesh,
-        check_chord,
-        mesh_deviation,
-        nut_mesh,
-        thread_meshes,
-    )
+    from ._mesh import TessellatedBody, bolt_mesh, mesh_deviation, nut_mesh, thread_meshes
     from ._meshio import load_mesh, read_stl, stl_header, stl_units, write_stl
     from ._nuts import countersink_limits, standard_countersink_diameter, standard_nut_height
+    from ._parts import with_parts
     from ._profile import BOLT_REGIONS, NUT_REGIONS, Profile, bolt_profile, nut_profile, wrap_t
     from ._spec import UNITS, BoltSpec, NutSpec, ThreadSpec, load_spec, parse_length, save_spec
 
@@ -82,6 +78,7 @@ __all__ = [
     "stl_units",
     "thread_limits",
     "thread_meshes",
+    "with_parts",
     "wrap_t",
     "write_stl",
 ]
@@ -92,6 +89,9 @@ __all__ = [
 #: imports them. tests/test_cli_contract.py checks it against the imports above.
 _SOURCES = {
     "._body": ("ThreadBody", "bolt_body", "nut_body"),
+    # The chord's default and check, light to import: the commands quote and check them
+    # before any mesh is built.
+    "._chord": ("DEFAULT_CHORD", "check_chord"),
     "._designation": (
         "MATERIAL_CONDITIONS",
         "Designation",
@@ -103,17 +103,10 @@ _SOURCES = {
     ),
     "._ends": ("POINT_FORMS", "BoltPoint", "Countersink", "Envelope"),
     "._frames": ("Pose", "axis_angle_rotation", "bolt_rotation", "rot_x", "rot_y", "rot_z"),
-    "._mesh": (
-        "DEFAULT_CHORD",
-        "TessellatedBody",
-        "bolt_mesh",
-        "check_chord",
-        "mesh_deviation",
-        "nut_mesh",
-        "thread_meshes",
-    ),
+    "._mesh": ("TessellatedBody", "bolt_mesh", "mesh_deviation", "nut_mesh", "thread_meshes"),
     "._meshio": ("load_mesh", "read_stl", "stl_header", "stl_units", "write_stl"),
     "._nuts": ("countersink_limits", "standard_countersink_diameter", "standard_nut_height"),
+    "._parts": ("with_parts",),
     "._profile": (
         "BOLT_REGIONS",
         "NUT_REGIONS",

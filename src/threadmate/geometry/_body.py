@@ -14,13 +14,13 @@ the nut where also ``r >= envelope(z)``. Their regions are ``chamfer`` or ``roun
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._angles import TWO_PI
 from ._ends import Envelope, countersink_envelope, point_envelope
 from ._profile import Profile, bolt_profile, nut_profile, wrap_t
 from ._spec import filled
@@ -29,8 +29,6 @@ if TYPE_CHECKING:
     from ._spec import ThreadSpec
 
 __all__ = ["ThreadBody", "bolt_body", "nut_body"]
-
-TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)

@@ -23,12 +23,12 @@ the limits they leave open are in :mod:`._unified` and :mod:`._iso`.
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from .._angles import SQRT3
 from .._errors import DesignationError, InputError, SpecError
 from . import _iso, _unified
 from ._ends import BoltPoint, Countersink
@@ -232,7 +232,9 @@ def _parse_unified(raw: str) -> Designation:
         )
     pitch = 1.0 / tpi
     if major - 1.082532 * pitch <= 0.2 * major:
-        raise DesignationError(f"pitch 1/{tpi:g} in is too coarse for size {label} in '{raw}'")
+        raise DesignationError(
+            f"thread pitch 1/{tpi:g} in is too coarse for size {label} in '{raw}'"
+        )
 
     rest = _UNIFIED_REST_RE.match(m["rest"].strip())
     if not rest:
@@ -371,7 +373,7 @@ def _parse_iso(raw: str) -> Designation:
         allowed = ((coarse,) if coarse else ()) + fine
         if not any(abs(pitch - a) < 1e-9 for a in allowed):
             raise DesignationError(
-                f"pitch {pitch:g} is not an ISO 261 pitch for M{size:g} in '{raw}' "
+                f"thread pitch {pitch:g} is not an ISO 261 pitch for M{size:g} in '{raw}' "
                 f"(coarse: {coarse if coarse else 'none'}; fine: "
                 f"{', '.join(f'{f:g}' for f in fine)})"
             )
@@ -583,7 +585,7 @@ def spec_from_designation(
     }
     # The radius of an arc tangent to both flanks at the minor diameter: a larger root
     # fillet would not fit its corner.
-    h = math.sqrt(3.0) / 2.0 * des.pitch
+    h = SQRT3 / 2.0 * des.pitch
     full_round = (bolt_vals["minor"] - bolt_vals["pitch_diameter"] + h) / 2.0
     root = min(_pick(b.root_fillet, cond, largest=True), full_round * (1.0 - 1e-9))
     return ThreadSpec(
@@ -643,5 +645,5 @@ def _part_length(value: float | str | None, des: Designation, name: str) -> floa
         try:
             return standard_nut_height(des)
         except SpecError as exc:
-            raise SpecError(f"nut_height 'standard': {exc}") from None
+            raise SpecError(f"nut_height='standard': {exc}") from None
     return parse_length(value, des.pitch, name, des.units)

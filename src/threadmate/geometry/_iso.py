@@ -30,6 +30,8 @@ import math
 from decimal import ROUND_CEILING, ROUND_FLOOR, ROUND_HALF_EVEN, Decimal
 from typing import TypeVar
 
+from .._angles import SQRT3
+
 _T = TypeVar("_T")
 
 __all__ = [
@@ -406,8 +408,6 @@ _TD2_EXT: tuple[dict[float, _Row], ...] = (
         6: (140, 180, 224, 280, 355, 450, 560),
     },
 )
-
-SQRT3 = math.sqrt(3.0)
 
 
 def coarse_pitch(diameter: float) -> float | None:

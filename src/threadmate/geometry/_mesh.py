@@ -37,8 +37,9 @@ meridian to the next (5 to 7 chords of 2e-5 in on a 1/4-20 chamfer or round). So
 * the end face at the envelope's end lies wholly inside it, its outline a circle, so it
   needs no crossings (they stay at the far end).
 
-Bodies without an envelope are meshed as before. The inserted meridians depend on each
-body's own profile and envelope, so the measures below hold as well.
+A body without an envelope has no ridge and none of these insertions. The inserted
+meridians depend on each body's own profile and envelope, so the measures below hold as
+well.
 
 Why bolt and nut do not share meridian planes: python-fcl's triangle-triangle test can
 miss intersecting pairs whose edges are coplanar, which happens when both meshes are built
@@ -72,28 +73,21 @@ import numpy as np
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
+from .._angles import SQRT3, TWO_PI
 from .._errors import InputError
-from .._units import MM_PER_UNIT
-from .._validate import check_number
 from ._body import ThreadBody, bolt_body, nut_body
+from ._chord import check_chord
 from ._ends import Envelope
 from ._profile import Profile
 from ._spec import ThreadSpec
 
 __all__ = [
-    "DEFAULT_CHORD",
     "TessellatedBody",
     "bolt_mesh",
-    "check_chord",
     "nut_mesh",
     "thread_meshes",
     "mesh_deviation",
 ]
-
-TWO_PI = 2.0 * math.pi
-
-#: Default chord tolerance per unit: 5e-6 in (the thesis's CAD models used 1e-4 in).
-DEFAULT_CHORD: dict[str, float] = {"in": 5e-6, "mm": 5e-6 * MM_PER_UNIT["in"]}
 
 # Share of the chord given to the profile polyline of a fillet arc at the major-diameter
 # corner (bolt crest fillet, nut root fillet). There the polyline and the circumferential
@@ -109,11 +103,6 @@ _FLANK_SHARE = 0.95
 _MAX_REFINEMENTS = 6
 # Least share of the chord left to a round point's latitude polyline (see _shares).
 _MIN_LATITUDE_SHARE = 0.2
-# Finest and coarsest chord, in pitches: finer would make meshes of millions of triangles,
-# coarser would no longer resemble a thread.
-_FINEST_CHORD = 1e-6
-_COARSEST_CHORD = 0.02
-SQRT3 = math.sqrt(3.0)
 # Irrational turn of the nut's regular grid, in units of its spacing.
 _NUT_GRID_TURN = math.sqrt(2.0) - 1.0
 
@@ -233,39 +222,6 @@ class _Grid:
 
 _BOLT_GRID = _Grid(residue=1, turn=0.0)
 _NUT_GRID = _Grid(residue=3, turn=_NUT_GRID_TURN)
-
-
-def check_chord(spec: ThreadSpec, chord: float | None, name: str = "chord") -> float:
-    """The chord tolerance to mesh ``spec`` with: ``chord`` checked (a positive length
-    within the finest and coarsest the meshes accept, in pitches), or the default of the
-    spec's units. The one check of a chord: the mesh, the sweep and the commands use it;
-    messages name the chord ``name`` (an option's name, on the command line).
-
-    Raises
-    ------
-    InputError
-        Naming the chord and the range it must lie in.
-    """
-    if not isinstance(spec, ThreadSpec):
-        raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
-    if chord is None:
-        return DEFAULT_CHORD[spec.units]
-    chord = check_number(name, chord)
-    if chord <= 0:
-        raise InputError(f"{name} must be a positive length, got {chord!r}")
-    if chord < spec.pitch * _FINEST_CHORD:
-        raise InputError(
-            f"{name} {chord:g} {spec.units} is too fine (the meshes would have "
-            f"many millions of triangles): give at least "
-            f"{spec.pitch * _FINEST_CHORD:g}"
-        )
-    if chord > spec.pitch * _COARSEST_CHORD:
-        raise InputError(
-            f"{name} {chord:g} {spec.units} is too coarse for a pitch of "
-            f"{spec.pitch:g} {spec.units}: give at most "
-            f"{spec.pitch * _COARSEST_CHORD:g}"
-        )
-    return float(chord)
 
 
 @functools.lru_cache(maxsize=16)

@@ -7,11 +7,11 @@ the spec's units into the header (:func:`stl_header`: ``threadmate units=in bolt
 where :func:`stl_units` and :func:`load_mesh` read them back.
 
 A user mesh (a bolt or nut exported from CAD) is accepted only if its vertices are finite
-numbers, it has at most :data:`MAX_FACES` triangles (a warning above
-:data:`WARN_FACES`), it is one closed volume (every edge shared by exactly two triangles,
-one shell, no void inside), consistently wound, of plausible size for the spec where its
-thread is, and in its body's frame (conventions.md). Two repairs lose nothing and are
-made with a warning (:class:`MeshWarning`) rather than refused:
+numbers, it has at most ``threadmate._validate.MAX_FACES`` triangles unless told otherwise
+(a warning above ``WARN_FACES``), it is one closed volume (every edge shared by exactly two
+triangles, one shell, no void inside), consistently wound, of plausible size for the spec
+where its thread is, and in its body's frame (conventions.md). Two repairs lose nothing and
+are made with a warning (:class:`MeshWarning`) rather than refused:
 
 - triangles of zero area (a repeated vertex, or three in a line) are dropped when the
   mesh is still closed without them;
@@ -41,7 +41,8 @@ from numpy.typing import NDArray
 
 from .._errors import MeshError
 from .._io import atomic_write_bytes
-from .._units import MM_PER_UNIT
+from .._units import MM_PER_UNIT, unit_scale
+from .._validate import MAX_FACES, WARN_FACES, check_max_faces
 from ._spec import filled
 
 if TYPE_CHECKING:
@@ -54,8 +55,6 @@ __all__ = [
     "stl_header",
     "stl_units",
     "STL_FACET",
-    "MAX_FACES",
-    "WARN_FACES",
     "SIZE_BAND",
     "MeshWarning",
 ]
@@ -88,14 +87,6 @@ _UNIT_WORDS = {
 #: modelling choices, not by a factor: outside this band (ratio to the spec's) its size is
 #: implausible.
 SIZE_BAND = (0.8, 1.25)
-#: Triangles above which a user mesh is taken with a warning. A 1/4-20 bolt meshed at
-#: threadmate's default chord (5e-6 in) has about 53,000 over its default length; the
-#: set-up of the contact stages grows with the count (measured on 2 cores: 535,000
-#: triangles 17 s and 0.8 GB before the first rest state, 2.6 million 135 s and 3 GB).
-WARN_FACES = 500_000
-#: Triangles above which a user mesh is refused unless the caller raises the limit
-#: (``max_faces``).
-MAX_FACES = 2_000_000
 # Height over longest edge below which a triangle has no area (of the mesh's size).
 _DEGENERATE = 1e-9
 # Most triangles of three vertices in a line that are closed one by one (each a pass).
@@ -209,7 +200,7 @@ def load_mesh(
     body: Literal["bolt", "nut"],
     spec: ThreadSpec | None = None,
     units: str | None = None,
-    max_faces: int = MAX_FACES,
+    max_faces: int | None = MAX_FACES,
 ) -> trimesh.Trimesh:
     """Load and validate a user mesh of a bolt or nut (STL, OBJ or PLY).
 
@@ -228,10 +219,10 @@ def load_mesh(
         The file's length units when they differ from the spec's: the mesh is scaled
         into the spec's units. Default: the units an STL declares in its header
         (:func:`stl_units`), else the spec's.
-    max_faces : int
-        Most triangles taken (default :data:`MAX_FACES`); above :data:`WARN_FACES` (or
-        ``max_faces``, if lower) a :class:`MeshWarning` says the contact stages will be
-        slow.
+    max_faces : int, optional
+        Most triangles taken (default, and None: ``threadmate._validate.MAX_FACES``);
+        above ``threadmate._validate.WARN_FACES`` (or ``max_faces``, if lower) a
+        :class:`MeshWarning` says the contact stages will be slow.
 
     Returns
     -------
@@ -252,10 +243,9 @@ def load_mesh(
     """
     if body not in ("bolt", "nut"):
         raise MeshError(f"body must be 'bolt' or 'nut', got {body!r}")
-    if units is not None and units not in ("in", "mm"):
+    if units is not None and units not in MM_PER_UNIT:
         raise MeshError(f"units must be 'in' or 'mm', got {units!r}")
-    if isinstance(max_faces, bool) or not isinstance(max_faces, int) or max_faces < 4:
-        raise MeshError(f"max_faces must be a whole number of at least 4, got {max_faces!r}")
+    max_faces = check_max_faces(max_faces)
     path = Path(path)
     kind = _FORMATS.get(path.suffix.lower())
     if kind is None:
@@ -283,7 +273,7 @@ def load_mesh(
         )
     if spec is not None:
         if units is not None and units != spec.units:
-            mesh.apply_scale(MM_PER_UNIT[units] / MM_PER_UNIT[spec.units])
+            mesh.apply_scale(unit_scale(units, spec.units))
         _check_size(mesh, body, spec, name)
     _check_frame(mesh, body, name)
     return mesh
@@ -350,7 +340,7 @@ def _check_count(count: int, max_faces: int, name: str) -> None:
             f"{name} has {count:,} triangles, more than the {max_faces:,} threadmate "
             "takes (the contact stages would take very long and much memory): export it "
             "more coarsely (a chord of a thousandth of the pitch is ample), or raise the "
-            "limit (max_faces)"
+            f"limit: max_faces={count}"
         )
     if count > min(WARN_FACES, max_faces):
         warnings.warn(
@@ -575,16 +565,16 @@ def _check_size(mesh: trimesh.Trimesh, body: str, spec: ThreadSpec, name: str) -
     if lo <= got / expected <= hi:
         return
     hint = ""
-    mm_per_in = MM_PER_UNIT["in"]
+    mm_per_in = unit_scale("in", "mm")
     # In the other units, the thread lies over the band in those units' numbers.
     if spec.units == "in":
         other = _radial_extent(mesh, body, _band(body, spec, 1 / mm_per_in))
         if lo <= other / mm_per_in / expected <= hi:
-            hint = ": it looks like mm (give units='mm', --mesh-units mm, or convert it)"
+            hint = ": it looks like mm (give its units, mesh_units='mm', or convert it)"
     else:
         other = _radial_extent(mesh, body, _band(body, spec, mm_per_in))
         if lo <= other * mm_per_in / expected <= hi:
-            hint = ": it looks like inches (give units='in', --mesh-units in, or convert it)"
+            hint = ": it looks like inches (give its units, mesh_units='in', or convert it)"
     where = (
         f"z 0 to {band[1]:.6g} {u}, the spec's bolt length from the tip"
         if body == "bolt"

@@ -26,14 +26,13 @@ from typing import TYPE_CHECKING, Literal, SupportsFloat, cast, overload
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._angles import SQRT3
 from .._errors import SpecError
 
 if TYPE_CHECKING:
     from ._spec import ThreadSpec
 
 __all__ = ["Profile", "bolt_profile", "nut_profile", "check_fillets", "BOLT_REGIONS", "NUT_REGIONS"]
-
-SQRT3 = math.sqrt(3.0)
 
 #: The nine regions of the bolt, in conventions.md order.
 BOLT_REGIONS = ("crest", "+CF", "+F", "+RF", "root", "-RF", "-F", "-CF", "base")
@@ -297,7 +296,7 @@ class Profile:
         """
         t, r = np.broadcast_arrays(wrap_t(t, self.pitch), np.asarray(r, dtype=float))
         tf, rf = t.ravel(), r.ravel()
-        p0, d, inv_dd, centre, rho, lo, hi, side = self._pieces
+        p0, d, inv_dd, centre, rho, lo, hi, side, bulge = self._pieces
         shifts = np.array([-self.pitch, 0.0, self.pitch])
         out = np.empty(tf.size)
         step = 20_000  # bounds the (points x shifts x pieces) temporaries
@@ -308,9 +307,18 @@ class Profile:
             w = np.clip((du * d[:, 0] + dr * d[:, 1]) * inv_dd, 0.0, 1.0)
             best = np.hypot(du - w * d[:, 0], dr - w * d[:, 1]).min(axis=(1, 2))
             if len(rho):
+                # The nearest point of an arc's circle is on the ray from its centre
+                # through the point; it is the arc's when it lies within the arc's span
+                # of u and on the arc's side of the centre (above it at the major corner,
+                # below at the minor). Elsewhere an end point is nearest, and the end
+                # points are pieces of their own.
                 uu = u * side  # mirror the negative side onto u >= 0
-                radial = np.abs(np.hypot(uu - centre[:, 0], rr - centre[:, 1]) - rho)
-                radial = np.where((uu >= lo) & (uu <= hi), radial, np.inf)
+                du, dr = uu - centre[:, 0], rr - centre[:, 1]
+                dist = np.hypot(du, dr)
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    qu = centre[:, 0] + rho * du / dist
+                on_arc = (qu >= lo) & (qu <= hi) & (dr * bulge >= 0.0) & (dist > 0.0)
+                radial = np.where(on_arc, np.abs(dist - rho), np.inf)
                 best = np.minimum(best, radial.min(axis=(1, 2)))
             out[i : i + step] = best
         return out.reshape(t.shape)
@@ -320,7 +328,8 @@ class Profile:
         """The profile over one pitch as straight pieces (flats, flanks, and the arcs' end
         points as zero-length pieces: they cover the outside of an arc's angular span) and
         fillet arcs, both sides of ``u = 0``: ``(start, direction, 1/|direction|^2 or 0,
-        arc centre, radius, u from, u to, side)``."""
+        arc centre, radius, u from, u to, side, bulge)``, ``bulge`` +1 where the arc lies
+        above its centre (the major corner), -1 below (the minor)."""
         a1, a2, a3, a4 = self.breakpoints
         h = self.pitch / 2
         pts = [
@@ -337,15 +346,15 @@ class Profile:
             lines += [(q[0], q[1]), (q[2], q[3]), (q[4], q[5])]
             lines += [(q[k], q[k]) for k in (1, 2, 3, 4)]
             if self.fillet_hi > 0:
-                arcs.append((*self.centre_hi, self.fillet_hi, a1, a2, sd))
+                arcs.append((*self.centre_hi, self.fillet_hi, a1, a2, sd, 1.0))
             if self.fillet_lo > 0:
-                arcs.append((*self.centre_lo, self.fillet_lo, a3, a4, sd))
+                arcs.append((*self.centre_lo, self.fillet_lo, a3, a4, sd, -1.0))
         start = np.array([a for a, _ in lines])
         d = np.array([b for _, b in lines]) - start
         dd = np.einsum("ij,ij->i", d, d)
         inv_dd = np.divide(1.0, dd, out=np.zeros_like(dd), where=dd > 0)
-        arc = np.array(arcs).reshape(-1, 6)
-        return (start, d, inv_dd, arc[:, :2], arc[:, 2], arc[:, 3], arc[:, 4], arc[:, 5])
+        arc = np.array(arcs).reshape(-1, 7)
+        return (start, d, inv_dd, arc[:, :2], *(arc[:, k] for k in range(2, 7)))
 
 
 def bolt_profile(spec: ThreadSpec) -> Profile:

@@ -6,7 +6,6 @@ at a material condition). Every length is in ``spec.units``.
 
 from __future__ import annotations
 
-import json
 import math
 import tomllib
 from dataclasses import asdict, dataclass, field, replace
@@ -15,9 +14,11 @@ from typing import Any
 
 import tomli_w
 
+from .._angles import SQRT3
 from .._errors import SpecError
 from .._io import atomic_write_text, read_utf8
-from .._json import parse_json
+from .._json import json_text, parse_json
+from .._units import MM_PER_UNIT
 from .._validate import check_length, check_number, check_range
 from ._ends import (
     BoltPoint,
@@ -47,9 +48,7 @@ def filled(value: float | None) -> float:
 
 
 #: Length units a spec may declare.
-UNITS = ("in", "mm")
-
-_SQRT3 = math.sqrt(3.0)
+UNITS = tuple(MM_PER_UNIT)
 
 # Bounds on a spec beyond the range of each length (MIN_LENGTH..MAX_LENGTH of the spec's
 # units, see threadmate._validate), each with room to spare around every real thread:
@@ -159,7 +158,7 @@ class ThreadSpec:
     @property
     def axial_clearance(self) -> float:
         """Flank-to-flank axial play of the pair: (nut PD - bolt PD) / sqrt(3)."""
-        return (self.nut.pitch_diameter - self.bolt.pitch_diameter) / _SQRT3
+        return (self.nut.pitch_diameter - self.bolt.pitch_diameter) / SQRT3
 
     # -- mapping form ------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
@@ -213,7 +212,7 @@ class ThreadSpec:
 
     def to_json(self) -> str:
         """The spec as a JSON document."""
-        return json.dumps(self.to_dict(), indent=2) + "\n"
+        return json_text(self.to_dict())
 
     def to_toml(self) -> str:
         """The spec as a TOML document."""
@@ -365,11 +364,11 @@ def _validate(spec: ThreadSpec) -> None:
     # The 60-degree flanks span sqrt(3)/2 * p radially per side; a pitch diameter band
     # wider than the profile allows means the diameters were given for another pitch.
     for name, body in (("bolt", spec.bolt), ("nut", spec.nut)):
-        if body.major - body.minor > 2.0 * _SQRT3 * p / 2.0 * 1.0001 + 1e-12:
+        if body.major - body.minor > 2.0 * SQRT3 * p / 2.0 * 1.0001 + 1e-12:
             raise SpecError(
                 f"spec key '{name}.minor' ({body.minor:g}): the thread depth "
                 f"{(body.major - body.minor) / 2:g} exceeds the sharp 60-degree profile "
-                f"depth {_SQRT3 * p / 2:g} for pitch {p:g}; are bolt and nut of the same "
+                f"depth {SQRT3 * p / 2:g} for pitch {p:g}; are bolt and nut of the same "
                 f"pitch?"
             )
     if spec.bolt.pitch_diameter > spec.nut.pitch_diameter:

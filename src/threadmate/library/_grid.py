@@ -19,8 +19,9 @@ from typing import Any, cast
 
 import numpy as np
 
+from .._angles import phase_difference, wrap_phase
 from .._errors import InputError
-from .._validate import MAX_AXIS_VALUES, check_number
+from .._validate import MAX_AXIS_VALUES, check_number, check_phase
 from ..contact import MAX_TILT as _CONTACT_MAX_TILT
 
 __all__ = ["Grid", "parse_range", "DEFAULT_GRID", "MAX_TILT"]
@@ -40,9 +41,9 @@ def _number(text: str, option: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise InputError(f"--{option}: {text.strip()!r} is not a number of degrees") from None
+        raise InputError(f"{option}: {text.strip()!r} is not a number of degrees") from None
     if not math.isfinite(value):
-        raise InputError(f"--{option}: {text.strip()!r} is not a finite angle")
+        raise InputError(f"{option}: {text.strip()!r} is not a finite angle")
     return value
 
 
@@ -51,17 +52,17 @@ def _span(text: str, option: str) -> list[float]:
     parts = text.split(":")
     if len(parts) != 3:
         raise InputError(
-            f"--{option}: {text!r} is not START:STOP:STEP (nor a number or a comma list)"
+            f"{option}: {text!r} is not START:STOP:STEP (nor a number or a comma list)"
         )
     start, stop, step = (_number(p, option) for p in parts)
     if step <= 0:
-        raise InputError(f"--{option}: step {step:g} in {text!r} must be positive")
+        raise InputError(f"{option}: step {step:g} in {text!r} must be positive")
     if stop < start:
-        raise InputError(f"--{option}: stop {stop:g} is below start {start:g} in {text!r}")
+        raise InputError(f"{option}: stop {stop:g} is below start {start:g} in {text!r}")
     n = math.floor((stop - start) / step + 1e-9)
     if n + 1 > MAX_AXIS_VALUES:  # counted before a value is made
         raise InputError(
-            f"--{option}: {text!r} gives {n + 1:,} values, more than the "
+            f"{option}: {text!r} gives {n + 1:,} values, more than the "
             f"{MAX_AXIS_VALUES:,} a grid angle holds; use a coarser step"
         )
     return [start + k * step for k in range(n + 1)]
@@ -79,8 +80,9 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
     values : str, float or sequence of float
         The values.
     option : {"roll", "pitch", "phase"}
-        The angle they are for. Roll and pitch must lie within +/-45 degrees; phases are
-        taken modulo 360 with repeats dropped (``0:360:5`` is 72 phases).
+        The angle they are for. Roll and pitch must lie within +/-:data:`MAX_TILT`
+        degrees; phases within +/-``threadmate._validate.MAX_PHASE`` (the one limit of a
+        phase) are taken modulo 360 with repeats dropped (``0:360:5`` is 72 phases).
 
     Returns
     -------
@@ -90,9 +92,9 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
     Raises
     ------
     InputError
-        A malformed range, a zero or negative step, a non-number, an empty set, a tilt
-        beyond 45 degrees or more than ``MAX_AXIS_VALUES`` (100,000) values; the message
-        names ``--option``.
+        A malformed range, a zero or negative step, a non-number, an empty set, a tilt or
+        a phase out of range, or more than ``threadmate._validate.MAX_AXIS_VALUES``
+        values; the message names ``option``.
     """
     if option not in ("roll", "pitch", "phase"):
         raise InputError(f"unknown grid angle {option!r}: expected roll, pitch or phase")
@@ -100,29 +102,29 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
     if isinstance(values, str):
         items = [s.strip() for s in values.split(",")]
         if not any(items):
-            raise InputError(f"--{option}: no values given")
+            raise InputError(f"{option}: no values given")
         for item in items:
             if not item:
-                raise InputError(f"--{option}: empty item in {values!r}")
+                raise InputError(f"{option}: empty item in {values!r}")
             raw += _span(item, option) if ":" in item else [_number(item, option)]
     elif isinstance(values, Iterable):
         for v in values:
-            raw.append(check_number(f"--{option} (degrees)", v))
+            raw.append(check_number(f"{option} (degrees)", v))
         if not raw:
-            raise InputError(f"--{option}: no values given")
+            raise InputError(f"{option}: no values given")
     elif isinstance(values, numbers.Real):
-        raw = [check_number(f"--{option} (degrees)", values)]
+        raw = [check_number(f"{option} (degrees)", values)]
     else:
         raise InputError(
-            f"--{option}: expected START:STOP:STEP, a number or a list, got {type(values).__name__}"
+            f"{option}: expected START:STOP:STEP, a number or a list, got {type(values).__name__}"
         )
     if option == "phase":
-        raw = [v % 360.0 for v in raw]
+        raw = [wrap_phase(check_phase(option, v)) for v in raw]  # the one phase limit
     else:
         worst = max(raw, key=abs)
         if abs(worst) > MAX_TILT + ANGLE_TOLERANCE:
             raise InputError(
-                f"--{option}: {worst:g} deg is out of range: roll and pitch "
+                f"{option}: {worst:g} deg is out of range: roll and pitch "
                 f"must lie within +/-{MAX_TILT:g} deg"
             )
     out: list[float] = []
@@ -133,7 +135,7 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
         out.pop()  # 359.9999999999 is phase 0 again
     if len(out) > MAX_AXIS_VALUES:
         raise InputError(
-            f"--{option}: {len(out):,} values, more than the {MAX_AXIS_VALUES:,} a grid "
+            f"{option}: {len(out):,} values, more than the {MAX_AXIS_VALUES:,} a grid "
             "angle holds; use a coarser step"
         )
     return tuple(out)
@@ -224,11 +226,12 @@ class Grid:
         (roll, pitch, phase) : tuple of float
             The grid values.
         """
-        for name, v in (("roll", roll), ("pitch", pitch), ("phase", phase)):
-            check_number(f"--{name} (degrees)", v)
+        for name, v in (("roll", roll), ("pitch", pitch)):
+            check_number(f"{name} (degrees)", v)
+        check_phase("phase", phase)
         i = int(np.argmin(np.abs(np.asarray(self.roll) - roll)))
         j = int(np.argmin(np.abs(np.asarray(self.pitch) - pitch)))
-        d = np.abs((np.asarray(self.phase) - phase + 180.0) % 360.0 - 180.0)
+        d = np.abs(phase_difference(np.asarray(self.phase), phase))
         k = int(np.argmin(d))
         return self.config_id(i, j, k), (self.roll[i], self.pitch[j], self.phase[k])
 
@@ -245,13 +248,14 @@ class Grid:
         moved = not (
             math.isclose(on_grid[0], roll, abs_tol=ANGLE_TOLERANCE)
             and math.isclose(on_grid[1], pitch, abs_tol=ANGLE_TOLERANCE)
-            and abs((on_grid[2] - phase + 180.0) % 360.0 - 180.0) <= ANGLE_TOLERANCE
+            and abs(phase_difference(on_grid[2], phase)) <= ANGLE_TOLERANCE
         )
         if moved and not nearest:
             raise InputError(
-                f"roll {roll:g}, pitch {pitch:g}, phase {phase:g} is not on the library's "
-                f"grid ({self.describe()}); the nearest configuration is roll {on_grid[0]:g}, "
-                f"pitch {on_grid[1]:g}, phase {on_grid[2]:g}: ask for it, or pass --nearest"
+                f"the configuration roll {roll:g}, pitch {pitch:g}, phase {phase:g} is not on "
+                f"the library's grid ({self.describe()}); the nearest configuration is roll "
+                f"{on_grid[0]:g}, pitch {on_grid[1]:g}, phase {on_grid[2]:g}: ask for it, or "
+                "pass nearest=True"
             )
         return cid, on_grid, moved
 

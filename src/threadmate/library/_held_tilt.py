@@ -16,7 +16,7 @@ For one held tilt and the grid's phases, in this order:
    (:meth:`_Tilt.arrival`): it is then in that state's basin. So does one that reaches,
    either side of a jump between grid phases, a state another continuation passed (the
    same, and within the continuation's phase tolerance). A continuation that neither
-   snaps nor joins stops after ``MAX_TURNS`` turns.
+   snaps nor joins stops after ``MAX_FOLLOW_TURNS`` turns.
 
 The rows follow the state record of :mod:`threadmate.contact` (``STATE_COLUMNS``).
 """
@@ -30,7 +30,9 @@ from typing import Any
 
 import numpy as np
 
+from .._angles import axis_angle, phase_difference, wrap_phase
 from ..contact import (
+    ERROR_CLASS,
     Continuation,
     Leg,
     MechanicalState,
@@ -42,10 +44,10 @@ from ..contact import (
     state_schema,
 )
 
-__all__ = ["states_of_held_tilt", "MAX_TURNS", "JOIN_TILT"]
+__all__ = ["states_of_held_tilt", "MAX_FOLLOW_TURNS", "JOIN_TILT"]
 
 #: Turns after which a continuation that neither snapped nor joined another stops.
-MAX_TURNS = 2.0
+MAX_FOLLOW_TURNS = 2.0
 #: Largest angle between bolt axes (degrees) of two states taken as one.
 JOIN_TILT = 0.05
 #: Largest distance between compliance centres, in pitches, of two states taken as one.
@@ -69,7 +71,7 @@ class _Tilt:
         self.rows: dict[str, dict[str, Any]] = {}
         self.states: dict[str, MechanicalState] = {}
         self.serial = 0
-        self.floor = 1e-4 * mech.compliance.force
+        self.floor = mech.load_carrying
         self.join_distance = JOIN_DISTANCE * mech.spec.pitch
         self.events: list[str] = []  # states either side of a jump between grid phases
 
@@ -100,7 +102,6 @@ class _Tilt:
         torque_peak: float = math.nan,
     ) -> None:
         a, b = self.states[src], self.states[dst]
-        cos = float(np.clip(_axis(a) @ _axis(b), -1.0, 1.0))
         self.rows[src].update(
             next_id=dst,
             transition=kind,
@@ -110,12 +111,13 @@ class _Tilt:
             work_potential=work_potential,
             torque_peak=torque_peak,
             drop=float(a.centre[2] - b.centre[2]),
-            tilt_change=math.degrees(math.acos(cos)),
+            tilt_change=axis_angle(_axis(a), _axis(b)),
         )
 
     def link_leg(self, src: str, dst: str, leg: Leg, snap_window: float = math.nan) -> None:
         """The transition ``leg`` from ``src`` to ``dst`` (with its window, at a snap)."""
         self.rows[src]["snap_window"] = snap_window if leg.kind == "snap" else math.nan
+        self.rows[src]["click"] = leg.click
         self.link(
             src,
             dst,
@@ -142,8 +144,7 @@ class _Tilt:
             return False
         if math.dist(a.centre, b.centre) > self.join_distance:
             return False
-        cos = float(np.clip(_axis(a) @ _axis(b), -1.0, 1.0))
-        return math.degrees(math.acos(cos)) <= JOIN_TILT
+        return axis_angle(_axis(a), _axis(b)) <= JOIN_TILT
 
     def arrival(self, known: list[str]) -> Callable[[MechanicalState], MechanicalState | None]:
         """For a continuation's last descent to a grid phase: the rest state among
@@ -165,7 +166,7 @@ class _Tilt:
         ``s``'s phase and the same as ``s`` (:meth:`same`)."""
         for o in self.events:
             t = self.states[o]
-            gap = abs((t.phase - s.phase + 180.0) % 360.0 - 180.0)
+            gap = abs(phase_difference(t.phase, s.phase))
             if gap <= phase_tolerance and self.same(t, s):
                 return o
         return None
@@ -179,9 +180,9 @@ class _Tilt:
             state_id=sid,
             held_roll=self.held_roll,
             held_pitch=self.held_pitch,
-            phase=float(phase % 360.0),
+            phase=float(wrap_phase(phase)),
             role=role,
-            classification="error",
+            classification=ERROR_CLASS,
             error=f"{type(exc).__name__}: {exc}",
         )
         self.rows[sid] = row
@@ -192,7 +193,7 @@ def _turns_between(phases: Sequence[float], sign: int) -> list[float]:
     n = len(phases)
     if n == 1:
         return [360.0]
-    return [(sign * (phases[(j + 1) % n] - phases[j])) % 360.0 for j in range(n)]
+    return [wrap_phase(sign * (phases[(j + 1) % n] - phases[j])) for j in range(n)]
 
 
 def states_of_held_tilt(
@@ -267,7 +268,7 @@ def states_of_held_tilt(
                 at = turned.decided_phase
                 tilt.rows[sid].update(
                     clockwise=turned.outcome,
-                    clockwise_phase=math.nan if at is None else at % 360.0,
+                    clockwise_phase=math.nan if at is None else wrap_phase(at),
                 )
             except Exception as exc:  # noqa: BLE001 - keep the start and its search
                 tilt.rows[sid]["error"] = f"clockwise: {type(exc).__name__}: {exc}"
@@ -291,11 +292,11 @@ def _continue(
     at_phase: list[list[str]],
 ) -> None:
     """Follow the continuation from state ``sid`` at grid phase ``j`` until it snaps,
-    joins a state already known at a grid phase, or has turned ``MAX_TURNS``."""
+    joins a state already known at a grid phase, or has turned ``MAX_FOLLOW_TURNS``."""
     n = len(grid)
     phase = grid[j]  # unwrapped: the continuation's phases keep growing
     turned = 0.0
-    while not engaged(tilt.states[sid]) and turned < 360.0 * MAX_TURNS:
+    while not engaged(tilt.states[sid]) and turned < 360.0 * MAX_FOLLOW_TURNS:
         k = (j + 1) % n
         try:
             legs, events, states = walk.advance(

@@ -44,9 +44,12 @@ import pyarrow as pa
 import pyarrow.dataset as ds
 import pyarrow.parquet as pq
 
+from .._angles import phase_difference
 from .._errors import InputError, LibraryError
 from .._io import atomic_path, atomic_write_text
+from .._json import json_text
 from ._grid import Grid
+from ._models import MODELS
 
 __all__ = [
     "METADATA_FILE",
@@ -66,7 +69,6 @@ __all__ = [
     "sweep_lock",
     "lock_holder",
     "LOCK_FILE",
-    "MODELS",
 ]
 
 #: Name of the metadata file inside a library directory.
@@ -83,8 +85,6 @@ FORMAT_VERSION = 3
 #: The oldest format version a mechanics library is read in: before it, snaps were not
 #: proved by screwing in (the ``engaged`` column).
 MECHANICS_SINCE = 3
-#: The models a library can hold: the mechanics' states, or the thesis's fixed-pivot rows.
-MODELS = ("mechanics", "thesis")
 _PART = re.compile(r"^part-(\d{5,})\.parquet$")
 
 
@@ -99,7 +99,7 @@ def library_schema(metadata: dict[str, Any] | None = None, model: str | None = N
     attached: dict[bytes | str, bytes | str] | None = (
         None
         if metadata is None
-        else {SCHEMA_KEY: json.dumps(part_metadata(metadata), sort_keys=True).encode()}
+        else {SCHEMA_KEY: json_text(part_metadata(metadata), None, sort_keys=True, end="").encode()}
     )
     return state_schema(attached) if model == "mechanics" else thesis_schema(attached)
 
@@ -194,9 +194,7 @@ def write_metadata(path: str | os.PathLike[str], metadata: dict[str, Any]) -> Pa
     """Write the metadata file atomically (creating the directory)."""
     path = Path(path)
     path.mkdir(parents=True, exist_ok=True)
-    return atomic_write_text(
-        path / METADATA_FILE, json.dumps(metadata, indent=2, sort_keys=True) + "\n"
-    )
+    return atomic_write_text(path / METADATA_FILE, json_text(metadata, sort_keys=True))
 
 
 def part_files(path: str | os.PathLike[str]) -> list[Path]:
@@ -344,7 +342,7 @@ def _check_fit(path: Path, meta: dict[str, Any], grid: Grid, dataset: ds.Dataset
     want = grid.configurations(ids)
     got = rows[[*names, "phase"]].to_numpy(dtype=float)
     tilt_off = np.abs(got[:, :2] - want[:, :2]).max(axis=1) > _FIT_TOLERANCE
-    phase_off = np.abs((got[:, 2] - want[:, 2] + 180.0) % 360.0 - 180.0) > _FIT_TOLERANCE
+    phase_off = np.abs(phase_difference(got[:, 2], want[:, 2])) > _FIT_TOLERANCE
     off = tilt_off | (phase_off & is_start)
     if off.any():
         i = int(np.flatnonzero(off)[0])
@@ -545,7 +543,7 @@ def query(
     """
     lib = _open(path)
     meta = lib.meta
-    cid, on_grid, snapped = lib.grid.locate(roll, pitch, phase, nearest=nearest)
+    cid, on_grid, moved = lib.grid.locate(roll, pitch, phase, nearest=nearest)
     record = None
     if lib.parts:
         rows = _starts(lib, filter=ds.field("config_id") == cid).to_pylist()
@@ -553,7 +551,7 @@ def query(
     return {
         "requested": {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)},
         "grid": {"roll": on_grid[0], "pitch": on_grid[1], "phase": on_grid[2]},
-        "snapped": snapped,
+        "snapped": moved,
         "config_id": cid,
         "units": meta["units"],
         "model": meta["model"],
@@ -771,7 +769,7 @@ def sweep_lock(path: str | os.PathLike[str]) -> Iterator[Path]:
             "started": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
         }
         os.ftruncate(fd, 0)
-        os.pwrite(fd, (json.dumps(doc) + "\n").encode(), 0)
+        os.pwrite(fd, json_text(doc, None).encode(), 0)
         yield lock
     finally:
         _HELD.discard(fd)

@@ -24,6 +24,7 @@ import pandas as pd
 
 from .._errors import InputError
 from .._figures import new_figure, save_figure
+from ..contact import ERROR_CLASS, IN_PHASE, NO_CONTACT, QUASI_STABLE, STABLE, UNSTABLE
 from ._grid import Grid
 from ._store import configurations, load
 
@@ -42,25 +43,25 @@ __all__ = [
 
 #: Classifications in report order: the thesis's three states, then the others. The
 #: mechanics' classes are the first four (``threadmate.contact.REST_CLASSES``).
-CLASS_ORDER = ("unstable", "quasi-stable", "stable", "in-phase", "no-contact", "error")
+CLASS_ORDER = (UNSTABLE, QUASI_STABLE, STABLE, IN_PHASE, NO_CONTACT, ERROR_CLASS)
 #: The classes each model can give a configuration.
 _MODEL_CLASSES = {
     "thesis": CLASS_ORDER,
-    "mechanics": ("unstable", "quasi-stable", "stable", "in-phase", "error"),
+    "mechanics": (UNSTABLE, QUASI_STABLE, STABLE, IN_PHASE, ERROR_CLASS),
 }
 #: The classes among which ``most_common`` and ``least_common`` are picked: the thesis's
 #: three states, or the rest states a mechanics drop can reach.
 _RANKED = {
-    "thesis": ("unstable", "quasi-stable", "stable"),
-    "mechanics": ("quasi-stable", "stable", "in-phase"),
+    "thesis": (UNSTABLE, QUASI_STABLE, STABLE),
+    "mechanics": (QUASI_STABLE, STABLE, IN_PHASE),
 }
 _COLOURS = {
-    "unstable": "#d62728",
-    "quasi-stable": "#ff9f1c",
-    "stable": "#2ca02c",
-    "in-phase": "#1f77b4",
-    "no-contact": "#c7c7c7",
-    "error": "#000000",
+    UNSTABLE: "#d62728",
+    QUASI_STABLE: "#ff9f1c",
+    STABLE: "#2ca02c",
+    IN_PHASE: "#1f77b4",
+    NO_CONTACT: "#c7c7c7",
+    ERROR_CLASS: "#000000",
 }
 _NOT_COMPUTED = "#ffffff"
 _COLUMNS = ["roll", "pitch", "phase", "classification", "n_contacts", "region_combination"]
@@ -145,7 +146,7 @@ def _class_index(df: pd.DataFrame, grid: Grid) -> np.ndarray:
     j = np.searchsorted(np.asarray(grid.pitch), df["pitch"].to_numpy())
     k = np.searchsorted(np.asarray(grid.phase), df["phase"].to_numpy())
     lookup = {c: n for n, c in enumerate(CLASS_ORDER)}
-    codes = df["classification"].map(lookup).fillna(lookup["error"]).to_numpy(np.int16)
+    codes = df["classification"].map(lookup).fillna(lookup[ERROR_CLASS]).to_numpy(np.int16)
     cube[
         np.clip(i, 0, grid.shape[0] - 1),
         np.clip(j, 0, grid.shape[1] - 1),
@@ -198,7 +199,7 @@ def summary(library: Library, phase: float | None = None) -> dict[str, Any]:
         A library directory, rows from :func:`load`, or one row per configuration as
         :func:`configurations` gives them.
     phase : float, optional
-        Also count the configurations at this phase (snapped to the nearest grid phase;
+        Also count the configurations at this phase (moved to the nearest grid phase;
         default the first grid phase, as :func:`plot_stability_map`).
 
     Returns

@@ -39,17 +39,25 @@ import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
 from .._io import remove_stale_temporaries
-from .._validate import check_search_steps, check_starts, check_whole, check_workers
+from .._validate import MAX_FACES, check_max_faces, check_starts, check_whole, check_workers
 from .._version import __version__
-from ..contact import CONTINUATION_STEP, SCREW_IN, Compliance, blank_row, check_continuation
+from ..contact import (
+    CONTINUATION_STEP,
+    ERROR_CLASS,
+    PHASE_TOLERANCE,
+    SCREW_IN,
+    Compliance,
+    blank_row,
+    check_continuation,
+)
 from ..geometry import ThreadSpec, check_chord
 from ._grid import Grid, Values
-from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_TURNS, states_of_held_tilt
+from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_FOLLOW_TURNS, states_of_held_tilt
+from ._models import check_model
 from ._store import (
     FORMAT,
     FORMAT_VERSION,
     METADATA_FILE,
-    MODELS,
     compare_metadata,
     done_ids,
     library_schema,
@@ -100,12 +108,15 @@ class Job:
     model: str
     compliance: Compliance
     step: float = CONTINUATION_STEP
-    phase_tolerance: float = 0.01
+    phase_tolerance: float = PHASE_TOLERANCE
     analyzer: Callable[..., Any] | None = None
     bolt_mesh: MeshFile | None = None
     nut_mesh: MeshFile | None = None
     mesh_units: str | None = None
     clockwise: bool = False
+    #: Most triangles a mesh from CAD may have (:func:`threadmate.geometry.load_mesh`):
+    #: a limit of the run, not of its results (not in :attr:`key` or the metadata).
+    max_faces: int = MAX_FACES
 
     @property
     def key(self) -> str:
@@ -127,10 +138,12 @@ class Job:
         """The analyser's keyword arguments for the meshes from CAD (none without)."""
         if self.bolt_mesh is None and self.nut_mesh is None:
             return {}
+        limit = {} if self.max_faces == MAX_FACES else {"max_faces": self.max_faces}
         return {
             "bolt_mesh": None if self.bolt_mesh is None else self.bolt_mesh.path,
             "nut_mesh": None if self.nut_mesh is None else self.nut_mesh.path,
             "mesh_units": self.mesh_units,
+            **limit,  # a raised or lowered limit only (an analyser factory may not take it)
         }
 
 
@@ -237,7 +250,7 @@ def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]
                 roll=float(roll),
                 pitch=float(pitch),
                 phase=float(phase),
-                classification="error",
+                classification=ERROR_CLASS,
                 error=f"{type(exc).__name__}: {exc}",
             )
         rec["config_id"] = int(cid)
@@ -336,7 +349,7 @@ class _Dask:
             import distributed
         except ImportError:
             raise InputError(
-                f"--scheduler {address} needs Dask distributed, which is not "
+                f"scheduler={address!r} needs Dask distributed, which is not "
                 f"installed: {_DASK_HINT}"
             ) from None
         self._distributed = distributed
@@ -395,7 +408,7 @@ def _check_execution(workers: int | None, scheduler: str | None) -> None:
     if workers is not None:
         check_workers(workers)
     if scheduler is not None and not isinstance(scheduler, str):
-        raise InputError(f"--scheduler must be an address, 'local' or 'pool', got {scheduler!r}")
+        raise InputError(f"scheduler must be an address, 'local' or 'pool', got {scheduler!r}")
     if scheduler is not None and scheduler.strip():
         _check_scheduler(scheduler)
 
@@ -409,7 +422,7 @@ def _check_scheduler(scheduler: str) -> str:
     if text in ("local", "pool") or _ADDRESS.match(text):
         return text
     raise InputError(
-        f"--scheduler {scheduler!r} is not 'pool', 'local' or a Dask scheduler "
+        f"scheduler {scheduler!r} is not 'pool', 'local' or a Dask scheduler "
         "address such as tcp://host:8786"
     )
 
@@ -466,7 +479,7 @@ def _request_metadata(job: Job) -> dict[str, Any]:
             "phase_tolerance": job.phase_tolerance,
             "screw_in": SCREW_IN,
             "clockwise": job.clockwise,
-            "max_turns": MAX_TURNS,
+            "max_turns": MAX_FOLLOW_TURNS,
             "join_tilt": JOIN_TILT,
             "join_distance_pitches": JOIN_DISTANCE,
             "units": "degrees; turns; pitches",
@@ -495,7 +508,7 @@ def _mesh_metadata(mesh: MeshFile | None) -> dict[str, Any] | None:
 
 
 def _mesh_files(
-    spec: ThreadSpec, bolt_mesh: Any, nut_mesh: Any, mesh_units: str | None
+    spec: ThreadSpec, bolt_mesh: Any, nut_mesh: Any, mesh_units: str | None, max_faces: int
 ) -> tuple[MeshFile | None, MeshFile | None]:
     """The CAD meshes of a sweep, validated here (before any library is written) as the
     workers will load them."""
@@ -511,7 +524,13 @@ def _mesh_files(
                 f"{kind}_mesh must be a mesh file path for a sweep (its workers load it), "
                 f"got {type(given).__name__}"
             )
-        doc = check_mesh_file(os.fspath(given), kind, spec, mesh_units)  # type: ignore[arg-type]
+        doc = check_mesh_file(
+            os.fspath(given),
+            kind,  # type: ignore[arg-type]
+            spec,
+            mesh_units,
+            max_faces=max_faces,
+        )
         out.append(MeshFile(str(Path(given).absolute()), doc["units"], doc["sha256"]))
     return out[0], out[1]
 
@@ -571,7 +590,7 @@ def sweep(
     model: str = "mechanics",
     compliance: Compliance | None = None,
     step: float = CONTINUATION_STEP,
-    phase_tolerance: float = 0.01,
+    phase_tolerance: float = PHASE_TOLERANCE,
     progress: ProgressCallback | None = None,
     max_chunks: int | None = None,
     analyzer: Callable[..., Any] | None = None,
@@ -580,6 +599,7 @@ def sweep(
     mesh_units: str | None = None,
     clockwise: bool = False,
     max_starts: int | None = None,
+    max_faces: int | None = None,
 ) -> Path | pd.DataFrame:
     """Build (or resume) the contact-state library of a thread pair over a grid.
 
@@ -653,6 +673,9 @@ def sweep(
         ``threadmate._validate.MAX_STARTS``, 100,000; at most 10,000,000). A larger grid is
         refused, before anything is allocated or written, with its count and an estimate
         of the time it would take.
+    max_faces : int, optional
+        Most triangles a mesh from CAD may have (default
+        ``threadmate._validate.MAX_FACES``; see :func:`threadmate.geometry.load_mesh`).
 
     Returns
     -------
@@ -670,29 +693,28 @@ def sweep(
     """
     if not isinstance(spec, ThreadSpec):
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
+    model = check_model(model)
     grid = Grid.parse(roll, pitch, phase)
     _check_execution(workers, scheduler)
     n_workers = workers or _cpu_count()
     what = grid.describe(size=False)
-    check_starts(grid.size, max_starts, model=str(model), workers=n_workers, what=what)
+    check_starts(grid.size, max_starts, model=model, workers=n_workers, what=what)
     # The meshes' own check, before anything is written.
-    chord = check_chord(spec, chord, "--chord")
-    if model not in MODELS:
-        raise InputError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
+    chord = check_chord(spec, chord)
     if compliance is None:
         compliance = Compliance()
     if not isinstance(compliance, Compliance):
         raise InputError(f"compliance must be a Compliance, got {type(compliance).__name__}")
     compliance.check_for(spec.pitch)  # here, not first in a worker after the library exists
+    # One start's continuation over a turn (its steps counted too).
     check_continuation(step=step, phase_tolerance=phase_tolerance)
-    if model == "mechanics":
-        check_search_steps(1.0, step)  # the continuation of one start over a turn
     for name, value in (("chunk_size", chunk_size), ("max_chunks", max_chunks)):
         if value is not None:
             check_whole(name, value)
     if model == "mechanics" and analyzer is not None:
         raise InputError("analyzer is for the thesis's model only")
-    bolt_file, nut_file = _mesh_files(spec, bolt_mesh, nut_mesh, mesh_units)
+    max_faces = check_max_faces(max_faces)
+    bolt_file, nut_file = _mesh_files(spec, bolt_mesh, nut_mesh, mesh_units, max_faces)
     job = Job(
         spec,
         grid,
@@ -706,6 +728,7 @@ def sweep(
         nut_file,
         mesh_units,
         bool(clockwise),
+        max_faces,
     )
 
     if out is None:
@@ -732,7 +755,7 @@ def write_library(
     compliance: Compliance | None = None,
     chord: float | None = None,
     step: float = CONTINUATION_STEP,
-    phase_tolerance: float = 0.01,
+    phase_tolerance: float = PHASE_TOLERANCE,
     rows_per_part: int = 500_000,
 ) -> Path:
     """Write a library from rows computed elsewhere (a study, a benchmark, a test).
@@ -760,8 +783,7 @@ def write_library(
     """
     if not isinstance(spec, ThreadSpec):
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
-    if model not in MODELS:
-        raise InputError(f"model must be one of {', '.join(MODELS)}, got {model!r}")
+    model = check_model(model)
     job = Job(
         spec,
         Grid.parse(roll, pitch, phase),

@@ -33,10 +33,12 @@ import networkx as nx
 import numpy as np
 import pandas as pd
 
+from .._angles import wrap_phase
 from .._errors import InputError, LibraryError
-from .._units import to_metres
+from .._json import json_text
+from .._units import MJ_PER_J, to_metres
 from .._validate import check_range
-from ..contact import STATE_COLUMNS, TRANSITIONS
+from ..contact import ERROR_CLASS, IN_PHASE, STATE_COLUMNS, TRANSITIONS
 from ..library import Grid, load, progress
 
 __all__ = [
@@ -73,6 +75,7 @@ _EDGE_COLUMNS = (
     "work_potential",
     "torque_peak",
     "drop",
+    "click",
     "tilt_change",
     "snap_window",
 )
@@ -130,12 +133,12 @@ def build_network(
     if meta.get("model") != "mechanics":
         raise LibraryError(
             "the network stands on the mechanics: this library holds the "
-            "thesis's fixed-pivot rows (sweep it again with --model "
-            "mechanics, the default)"
+            "thesis's fixed-pivot rows (sweep it again with model='mechanics', "
+            "the default)"
         )
     jump_penalty = _finite_nonnegative("jump_penalty", jump_penalty)
     force = float(meta["compliance"]["force"])
-    pitch_mj = 1e3 * force * to_metres(float(meta["spec"]["pitch"]), meta["units"])
+    pitch_mj = MJ_PER_J * force * to_metres(float(meta["spec"]["pitch"]), meta["units"])
     move_penalty = (
         pitch_mj if move_penalty is None else _finite_nonnegative("move_penalty", move_penalty)
     )
@@ -144,9 +147,9 @@ def build_network(
         cost_units=COST_UNITS,
         weight_formula=WEIGHT_FORMULA,
         model="mechanics",
-        spec=json.dumps(meta["spec"], sort_keys=True),
-        grid=json.dumps(meta["grid"], sort_keys=True),
-        compliance=json.dumps(meta["compliance"], sort_keys=True),
+        spec=json_text(meta["spec"], None, sort_keys=True, end=""),
+        grid=json_text(meta["grid"], None, sort_keys=True, end=""),
+        compliance=json_text(meta["compliance"], None, sort_keys=True, end=""),
         threadmate_version=str(meta.get("threadmate_version", "")),
         active=bool(active),
         jump_penalty=jump_penalty,
@@ -197,7 +200,7 @@ def _records(
 def _phase_key(phase: float) -> float:
     """A phase to match states at one grid phase by (a continuation that summed its turns
     may land a hair below 360 for phase 0)."""
-    return round(phase, 6) % 360.0 + 0.0
+    return wrap_phase(round(phase, 6)) + 0.0
 
 
 def _add_tilt_steps(
@@ -220,7 +223,7 @@ def _add_tilt_steps(
     }
     metres = to_metres(1.0, meta["units"])
     rest = rows[
-        rows["role"].isin(_REST_ROLES) & ~rows["classification"].isin(["in-phase", "error"])
+        rows["role"].isin(_REST_ROLES) & ~rows["classification"].isin([IN_PHASE, ERROR_CLASS])
     ]
     steps = []
     for axis, values in ((0, grid.roll), (1, grid.pitch)):
@@ -253,11 +256,11 @@ def _add_tilt_steps(
                             "label": "unstable",
                             "turn": 0.0,
                             "work_friction": 0.0,
-                            "work_potential": 1e3 * force * lift,
+                            "work_potential": MJ_PER_J * force * lift,
                             "torque_peak": math.nan,
                             "drop": z - target[1],
                             "tilt_change": math.nan,
-                            "weight": 1e3 * force * lift + move_penalty,
+                            "weight": MJ_PER_J * force * lift + move_penalty,
                             "active": True,
                         },
                     )

@@ -3,7 +3,6 @@ tilt over every start."""
 
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 
@@ -11,7 +10,7 @@ import networkx as nx
 import numpy as np
 import pandas as pd
 
-from .._figures import new_figure, save_figure
+from .._figures import Mark, new_figure, save_figure, signature_figure
 from ._paths import PathResult
 
 __all__ = ["plot_click_signature", "plot_click_vs_tilt"]
@@ -23,7 +22,8 @@ def plot_click_signature(
     """What a robot's sensors see along a passive path: the height of the compliance
     centre, the bolt's tilt and the driver torque against the phase turned, with the jumps
     and the snap marked (the states the library holds: grid phases and both sides of each
-    jump)."""
+    jump). The drawing a search's snap signature shares
+    (:func:`threadmate.contact.plot_search`)."""
     nodes = [graph.nodes[n] for n in result.path]
     turned = np.concatenate(
         [
@@ -36,36 +36,25 @@ def plot_click_signature(
             ),
         ]
     )
-    z = np.array([d["centre_z"] for d in nodes])
-    tilt = np.degrees(
-        [
-            math.acos(
-                min(1.0, math.cos(math.radians(d["roll"])) * math.cos(math.radians(d["pitch"])))
-            )
-            for d in nodes
-        ]
-    )
-    torque = np.array([d["driver_torque"] for d in nodes])
     units = graph.graph.get("units", "in")
-    fig = new_figure((7.0, 6.0))
-    axes = fig.subplots(3, 1, sharex=True)
-    for ax, values, label in (
-        (axes[0], z, f"compliance centre height ({units})"),
-        (axes[1], tilt, "bolt tilt (deg)"),
-        (axes[2], torque, "driver torque (N m)"),
-    ):
-        ax.plot(turned, values, ".-", color="#3182bd", lw=1.2, ms=3)
-        ax.set_ylabel(label, fontsize=8)
-        for i, kind in enumerate(result.kinds):
-            if kind in ("jump", "snap"):
-                ax.axvline(
-                    turned[i + 1], color="#d62728" if kind == "snap" else "0.6", ls="--", lw=0.8
-                )
-    axes[-1].set_xlabel(f"turn from the start (deg); start {result.start}")
-    axes[0].set_title(
-        f"click signature: snap after {result.turn:.1f} deg, click "
-        f"{result.snap['drop']:.4g} {units}",
-        fontsize=9,
+    fig = signature_figure(
+        turned.tolist(),
+        [d["centre_z"] for d in nodes],
+        [d["roll"] for d in nodes],
+        [d["pitch"] for d in nodes],
+        [d["driver_torque"] for d in nodes],
+        units=units,
+        xlabel=f"turn from the start (deg); start {result.start}",
+        title=(
+            f"click signature: snap after {result.turn:.1f} deg, click "
+            f"{result.snap['click']:.4g} {units}"
+        ),
+        marks=[
+            Mark(turned[i + 1], kind == "snap")
+            for i, kind in enumerate(result.kinds)
+            if kind in ("jump", "snap")
+        ],
+        size=(7.0, 6.0),
     )
     return save_figure(fig, path)
 

@@ -20,11 +20,11 @@ import networkx as nx
 import pandas as pd
 
 from .._errors import InputError, NoPathError
-from .._validate import check_whole
+from .._validate import MAX_K, check_whole
+from ..contact import ERROR_CLASS, IN_PHASE
 from ._build import start_node, starts
 
 __all__ = [
-    "MAX_K",
     "PathResult",
     "k_best_paths",
     "least_resistance_path",
@@ -33,8 +33,6 @@ __all__ = [
     "start_outcomes",
 ]
 
-#: Most alternatives :func:`k_best_paths` gives (Yen's algorithm grows with k).
-MAX_K = 20
 #: A turn of this many degrees is "within one turn".
 ONE_TURN = 360.0
 _SINK = ("threadmate", "snap")  # a node no string id can equal
@@ -71,7 +69,8 @@ class PathResult:
     turn : float
         Phase turned along the path (degrees).
     snap : dict
-        ``phase``, ``turn`` and ``drop`` (the click, spec units) of the snap.
+        ``phase``, ``turn``, ``drop`` (the fall across the jump) and ``click`` (the fall
+        a sensor sees, the steep stretch before the jump included; spec units) of the snap.
     active : bool
         Whether active moves were allowed.
     """
@@ -171,12 +170,19 @@ def no_path_document(
 
 def is_snapped(node: dict[str, Any]) -> bool:
     """Whether a node's state ends a search: in phase and proved by screwing in."""
-    return node.get("classification") == "in-phase" and bool(node.get("engaged"))
+    return node.get("classification") == IN_PHASE and bool(node.get("engaged"))
 
 
 def snap_targets(graph: nx.DiGraph) -> list[str]:
     """The in-phase states proved by screwing in."""
     return [n for n, d in graph.nodes(data=True) if is_snapped(d)]
+
+
+def _click(edge: dict[str, Any]) -> float:
+    """The click of a snap edge: the fall a sensor sees, or its drop where the library
+    holds no click."""
+    click = float(edge.get("click", math.nan))
+    return click if math.isfinite(click) else float(edge["drop"])
 
 
 def _result(
@@ -192,6 +198,7 @@ def _result(
     last = graph.nodes[path[-1]]
     snap_edges = [e for e in edges if e["kind"] == "snap"]
     drop = float(snap_edges[-1]["drop"]) if snap_edges else 0.0
+    click = _click(snap_edges[-1]) if snap_edges else 0.0
     return PathResult(
         start,
         requested,
@@ -201,7 +208,7 @@ def _result(
         [e["label"] for e in edges],
         [float(e["weight"]) for e in edges],
         turn,
-        {"phase": float(last["phase"]), "turn": turn, "drop": drop},
+        {"phase": float(last["phase"]), "turn": turn, "drop": drop, "click": click},
         active,
         graph.graph.get("units", "in"),
     )
@@ -209,7 +216,7 @@ def _result(
 
 def _no_path(graph: nx.DiGraph, start: str, active: bool) -> NoPathError:
     d = graph.nodes[start]
-    if d.get("classification") == "error":
+    if d.get("classification") == ERROR_CLASS:
         return NoPathError(f"the library failed at start {start}: {d.get('error')}")
     how = "with active moves" if active else "passively (no active moves asked)"
     return NoPathError(
@@ -247,8 +254,8 @@ def least_resistance_path(
     """
     if active and not graph.graph.get("active"):
         raise InputError(
-            "active moves were asked for, but the network was built without "
-            "them (build it with active=True / --active)"
+            "active=True asks for active moves, but the network was built without "
+            "them (build it with active=True)"
         )
     start, moved = start_node(graph, roll, pitch, phase, nearest=nearest)
     requested = {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)}
@@ -279,13 +286,13 @@ def k_best_paths(
     nearest: bool = False,
 ) -> PathResult:
     """The least-resistance path with up to ``k - 1`` next-best alternatives (in
-    :attr:`PathResult.alternatives`); ``k`` is at most :data:`MAX_K`.
+    :attr:`PathResult.alternatives`); ``k`` is at most ``threadmate._validate.MAX_K``.
 
     Passively there is one path (the dynamics are deterministic); alternatives come from
     active moves.
     """
     check_whole(
-        "--k",
+        "k",
         k,
         1,
         MAX_K,
@@ -385,7 +392,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
         for m, e in reversed(trail):
             reaches, turn, work, click, ph, peak, unstable, window = memo[n]
             if e["kind"] == "snap":
-                click = float(e["drop"])
+                click = _click(e)
                 window = float(e.get("snap_window", nan))
             peak = _larger(peak, e["torque_peak"])
             unstable = unstable or (e["label"] == "unstable" and e["kind"] != "snap")
@@ -423,7 +430,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
                 "snap_window": window,
                 "torque_peak": peak,
                 "passes_unstable": bool(unstable),
-                "failed": d["classification"] == "error",
+                "failed": d["classification"] == ERROR_CLASS,
             }
         )
     table = pd.DataFrame(

@@ -34,6 +34,7 @@ from networkx.readwrite.graphml import GraphMLWriter
 
 from .._errors import InputError
 from .._io import atomic_path, atomic_write_text
+from .._json import json_text, to_jsonable
 from ..library import load
 
 __all__ = [
@@ -67,34 +68,19 @@ START_COLUMN_UNITS = {
 }
 
 Library = str | os.PathLike[str] | pd.DataFrame
+#: The types of a GraphML attribute's scalar value.
+_SCALARS = (str, bool, int, float, np.bool_, np.integer, np.floating)
 
 
 def _scalar(value: Any) -> Any:
-    """A plain Python scalar (None for missing values); lists become JSON text."""
-    kind = type(value)
-    if kind is float:  # the common cases first: this runs once per attribute
-        return value if math.isfinite(value) else None
-    if kind is str:
+    """A plain Python scalar (:func:`~threadmate._json.to_jsonable`: None for missing
+    values); lists become their JSON text."""
+    if type(value) is str:  # the common case first: this runs once per attribute
         return value
-    if kind is np.ndarray:
-        return (
-            json.dumps(value.tolist(), allow_nan=False)
-            if value.dtype.kind != "f" or np.isfinite(value).all()
-            else json.dumps([_scalar(v) for v in value])
-        )
-    if isinstance(value, bool | np.bool_):
-        return bool(value)
-    if isinstance(value, int | np.integer):
-        return int(value)
-    if isinstance(value, float | np.floating):
-        value = float(value)
-        return value if math.isfinite(value) else None
-    if isinstance(value, str):
-        return value
-    if value is None:
-        return None
     if isinstance(value, list | tuple | np.ndarray):
-        return json.dumps([_scalar(v) for v in value])
+        return json_text(value, None, end="")
+    if value is None or isinstance(value, _SCALARS):
+        return to_jsonable(value)
     raise TypeError(f"attribute value {value!r} is not a scalar")
 
 
@@ -186,20 +172,12 @@ def write_node_link(graph: nx.DiGraph, path: str | Path, *, library: Library | N
     edges="edges")``. With ``library`` (as for :func:`write_graphml`) each node also
     gets its :data:`GEOMETRY_ATTRIBUTES`, as lists.
     """
-
-    def plain(v: Any) -> Any:
-        return [plain(x) for x in v] if isinstance(v, list | tuple | np.ndarray) else _scalar(v)
-
     export: nx.DiGraph[str] = nx.DiGraph()
-    export.graph.update({k: plain(v) for k, v in graph.graph.items() if not str(k).startswith("_")})
-    export.add_nodes_from(
-        (n, {k: plain(v) for k, v in d.items()}) for n, d in _nodes(graph, library)
-    )
-    export.add_edges_from(
-        (u, v, {k: plain(x) for k, x in d.items()}) for u, v, d in graph.edges(data=True)
-    )
+    export.graph.update({k: v for k, v in graph.graph.items() if not str(k).startswith("_")})
+    export.add_nodes_from(_nodes(graph, library))
+    export.add_edges_from(graph.edges(data=True))
     doc = nx.node_link_data(export, edges="edges")
-    return atomic_write_text(path, json.dumps(doc, allow_nan=False) + "\n")
+    return atomic_write_text(path, json_text(doc, None))  # values made plain by to_jsonable
 
 
 def read_graphml(path: str | Path) -> nx.DiGraph:
@@ -241,7 +219,7 @@ def read_graphml(path: str | Path) -> nx.DiGraph:
                 if key != "contact_regions":  # null in the JSON text of numbers: NaN
                     d[key] = [math.nan if v is None else v for v in d[key]]
     for _, _, d in graph.edges(data=True):
-        for key in ("torque_peak", "tilt_change", "drop", "snap_window"):
+        for key in ("torque_peak", "tilt_change", "drop", "click", "snap_window"):
             d.setdefault(key, math.nan)
     return graph
 

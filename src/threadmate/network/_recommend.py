@@ -49,7 +49,7 @@ from .._errors import InputError
 from .._figures import new_figure, save_figure
 from .._io import atomic_write_text
 from .._json import json_text
-from .._validate import check_range
+from .._validate import check_roll_spread
 from ._paths import start_outcomes
 
 __all__ = [
@@ -222,7 +222,8 @@ def recommend(
     networks : networkx.DiGraph or list of them
         Networks of libraries on the same grid and thread, differing in compliance.
     roll_spread : float, optional
-        Largest roll error expected (degrees, >= 0); default every roll of the grid.
+        Largest roll error expected (degrees, from 0 to the largest held roll a grid
+        holds, ``threadmate._validate.MAX_TILT``); default every roll of the grid.
     partial : bool
         Rank the starts of an incomplete library (a sweep unfinished or still running)
         too, with a note saying how many are done; without it such a library is refused,
@@ -235,8 +236,7 @@ def recommend(
     graphs = [networks] if isinstance(networks, nx.DiGraph) else list(networks)
     if not graphs:
         raise InputError("no network to recommend from")
-    if roll_spread is not None:
-        check_range("--roll-spread (degrees)", roll_spread, 0.0, 90.0)
+    roll_spread = check_roll_spread(roll_spread)
     spread = math.inf if roll_spread is None else float(roll_spread)
     grids = {g.graph["grid"] for g in graphs}
     if len(grids) > 1 or len({g.graph["spec"] for g in graphs}) > 1:
@@ -252,7 +252,7 @@ def recommend(
                 raise InputError(
                     f"the library is incomplete ({words}): a ranking of the held tilts swept "
                     "so far may pick one the rest would beat; finish its sweep (run the same "
-                    "sweep again), or pass --partial to rank the starts done"
+                    "sweep again), or pass partial=True to rank the starts done"
                 )
             notes.append(f"from an incomplete library: {words}; the ranking may change")
     rolls: set[float] = set()

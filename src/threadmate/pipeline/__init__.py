@@ -6,8 +6,9 @@ from typing import TYPE_CHECKING
 from .._lazy import lazy_exports
 
 if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
+    from ._defaults import DEFAULT_DESIGNATION, RUN_GRID
     from ._folder import RUN_FILES, check_run_folder
-    from ._run import DEFAULT_DESIGNATION, RUN_GRID, RunResult, run_pipeline
+    from ._run import RunResult, run_pipeline
 
 __all__ = [
     "DEFAULT_DESIGNATION",
@@ -23,8 +24,9 @@ __all__ = [
 #: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
 #: imports them. tests/test_cli_contract.py checks it against the imports above.
 _SOURCES = {
+    "._defaults": ("DEFAULT_DESIGNATION", "RUN_GRID"),
     "._folder": ("RUN_FILES", "check_run_folder"),
-    "._run": ("DEFAULT_DESIGNATION", "RUN_GRID", "RunResult", "run_pipeline"),
+    "._run": ("RunResult", "run_pipeline"),
 }
 #: Public names that differ from their submodule's.
 _ALIASES: dict[str, str] = {}

@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from .._io import atomic_write_text, remove_stale_temporaries
+from .._validate import check_roll_spread
 from .._version import __version__
 from ..contact import CONTINUATION_STEP, Compliance
 from ..geometry import ThreadSpec
@@ -45,17 +46,10 @@ from ..network import (
     write_recommendation,
 )
 from ..planar import plot_pivot_axes, plot_region_disk
+from ._defaults import RUN_GRID
 from ._folder import check_run_folder
 
-__all__ = ["DEFAULT_DESIGNATION", "RUN_GRID", "RunResult", "run_pipeline"]
-
-#: The built-in default of ``threadmate run``: the thesis's thread pair.
-DEFAULT_DESIGNATION = "1/4-20 UNC-2A/2B"
-#: The default grid of ``threadmate run``: held roll and pitch -2..2 by 1 degree (a square
-#: grid, so that the azimuth-proof pick exists) and start phases every 20 degrees. The
-#: thesis's grid (-4..4 by 1, phases by 5) is ``--roll -4:4:1 --pitch -4:4:1 --phase
-#: 0:355:5``.
-RUN_GRID = {"roll": "-2:2:1", "pitch": "-2:2:1", "phase": "0:340:20"}
+__all__ = ["RunResult", "run_pipeline"]
 
 
 @dataclass(frozen=True)
@@ -128,6 +122,8 @@ def run_pipeline(
     nut_mesh: str | os.PathLike[str] | None = None,
     mesh_units: str | None = None,
     clockwise: bool = False,
+    max_starts: int | None = None,
+    max_faces: int | None = None,
 ) -> RunResult:
     """Run the whole pipeline into ``out`` (see the module docstring for the layout).
 
@@ -138,10 +134,13 @@ def run_pipeline(
     ``bolt_mesh``, ``nut_mesh`` and ``mesh_units``: meshes from CAD for the sweep (see
     :func:`threadmate.library.sweep`); the report names them. ``clockwise``: also turn
     every start clockwise directly (the sweep's ``clockwise``); the report gives the share
-    that engages against the held tilt.
+    that engages against the held tilt. ``max_starts`` and ``max_faces``: the sweep's limits
+    on the grid's starts and on a CAD mesh's triangles. ``roll_spread``: as
+    :func:`threadmate.network.recommend`'s, checked before anything is swept.
 
     ``out`` must be missing, empty or a previous run's folder (:func:`check_run_folder`).
     """
+    check_roll_spread(roll_spread)
     out = check_run_folder(out)
     for folder in (out, out / "figures"):
         remove_stale_temporaries(folder)  # left by a run killed while writing
@@ -169,6 +168,8 @@ def run_pipeline(
             nut_mesh=nut_mesh,
             mesh_units=mesh_units,
             clockwise=clockwise,
+            max_starts=max_starts,
+            max_faces=max_faces,
         )
     graphs = [from_library(lib) for lib in libs]
     graph = graphs[0]
@@ -183,7 +184,7 @@ def run_pipeline(
     figdir = out / "figures"
     figures: dict[str, Path] = {}
     figures["recommendation"] = plot_recommendation(rec, figdir / "recommendation.png")
-    signature = _signature_start(outcomes, rec)
+    signature = _click_signature_start(outcomes, rec)
     if signature is not None:
         path = least_resistance_path(graph, *signature)
         figures["click_signature"] = plot_click_signature(
@@ -365,7 +366,7 @@ def _planar_note(spec: ThreadSpec) -> str:
     )
 
 
-def _signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, float, float] | None:
+def _click_signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, float, float] | None:
     """A start of the recommended setting whose search snaps, with the median turn (the
     figure then shows a typical search); the smallest held roll preferred."""
     best = rec.best

@@ -22,7 +22,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from scipy.optimize import brentq
 
-from .._validate import check_number
+from .._angles import TWO_PI, phase_difference, wrap_phase
+from .._validate import check_phase
 from ._crossings import SIDE_STEP, OutlinePair, Stretch, outline_pair, profile_inverse
 
 if TYPE_CHECKING:
@@ -259,7 +260,7 @@ def critical_phases(spec: ThreadSpec) -> list[CriticalPhase]:
 
 
 def _normalise(phase: float) -> float:
-    value = check_number("phase (degrees)", phase) % 360.0
+    value = wrap_phase(check_phase("phase", phase))
     return 0.0 if value >= 360.0 else value
 
 
@@ -277,7 +278,7 @@ def _contact(pair: OutlinePair, sigma: float, tau: float, side: int, theta: floa
     ``side`` (+1 / -1: toward larger / smaller ``tau``; 0: at the point)."""
     step = side * SIDE_STEP * pair.pitch
     r = float(pair.nut.radius(tau))
-    dt_dtheta = -pair.hand * pair.lead / (2.0 * math.pi)
+    dt_dtheta = -pair.hand * pair.lead / TWO_PI
     dr_bolt = float(pair.bolt.slope(tau + sigma + step)) * dt_dtheta
     dr_nut = float(pair.nut.slope(tau + step)) * dt_dtheta
     return PlanarContact(
@@ -385,7 +386,7 @@ def _window(spec: ThreadSpec) -> tuple[tuple[float, float], ...]:
     period = 360.0 / pair.starts
     out = []
     for k in range(pair.starts):
-        s = (start + k * period + 180.0) % 360.0 - 180.0
+        s = phase_difference(start + k * period)
         out.append((s, s + (end - start)))
     return tuple(sorted(out))
 
@@ -407,10 +408,10 @@ def _critical(spec: ThreadSpec) -> tuple[CriticalPhase, ...]:
     for b in pair.bolt_edges:
         shifts += [b - t for t in profile_inverse(pair.nut, float(pair.bolt.radius(b)))]
     period = 360.0 / pair.starts
-    cands = {(pair.phase(s) + k * period) % 360.0 for s in shifts for k in range(pair.starts)}
+    cands = {wrap_phase(pair.phase(s) + k * period) for s in shifts for k in range(pair.starts)}
     for start, end in _window(spec):
         if end - start < 360.0:
-            cands |= {start % 360.0, end % 360.0}
+            cands |= {wrap_phase(start), wrap_phase(end)}
     ordered: list[float] = []
     for c in sorted(cands):
         c = 0.0 if c >= 360.0 else c

@@ -38,14 +38,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 
+from .._angles import SQRT3, TWO_PI, wrap_phase
 from ..geometry import Profile, bolt_profile, nut_profile, wrap_t
 
 if TYPE_CHECKING:
     from ..geometry import ThreadSpec
 
 __all__ = ["OutlinePair", "outline_pair"]
-
-SQRT3 = math.sqrt(3.0)
 
 #: Relative (to the pitch) tolerance on ``d`` below which the outlines count as touching.
 TOUCH_TOL = 1e-10
@@ -150,11 +149,9 @@ class OutlinePair:
     def thetas(self, tau: float) -> list[float]:
         """The F-angles (radians, in ``[0, 2 pi)``) at which the nut's ``t`` is ``tau``:
         one per start."""
-        base = -2.0 * math.pi * tau / (self.hand * self.lead)
-        out = [
-            (base + 2.0 * math.pi * j / self.starts) % (2.0 * math.pi) for j in range(self.starts)
-        ]
-        return [0.0 if th >= 2.0 * math.pi else th for th in out]
+        base = -TWO_PI * tau / (self.hand * self.lead)
+        out = [wrap_phase(base + TWO_PI * j / self.starts, TWO_PI) for j in range(self.starts)]
+        return [0.0 if th >= TWO_PI else th for th in out]
 
     # -- the difference and its slope ---------------------------------------------------
     @overload

@@ -20,8 +20,10 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Wedge
 
+from .._angles import TWO_PI, wrap_phase
 from .._errors import InputError
 from .._figures import freeze_layout, new_figure, place_text, save_figure
+from .._validate import FIGURE_FORMATS
 from ..geometry import BOLT_REGIONS, NUT_REGIONS, nut_body
 from ._analysis import critical_phases, in_phase_window, phase_sweep
 
@@ -30,8 +32,9 @@ if TYPE_CHECKING:
 
 __all__ = ["FIGURE_SUFFIXES", "figure_format", "plot_pivot_axes", "plot_region_disk"]
 
-#: File suffixes a figure may be written to, and their matplotlib formats.
-FIGURE_SUFFIXES = {".png": "png", ".svg": "svg"}
+#: File suffixes the planar figures may be written to (of :data:`FIGURE_FORMATS`), and their
+#: matplotlib formats.
+FIGURE_SUFFIXES = {s: FIGURE_FORMATS[s] for s in (".png", ".svg")}
 
 #: One colour per region name; the positive side in blues, the negative side in oranges.
 REGION_COLOURS = {
@@ -78,7 +81,7 @@ def _runs(spec: ThreadSpec, step: float) -> list[tuple[float, float, tuple]]:
     marks = {0.0, 360.0}
     marks |= {float(c.phase) for c in critical_phases(spec)}
     for a, b in in_phase_window(spec):
-        marks |= {a % 360.0, b % 360.0}
+        marks |= {wrap_phase(a), wrap_phase(b)}
     marks |= set(np.arange(0.0, 360.0, step).tolist())
     edges = sorted(m for m in marks if 0.0 <= m <= 360.0)
     edges = [e for i, e in enumerate(edges) if i == 0 or e - edges[i - 1] > 1e-9]
@@ -253,7 +256,7 @@ def pivot_axes_figure(spec: ThreadSpec, phases: Iterable[float] = range(0, 360, 
     states = phase_sweep(spec, phases)
     fig = new_figure((8.0, 8.0))
     ax = fig.add_subplot()
-    theta = np.linspace(0.0, 2.0 * math.pi, 3601)
+    theta = np.linspace(0.0, TWO_PI, 3601)
     r = nut_body(spec).section_radius(theta, 0.0)
     ax.plot(r * np.cos(theta), r * np.sin(theta), color="0.35", lw=1.0)
     ax.plot([0.0], [0.0], marker="+", color="0.35")
@@ -273,7 +276,7 @@ def pivot_axes_figure(spec: ThreadSpec, phases: Iterable[float] = range(0, 360, 
             ax.plot([x1, x2], [y1, y2], color=colour, lw=1.2, marker="o", ms=2.5)
         for x, y in ends:
             key = (round(x / r_out, 6), round(y / r_out, 6))  # ends of many phases coincide
-            ends_at.setdefault(key, []).append((f"{phase % 360.0:g}°", colour))
+            ends_at.setdefault(key, []).append((f"{wrap_phase(phase):g}°", colour))
     lim = r_out * 1.5
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
