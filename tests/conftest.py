@@ -9,7 +9,7 @@ import pytest
 
 matplotlib.use("Agg")
 
-from threadmate.geometry import BoltSpec, NutSpec, ThreadSpec  # noqa: E402
+from threadmate.geometry import BoltSpec, NutSpec, ThreadSpec, save_spec  # noqa: E402
 
 
 @pytest.fixture(scope="session")
@@ -36,6 +36,12 @@ def sharp_quarter_20() -> ThreadSpec:
         bolt=BoltSpec(major=0.24485, pitch_diameter=0.21455, minor=0.1887),
         nut=NutSpec(major=0.2500, pitch_diameter=0.21995, minor=0.2015),
     )
+
+
+@pytest.fixture(scope="session")
+def quarter_20_file(quarter_20, tmp_path_factory):
+    """:func:`quarter_20` saved as a JSON spec file (by :func:`threadmate.geometry.save_spec`)."""
+    return save_spec(quarter_20, tmp_path_factory.mktemp("spec") / "quarter-20.json")
 
 
 @pytest.fixture()

@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+# The shared rules: internals with no public form.
 from threadmate._angles import SQRT3, TWO_PI, Z_AXIS, axis_angle, phase_difference, wrap_phase
 from threadmate._units import METRES_PER_UNIT, MJ_PER_J, MM_PER_UNIT, to_metres, unit_scale
 from threadmate.contact import (

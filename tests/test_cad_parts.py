@@ -12,7 +12,6 @@ does not state is taken as given: its rest state is that of the spec that states
 
 from __future__ import annotations
 
-import json
 import math
 import re
 from pathlib import Path
@@ -22,8 +21,8 @@ import numpy as np
 import pytest
 
 from _cad_parts import HEX, MM_PER_IN, hex_bolt, hex_nut, in_units, round_bolt, thread_spec
-from _cli import run_cli
-from threadmate._errors import MeshError
+from _cli import run_captured, run_json
+from threadmate import MeshError
 from threadmate.geometry import bolt_body, load_mesh, spec_from_designation
 
 QUARTER, M6 = "1/4-20 UNC-2A/2B", "M6x1-6g/6H"
@@ -67,10 +66,8 @@ def _kind(name: str) -> str:
     return "nut" if name == "nut" else "bolt"
 
 
-def _json(capsys: pytest.CaptureFixture[str], *args: Any) -> tuple[int, dict[str, Any], str]:
-    rc, out, err = run_cli(capsys, *args, "--json")
-    assert rc in (0, 3), err
-    return rc, json.loads(out), err
+#: Exit statuses of the commands here: 0, or 3 for a search that does not snap.
+DONE = (0, 3)
 
 
 # -- the size where the thread is --------------------------------------------------------
@@ -126,9 +123,11 @@ def test_settle_on_cad_parts_is_the_generated_meshes_rest(parts, capsys, designa
     part = parts[designation]
     chord = part["chord"]
     files = part["files"]
-    _, gen, _ = _json(capsys, "settle", designation, *CONFIG, "--chord", chord)
+    _, gen, _ = run_json(capsys, "settle", designation, *CONFIG, "--chord", chord, codes=DONE)
     args = ["--bolt-mesh", files[bolt, units], "--nut-mesh", files["nut", units]]
-    _, own, err = _json(capsys, "settle", designation, *CONFIG, *args, "--mesh-units", units)
+    _, own, err = run_json(
+        capsys, "settle", designation, *CONFIG, *args, "--mesh-units", units, codes=DONE
+    )
     assert own["balance"]["converged"] and gen["balance"]["converged"]
     assert own["classification"] == gen["classification"]
     # The threads are the generated meshes (float rounding of the OBJ aside).
@@ -157,8 +156,12 @@ def test_search_a_short_turn_on_cad_parts(parts, capsys, designation, units):
     files = part["files"]
     args = ["--bolt-mesh", files["hex_bolt", units], "--nut-mesh", files["nut", units]]
     start = [*CONFIG, "--turns", "0.05", "--step", "5"]
-    rc, doc, err = _json(capsys, "search", designation, *start, *args, "--mesh-units", units)
-    _, gen, _ = _json(capsys, "search", designation, *start, "--chord", part["chord"])
+    rc, doc, err = run_json(
+        capsys, "search", designation, *start, *args, "--mesh-units", units, codes=DONE
+    )
+    _, gen, _ = run_json(
+        capsys, "search", designation, *start, "--chord", part["chord"], codes=DONE
+    )
     assert doc["units"]["length"] == gen["units"]["length"] == part["units"]
     assert (doc["snap"] is None) == (gen["snap"] is None)
     # 18 degrees turned against friction: work done, as on the generated meshes.
@@ -171,17 +174,9 @@ def test_search_a_short_turn_on_cad_parts(parts, capsys, designation, units):
 @pytest.fixture(scope="module")
 def chamfered_meshes(tmp_path_factory) -> dict[str, Path]:
     """``threadmate mesh`` of the designation: a chamfered bolt and a countersunk nut."""
-    import contextlib
-    import io
-
-    from threadmate.cli import main
-
     folder = tmp_path_factory.mktemp("ends")
-    err = io.StringIO()
-    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-        with pytest.raises(SystemExit) as exc:
-            main(["mesh", QUARTER, "-o", str(folder), "--chord", "2e-4"])
-    assert exc.value.code == 0, err.getvalue()
+    code, _, err = run_captured("mesh", QUARTER, "-o", folder, "--chord", "2e-4")
+    assert code == 0, err
     return {"bolt": folder / "bolt.stl", "nut": folder / "nut.stl"}
 
 
@@ -201,8 +196,8 @@ def test_meshes_with_ends_the_spec_does_not_state_settle_as_given(
 ):
     files = [a for kind in given for a in (f"--{kind}-mesh", chamfered_meshes[kind])]
     # (The body not given is generated at the default chord; the reference's at the files'.)
-    _, own, err = _json(capsys, "settle", QUARTER, *FLAT, *CONFIG, *files)
-    _, ref, _ = _json(capsys, "settle", QUARTER, *stated, *CONFIG, "--chord", "2e-4")
+    _, own, err = run_json(capsys, "settle", QUARTER, *FLAT, *CONFIG, *files, codes=DONE)
+    _, ref, _ = run_json(capsys, "settle", QUARTER, *stated, *CONFIG, "--chord", "2e-4", codes=DONE)
     assert own["balance"]["converged"] and ref["balance"]["converged"]
     assert own["classification"] == ref["classification"]
     # The rest state of the spec that states the ends, within the mesh's tolerance.
@@ -257,8 +252,8 @@ def test_meshes_with_other_ends_than_the_spec_search_a_short_turn(
 ):
     files = [f"--{given}-mesh", chamfered_meshes[given]]
     start = [*CONFIG, "--turns", "0.05", "--step", "5"]
-    rc, own, err = _json(capsys, "search", QUARTER, *FLAT, *start, *files)
-    _, ref, _ = _json(capsys, "search", QUARTER, *stated, *start, "--chord", "2e-4")
+    rc, own, err = run_json(capsys, "search", QUARTER, *FLAT, *start, *files, codes=DONE)
+    _, ref, _ = run_json(capsys, "search", QUARTER, *stated, *start, "--chord", "2e-4", codes=DONE)
     assert (own["snap"] is None) == (ref["snap"] is None)
     # 18 degrees turned on the end the spec does not state: the friction of the spec that
     # states it (the faceted end rocks the bolt by a chord or so, which the potential sees).

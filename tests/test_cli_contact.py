@@ -19,14 +19,9 @@ SPEC = {
 }
 
 
-def run(argv, capsys):
-    return run_cli(capsys, *argv)
-
-
 def test_json_document(spec_file, capsys):
-    rc, out, err = run(
-        ["contact", str(spec_file), "--roll", "4", "--pitch", "4", "--phase", "235", "--json"],
-        capsys,
+    rc, out, err = run_cli(
+        capsys, "contact", str(spec_file), "--roll", "4", "--pitch", "4", "--phase", "235", "--json"
     )
     assert rc == 0
     doc = json.loads(out)  # exactly one JSON document on stdout
@@ -60,8 +55,8 @@ def test_json_document(spec_file, capsys):
 
 
 def test_text_output_has_the_figure_4_1_fields(spec_file, capsys):
-    rc, out, err = run(
-        ["contact", str(spec_file), "--roll", "-4", "--pitch", "0", "--phase", "131"], capsys
+    rc, out, err = run_cli(
+        capsys, "contact", str(spec_file), "--roll", "-4", "--pitch", "0", "--phase", "131"
     )
     assert rc == 0
     for field in (
@@ -82,7 +77,7 @@ def test_text_output_has_the_figure_4_1_fields(spec_file, capsys):
 
 
 def test_help_names_the_fixed_pivot_procedure_and_the_thesis_criteria(capsys):
-    rc, out, err = run(["contact", "--help"], capsys)
+    rc, out, err = run_cli(capsys, "contact", "--help")
     assert rc == 0
     text = " ".join(out.split())
     for phrase in (
@@ -100,8 +95,8 @@ def test_help_names_the_fixed_pivot_procedure_and_the_thesis_criteria(capsys):
 
 
 def test_in_phase_configuration(spec_file, capsys):
-    rc, out, err = run(
-        ["contact", str(spec_file), "--roll", "0", "--pitch", "0", "--phase", "0", "--json"], capsys
+    rc, out, err = run_cli(
+        capsys, "contact", str(spec_file), "--roll", "0", "--pitch", "0", "--phase", "0", "--json"
     )
     assert rc == 0
     doc = json.loads(out)
@@ -123,7 +118,7 @@ def test_in_phase_configuration(spec_file, capsys):
     ],
 )
 def test_bad_input_exits_2(spec_file, capsys, argv):
-    rc, out, err = run(["contact", str(spec_file), *argv, "--json"], capsys)
+    rc, out, err = run_cli(capsys, "contact", str(spec_file), *argv, "--json")
     assert rc == 2
     assert out == ""
     assert err.startswith("threadmate: error:") and "Traceback" not in err
@@ -133,39 +128,44 @@ def test_bad_spec_exits_2(tmp_path, capsys):
     bad = dict(SPEC, bolt=dict(SPEC["bolt"], pitch_diameter=0.23))  # bolt PD > nut PD
     path = tmp_path / "bad.json"
     path.write_text(json.dumps(bad))
-    rc, out, err = run(
-        ["contact", str(path), "--roll", "0", "--pitch", "0", "--phase", "0"], capsys
+    rc, out, err = run_cli(
+        capsys, "contact", str(path), "--roll", "0", "--pitch", "0", "--phase", "0"
     )
     assert rc == 2 and out == "" and "pitch_diameter" in err
-    rc, out, err = run(
-        ["contact", str(tmp_path / "missing.json"), "--roll", "0", "--pitch", "0", "--phase", "0"],
+    rc, out, err = run_cli(
         capsys,
+        "contact",
+        str(tmp_path / "missing.json"),
+        "--roll",
+        "0",
+        "--pitch",
+        "0",
+        "--phase",
+        "0",
     )
     assert rc == 2 and "not found" in err
 
 
 def test_missing_option_is_a_usage_error(spec_file, capsys):
-    rc, out, err = run(["contact", str(spec_file), "--roll", "0", "--pitch", "0"], capsys)
+    rc, out, err = run_cli(capsys, "contact", str(spec_file), "--roll", "0", "--pitch", "0")
     assert rc == 2 and "--phase" in err
 
 
 # -- issue 11 ------------------------------------------------------------------------------
 @pytest.mark.parametrize("value", ["1e308", "-1001", "nan", "inf"])
 def test_absurd_compliance_z_exits_2_with_range(spec_file, capsys, value):
-    rc, out, err = run(
-        [
-            "contact",
-            str(spec_file),
-            "--roll",
-            "4",
-            "--pitch",
-            "0",
-            "--phase",
-            "185",
-            "--compliance-z",
-            value,
-        ],
+    rc, out, err = run_cli(
         capsys,
+        "contact",
+        str(spec_file),
+        "--roll",
+        "4",
+        "--pitch",
+        "0",
+        "--phase",
+        "185",
+        "--compliance-z",
+        value,
     )
     assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
     assert "--compliance-z" in err
@@ -181,7 +181,7 @@ def test_absurd_spec_and_empty_designation(tmp_path, capsys):
         ("", "empty thread designation"),
         (tmp_path, "is a directory, not a spec file"),
     ):
-        rc, out, err = run(
-            ["contact", str(spec), "--roll", "4", "--pitch", "0", "--phase", "185"], capsys
+        rc, out, err = run_cli(
+            capsys, "contact", str(spec), "--roll", "4", "--pitch", "0", "--phase", "185"
         )
         assert rc == 2 and out == "" and text in err and "Traceback" not in err

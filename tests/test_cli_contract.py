@@ -26,7 +26,17 @@ from _libraries import DESIGNATION, REAL_GRID, mechanics_library, synthetic_libr
 #: The packages a command must not import before it needs them (seconds of start-up).
 HEAVY = ("scipy", "pandas", "matplotlib", "trimesh", "fcl")
 #: The public packages whose names load on first use (PEP 562).
-PACKAGES = ("geometry", "contact", "library", "network", "planar", "pipeline")
+PACKAGES = (
+    "geometry",
+    "contact",
+    "contact.scene",
+    "contact.thesis",
+    "contact.mechanics",
+    "library",
+    "network",
+    "planar",
+    "pipeline",
+)
 #: Every command and subcommand, for ``CMD --help``.
 COMMANDS = (
     ["thread"],

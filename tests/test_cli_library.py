@@ -15,23 +15,13 @@ import time
 import pandas as pd
 import pytest
 
-from _cli import run_cli
-from threadmate.cli import main
+from _cli import run_captured, run_cli
 from threadmate.contact import Compliance, ContactAnalyzer, Mechanics
-from threadmate.geometry import save_spec
 from threadmate.library import METADATA_FILE, load, sweep
 
 CHORD = "1e-4"  # the thesis's model only; the mechanics run at the default chord
 STEP = "10"  # the mechanics' continuation step (degrees; coarse, for speed)
 GRID = ["--roll", "1,2", "--pitch", "-1", "--phase", "0:270:90"]  # 2 held tilts x 4 phases
-
-
-run = run_cli
-
-
-@pytest.fixture(scope="module")
-def spec_file(quarter_20, tmp_path_factory):
-    return save_spec(quarter_20, tmp_path_factory.mktemp("spec") / "quarter-20.json")
 
 
 @pytest.fixture(scope="module")
@@ -40,65 +30,59 @@ def mech(quarter_20):
 
 
 @pytest.fixture(scope="module")
-def swept(spec_file, tmp_path_factory):
+def swept(quarter_20_file, tmp_path_factory):
     """A mechanics library made by the command (the default model)."""
     out = tmp_path_factory.mktemp("cli") / "lib"
-    with pytest.raises(SystemExit) as exc:
-        main(
-            [
-                "sweep",
-                str(spec_file),
-                *GRID,
-                "-o",
-                str(out),
-                "--step",
-                STEP,
-                "--workers",
-                "2",
-                "--json",
-            ]
-        )
-    assert exc.value.code == 0
+    code, _, err = run_captured(
+        "sweep",
+        str(quarter_20_file),
+        *GRID,
+        "-o",
+        str(out),
+        "--step",
+        STEP,
+        "--workers",
+        "2",
+        "--json",
+    )
+    assert code == 0, err
     return out
 
 
 @pytest.fixture(scope="module")
-def thesis_swept(spec_file, tmp_path_factory):
+def thesis_swept(quarter_20_file, tmp_path_factory):
     """A thesis-model library made by the command: roll -1..1 by 1 at pitch 1, phases 0,
     120, 240."""
     out = tmp_path_factory.mktemp("cli") / "thesis"
-    with pytest.raises(SystemExit) as exc:
-        main(
-            [
-                "sweep",
-                str(spec_file),
-                "--model",
-                "thesis",
-                "--roll",
-                "-1:1:1",
-                "--pitch",
-                "1",
-                "--phase",
-                "0:360:120",
-                "-o",
-                str(out),
-                "--chord",
-                CHORD,
-                "--workers",
-                "2",
-                "--json",
-            ]
-        )
-    assert exc.value.code == 0
+    code, _, err = run_captured(
+        "sweep",
+        str(quarter_20_file),
+        "--model",
+        "thesis",
+        "--roll",
+        "-1:1:1",
+        "--pitch",
+        "1",
+        "--phase",
+        "0:360:120",
+        "-o",
+        str(out),
+        "--chord",
+        CHORD,
+        "--workers",
+        "2",
+        "--json",
+    )
+    assert code == 0, err
     return out
 
 
-def test_thesis_sweep_json_is_one_clean_document(spec_file, tmp_path, capsys, quarter_20):
+def test_thesis_sweep_json_is_one_clean_document(quarter_20_file, tmp_path, capsys, quarter_20):
     out = tmp_path / "lib"
-    rc, stdout, stderr = run(
+    rc, stdout, stderr = run_cli(
         capsys,
         "sweep",
-        str(spec_file),
+        str(quarter_20_file),
         "--model",
         "thesis",
         "--roll",
@@ -142,11 +126,11 @@ def test_mechanics_sweep_json_and_metadata(swept, capsys, mech):
         )
 
 
-def test_mechanics_sweep_with_compliance_options(spec_file, tmp_path, capsys, quarter_20):
+def test_mechanics_sweep_with_compliance_options(quarter_20_file, tmp_path, capsys, quarter_20):
     out = tmp_path / "stiff"
     args = [
         "sweep",
-        str(spec_file),
+        str(quarter_20_file),
         "--roll",
         "1",
         "--pitch",
@@ -171,7 +155,7 @@ def test_mechanics_sweep_with_compliance_options(spec_file, tmp_path, capsys, qu
         "1",
         "--json",
     ]
-    rc, stdout, stderr = run(capsys, *args)
+    rc, stdout, stderr = run_cli(capsys, *args)
     assert rc == 0, stderr
     doc = json.loads(stdout)
     compliance = Compliance(force=20, stiffness=(0.5, 2), friction=0.1, compliance_z=0.01)
@@ -195,16 +179,16 @@ def test_mechanics_sweep_with_compliance_options(spec_file, tmp_path, capsys, qu
         assert cls == rest.classification
         assert z == pytest.approx(rest.state.centre[2], abs=1e-12)
     # A resume with the same options: nothing to do, and said so on stderr.
-    rc, stdout, stderr = run(capsys, *args)
+    rc, stdout, stderr = run_cli(capsys, *args)
     assert rc == 0
     assert "resuming" in stderr and "1 of 1 configurations were already done" in stderr
     assert json.loads(stdout)["resumed"] and json.loads(stdout)["done_before"] == 1
     # Another compliance is refused, not mixed.
-    rc, stdout, stderr = run(capsys, *[a if a != "20" else "30" for a in args])
+    rc, stdout, stderr = run_cli(capsys, *[a if a != "20" else "30" for a in args])
     assert rc == 2 and "refusing to mix" in stderr and "compliance" in stderr
 
 
-def test_interrupted_mechanics_sweep_resumes_and_says_so(swept, spec_file, tmp_path, capsys):
+def test_interrupted_mechanics_sweep_resumes_and_says_so(swept, quarter_20_file, tmp_path, capsys):
     # A library that holds one of its two held tilts (as a sweep stopped after one chunk
     # leaves it): the command computes the other and says how many were already done.
     out = tmp_path / "partial"
@@ -212,10 +196,10 @@ def test_interrupted_mechanics_sweep_resumes_and_says_so(swept, spec_file, tmp_p
     parts = sorted(out.glob("part-*.parquet"))
     assert len(parts) == 2
     parts[-1].unlink()
-    rc, stdout, stderr = run(
+    rc, stdout, stderr = run_cli(
         capsys,
         "sweep",
-        str(spec_file),
+        str(quarter_20_file),
         *GRID,
         "-o",
         str(out),
@@ -233,7 +217,7 @@ def test_interrupted_mechanics_sweep_resumes_and_says_so(swept, spec_file, tmp_p
 
 
 def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
-    rc, out, _ = run(capsys, "library", "info", str(swept), "--json")
+    rc, out, _ = run_cli(capsys, "library", "info", str(swept), "--json")
     assert rc == 0
     doc = json.loads(out)
     assert doc["model"] == "mechanics" and doc["units"]["length"] == "in"
@@ -243,10 +227,10 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     rows = pd.read_parquet(swept)
     assert doc["states"]["by_role"] == rows["role"].value_counts().to_dict()
 
-    rc, out, _ = run(capsys, "library", "info", str(swept))
+    rc, out, _ = run_cli(capsys, "library", "info", str(swept))
     assert rc == 0 and "mechanics model" in out and "compliance: axial force 10 N" in out
 
-    rc, _, err = run(
+    rc, _, err = run_cli(
         capsys,
         "library",
         "query",
@@ -260,7 +244,7 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
         "--json",
     )
     assert rc == 2 and "nearest configuration is roll 2, pitch -1, phase 270" in err
-    rc, out, _ = run(
+    rc, out, _ = run_cli(
         capsys,
         "library",
         "query",
@@ -283,13 +267,13 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     assert q["record"]["classification"] == direct.classification
     assert q["record"]["contact_regions"] == [c.regions for c in direct.state.touching]
 
-    rc, out, _ = run(
+    rc, out, _ = run_cli(
         capsys, "library", "query", str(swept), "--roll", "2", "--pitch", "-1", "--phase", "270"
     )
     assert rc == 0 and "snapped" not in out and f"Rest state: {direct.classification}" in out
 
     figs = tmp_path / "figs"
-    rc, out, _ = run(
+    rc, out, _ = run_cli(
         capsys, "library", "summary", str(swept), "--phase", "90", "-o", str(figs), "--json"
     )
     assert rc == 0
@@ -305,19 +289,19 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
         "stability_map.png",
     ]
 
-    rc, out, _ = run(capsys, "library", "summary", str(swept))
+    rc, out, _ = run_cli(capsys, "library", "summary", str(swept))
     assert rc == 0 and "Rest state reached" in out and "Contact-region combinations" in out
     assert "first-contact" in out
 
 
 def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
-    rc, out, _ = run(capsys, "library", "info", str(thesis_swept), "--json")
+    rc, out, _ = run_cli(capsys, "library", "info", str(thesis_swept), "--json")
     assert rc == 0
     doc = json.loads(out)
     assert doc["model"] == "thesis" and doc["units"] == {"length": "in", "angle": "deg"}
     assert doc["configurations"] == doc["done"] == 9
 
-    rc, out, _ = run(
+    rc, out, _ = run_cli(
         capsys,
         "library",
         "query",
@@ -339,7 +323,7 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
     assert q["record"]["classification"] == direct["classification"]
     assert q["record"]["n_contacts"] == direct["n_contacts"]
 
-    rc, out, _ = run(
+    rc, out, _ = run_cli(
         capsys,
         "library",
         "query",
@@ -353,14 +337,14 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
     )
     assert rc == 0 and "snapped" not in out and direct["classification"] in out
 
-    rc, out, _ = run(capsys, "library", "summary", str(thesis_swept), "--json")
+    rc, out, _ = run_cli(capsys, "library", "summary", str(thesis_swept), "--json")
     assert rc == 0
     s = json.loads(out)
     counts = pd.read_parquet(thesis_swept)["classification"].value_counts().to_dict()
     assert {k: v for k, v in s["counts"].items() if v} == counts
     assert s["model"] == "thesis" and "states" not in s
 
-    rc, out, _ = run(capsys, "library", "info", str(thesis_swept))
+    rc, out, _ = run_cli(capsys, "library", "info", str(thesis_swept))
     assert rc == 0 and "thesis model" in out and "compliance_z 0" in out
 
 
@@ -386,16 +370,16 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
         (["--model", "thesis", "--step", "1"], "--step applies to --model mechanics only"),
     ],
 )
-def test_sweep_bad_input_exits_2_and_writes_nothing(args, words, spec_file, tmp_path, capsys):
+def test_sweep_bad_input_exits_2_and_writes_nothing(args, words, quarter_20_file, tmp_path, capsys):
     out = tmp_path / "never"
-    rc, stdout, stderr = run(capsys, "sweep", str(spec_file), "-o", str(out), *args)
+    rc, stdout, stderr = run_cli(capsys, "sweep", str(quarter_20_file), "-o", str(out), *args)
     assert rc == 2
     assert stderr.startswith("threadmate: error:") and words in stderr
     assert "Traceback" not in stderr and stdout == ""
     assert not out.exists()
 
 
-def test_mismatched_library_exits_2(swept, spec_file, capsys):
+def test_mismatched_library_exits_2(swept, quarter_20_file, capsys):
     before = sorted(p.name for p in swept.iterdir())
     phase = ["--phase", "0:270:90"]
     for argv, words in (
@@ -404,7 +388,7 @@ def test_mismatched_library_exits_2(swept, spec_file, capsys):
         ([*GRID, "--step", STEP, "--stiffness", "2"], "compliance"),
         ([*GRID, "--model", "thesis"], "model"),
     ):
-        rc, stdout, stderr = run(capsys, "sweep", str(spec_file), *argv, "-o", str(swept))
+        rc, stdout, stderr = run_cli(capsys, "sweep", str(quarter_20_file), *argv, "-o", str(swept))
         assert rc == 2 and "refusing to mix" in stderr and words in stderr, (argv, stderr)
         assert stdout == ""
     assert sorted(p.name for p in swept.iterdir()) == before
@@ -416,11 +400,13 @@ def test_mismatched_library_exits_2(swept, spec_file, capsys):
 def test_reading_a_non_library_exits_2(command, tmp_path, capsys):
     (tmp_path / "empty").mkdir()
     for path in (tmp_path / "missing", tmp_path / "empty"):
-        rc, stdout, stderr = run(capsys, "library", command[0], str(path), *command[1:])
+        rc, stdout, stderr = run_cli(capsys, "library", command[0], str(path), *command[1:])
         assert rc == 2 and stderr.startswith("threadmate: error:") and stdout == ""
 
 
-def test_ctrl_c_then_resume_equals_an_uninterrupted_sweep(spec_file, quarter_20, tmp_path, capsys):
+def test_ctrl_c_then_resume_equals_an_uninterrupted_sweep(
+    quarter_20_file, quarter_20, tmp_path, capsys
+):
     grid = {"roll": "-2:2:1", "pitch": "0,3", "phase": "0:355:45"}  # 80 configurations
     out = tmp_path / "interrupted"
     cmd = [
@@ -428,7 +414,7 @@ def test_ctrl_c_then_resume_equals_an_uninterrupted_sweep(spec_file, quarter_20,
         "-c",
         "from threadmate.cli import main; main()",
         "sweep",
-        str(spec_file),
+        str(quarter_20_file),
         "--model",
         "thesis",
         "--roll",
@@ -469,7 +455,7 @@ def test_ctrl_c_then_resume_equals_an_uninterrupted_sweep(spec_file, quarter_20,
     partial = load(out)
     assert 6 <= len(partial) < 80 and partial["config_id"].is_unique
 
-    rc, stdout, stderr = run(capsys, *cmd[3:], "--json")
+    rc, stdout, stderr = run_cli(capsys, *cmd[3:], "--json")
     assert rc == 0 and json.loads(stdout)["done"] == 80
     assert f"{len(partial)} of 80 configurations were already done" in stderr
     resumed = load(out)

@@ -28,10 +28,6 @@ SPEC = {
 UPRIGHT = ["--roll", "0", "--pitch", "0", "--phase", "330", "--stiffness", "1000"]
 
 
-def run(argv, capsys):
-    return run_cli(capsys, *argv)
-
-
 def _one_line_error(err: str, after_progress: bool = False) -> None:
     """One error line on stderr; a search's progress bar may stand before it."""
     assert "Traceback" not in err
@@ -42,20 +38,18 @@ def _one_line_error(err: str, after_progress: bool = False) -> None:
 
 
 def test_settle_json_document(capsys):
-    rc, out, err = run(
-        [
-            "settle",
-            DESIGNATION,
-            *THESIS_PARTS,
-            "--roll",
-            "4",
-            "--pitch",
-            "0",
-            "--phase",
-            "170",
-            "--json",
-        ],
+    rc, out, err = run_cli(
         capsys,
+        "settle",
+        DESIGNATION,
+        *THESIS_PARTS,
+        "--roll",
+        "4",
+        "--pitch",
+        "0",
+        "--phase",
+        "170",
+        "--json",
     )
     assert rc == 0, err
     doc = json.loads(out)  # exactly one JSON document on stdout
@@ -103,22 +97,20 @@ def test_settle_json_document(capsys):
 
 
 def test_settle_text_on_a_spec_file(spec_file, capsys):
-    rc, out, err = run(
-        [
-            "settle",
-            str(spec_file),
-            "--roll",
-            "4",
-            "--pitch",
-            "0",
-            "--phase",
-            "170",
-            "--stiffness",
-            "1,2",
-            "--friction",
-            "0.1",
-        ],
+    rc, out, err = run_cli(
         capsys,
+        "settle",
+        str(spec_file),
+        "--roll",
+        "4",
+        "--pitch",
+        "0",
+        "--phase",
+        "170",
+        "--stiffness",
+        "1,2",
+        "--friction",
+        "0.1",
     )
     assert rc == 0, err
     for field in (
@@ -161,7 +153,7 @@ def test_settle_text_on_a_spec_file(spec_file, capsys):
 def test_settle_bad_parameters_exit_2(capsys, argv, words):
     base = {"--roll": "4", "--pitch": "0", "--phase": "170"}
     args = [a for k, v in base.items() if k not in argv for a in (k, v)]
-    rc, out, err = run(["settle", DESIGNATION, *args, *argv, "--json"], capsys)
+    rc, out, err = run_cli(capsys, "settle", DESIGNATION, *args, *argv, "--json")
     assert rc == 2 and out == ""
     _one_line_error(err)
     assert err.startswith("threadmate: error:") and words in err
@@ -182,7 +174,7 @@ def test_search_bad_input_writes_nothing(tmp_path, capsys, argv):
     fig = tmp_path / "out.png"
     base = {"--roll": "4", "--pitch": "0", "--phase": "170"}
     args = [a for k, v in base.items() if k not in argv for a in (k, v)]
-    rc, out, err = run(["search", DESIGNATION, *args, *argv, "--plot", str(fig)], capsys)
+    rc, out, err = run_cli(capsys, "search", DESIGNATION, *args, *argv, "--plot", str(fig))
     assert rc == 2 and out == ""
     _one_line_error(err)
     assert not fig.exists() and list(tmp_path.iterdir()) == []
@@ -190,42 +182,38 @@ def test_search_bad_input_writes_nothing(tmp_path, capsys, argv):
 
 def test_search_bad_figure_suffix_is_refused_first(tmp_path, capsys):
     # The spec file does not exist: the figure's name is checked first.
-    rc, out, err = run(
-        [
-            "search",
-            str(tmp_path / "missing.json"),
-            "--roll",
-            "0",
-            "--pitch",
-            "0",
-            "--phase",
-            "0",
-            "--plot",
-            str(tmp_path / "out.jpg"),
-        ],
+    rc, out, err = run_cli(
         capsys,
+        "search",
+        str(tmp_path / "missing.json"),
+        "--roll",
+        "0",
+        "--pitch",
+        "0",
+        "--phase",
+        "0",
+        "--plot",
+        str(tmp_path / "out.jpg"),
     )
     assert rc == 2 and out == "" and ".jpg" in err
     assert list(tmp_path.iterdir()) == []
 
 
 def test_search_without_snap_exits_3_after_printing(capsys):
-    rc, out, err = run(
-        [
-            "search",
-            DESIGNATION,
-            *THESIS_PARTS,
-            "--roll",
-            "4",
-            "--pitch",
-            "0",
-            "--phase",
-            "170",
-            "--turns",
-            "0.05",
-            "--json",
-        ],
+    rc, out, err = run_cli(
         capsys,
+        "search",
+        DESIGNATION,
+        *THESIS_PARTS,
+        "--roll",
+        "4",
+        "--pitch",
+        "0",
+        "--phase",
+        "170",
+        "--turns",
+        "0.05",
+        "--json",
     )
     assert rc == 3
     doc = json.loads(out)  # the document is printed all the same, and only it
@@ -238,21 +226,19 @@ def test_search_without_snap_exits_3_after_printing(capsys):
     _one_line_error(err, after_progress=True)
     assert "no snap within 0.05 turn(s)" in err
     # The same in text (the Mechanics is cached in-process: a short second run).
-    rc, out, err = run(
-        [
-            "search",
-            DESIGNATION,
-            *THESIS_PARTS,
-            "--roll",
-            "4",
-            "--pitch",
-            "0",
-            "--phase",
-            "170",
-            "--turns",
-            "0.02",
-        ],
+    rc, out, err = run_cli(
         capsys,
+        "search",
+        DESIGNATION,
+        *THESIS_PARTS,
+        "--roll",
+        "4",
+        "--pitch",
+        "0",
+        "--phase",
+        "170",
+        "--turns",
+        "0.02",
     )
     assert rc == 3
     for field in (
@@ -268,8 +254,8 @@ def test_search_without_snap_exits_3_after_printing(capsys):
 
 def test_search_that_snaps_with_plot(tmp_path, capsys):
     fig = tmp_path / "signature.png"
-    rc, out, err = run(
-        ["search", DESIGNATION, *THESIS_PARTS, *UPRIGHT, "--json", "--plot", str(fig)], capsys
+    rc, out, err = run_cli(
+        capsys, "search", DESIGNATION, *THESIS_PARTS, *UPRIGHT, "--json", "--plot", str(fig)
     )
     assert rc == 0, err
     doc = json.loads(out)
@@ -291,7 +277,7 @@ def test_search_that_snaps_with_plot(tmp_path, capsys):
 
 def test_help_says_units_and_defaults(capsys):
     for command in ("settle", "search"):
-        rc, out, err = run([command, "--help"], capsys)
+        rc, out, err = run_cli(capsys, command, "--help")
         assert rc == 0
         text = " ".join(out.split())
         for phrase in (

@@ -11,7 +11,7 @@ import networkx as nx
 import pandas as pd
 import pytest
 
-from _cli import run_cli
+from _cli import one_line, run_cli
 from _libraries import (
     expected_weight,
     library_rows,
@@ -75,14 +75,6 @@ def thesis_lib(tmp_path_factory, quarter_20):
         "0:180:180",
         model="thesis",
     )
-
-
-def one_error(err: str) -> str:
-    """The single message of a refused command."""
-    assert "Traceback" not in err
-    lines = [line for line in err.splitlines() if line.strip()]
-    assert len(lines) == 1, err
-    return lines[0]
 
 
 # -- network ------------------------------------------------------------------------------
@@ -189,7 +181,7 @@ def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
     ]
     rc, out, err = run_cli(capsys, *args)
     if not w["reaches"]:
-        assert rc == 3 and "no path" in one_error(err)
+        assert rc == 3 and "no path" in one_line(err)
         doc = json.loads(out)
         assert doc["snap"] is None and doc["start"]["node"] == node
         return
@@ -227,7 +219,7 @@ def test_path_off_the_grid_needs_nearest(synth_lib, capsys):
         capsys, "path", synth_lib, "--roll", "0.3", "--pitch", "-1", "--phase", "85", "--json"
     )
     assert rc == 2 and out == ""
-    msg = one_error(err)
+    msg = one_line(err)
     assert msg.startswith("threadmate: error:") and "--nearest" in msg
     assert "roll 0, pitch -1, phase 90" in msg
     rc, out, err = run_cli(
@@ -260,7 +252,7 @@ def test_no_path_exits_3(synth_lib, capsys):
         capsys, "path", synth_lib, "--roll", "0", "--pitch", "1", "--phase", "180", "--json"
     )
     assert rc == 3
-    message = one_error(err)
+    message = one_line(err)
     assert message.startswith("threadmate: no path:")
     # A design tool still gets one document on stdout, as from `threadmate search`: the
     # keys of a path's, nothing reached, and why.
@@ -273,7 +265,7 @@ def test_no_path_exits_3(synth_lib, capsys):
     rc, out, err = run_cli(
         capsys, "path", synth_lib, "--roll", "1", "--pitch", "-1", "--phase", "180"
     )
-    assert rc == 3 and "failed" in one_error(err)
+    assert rc == 3 and "failed" in one_line(err)
     # With active moves the robot can leave the cycle by changing the held tilt.
     rc, out, err = run_cli(
         capsys,
@@ -304,7 +296,7 @@ def test_path_bad_k(synth_lib, capsys, k):
     rc, out, err = run_cli(
         capsys, "path", synth_lib, "--roll", "0", "--pitch", "0", "--phase", "180", "--k", k
     )
-    assert rc == 2 and out == "" and "--k" in one_error(err)
+    assert rc == 2 and out == "" and "--k" in one_line(err)
 
 
 @pytest.mark.parametrize(
@@ -317,7 +309,7 @@ def test_path_bad_numbers(synth_lib, capsys, extra):
     flat = [x for kv in args.items() for x in kv]
     rc, out, err = run_cli(capsys, "path", synth_lib, *flat)
     assert rc == 2 and out == ""
-    assert one_error(err).startswith("threadmate: error:")
+    assert one_line(err).startswith("threadmate: error:")
 
 
 # -- recommend ----------------------------------------------------------------------------
@@ -385,7 +377,7 @@ def test_recommend_refuses_a_library_twice(synth_lib, tmp_path, capsys):
     ):
         rc, out, err = run_cli(capsys, "recommend", *args, "-o", tmp_path / "r.json")
         assert rc == 2 and out == ""
-        assert words in one_error(err)
+        assert words in one_line(err)
         assert not (tmp_path / "r.json").exists()
 
 
@@ -398,7 +390,7 @@ def test_network_warns_of_starts_not_at_rest(synth_lib, tmp_path, quarter_20, ca
     rc, out, err = run_cli(capsys, "network", lib, "-o", tmp_path / "n.graphml", "--json")
     assert rc == 0
     assert json.loads(out)["not_at_rest"] == [node]
-    warning = one_error(err)
+    warning = one_line(err)
     assert warning.startswith("threadmate: warning: 1 start(s) did not reach a rest state")
     assert node in warning
 
@@ -416,7 +408,7 @@ def test_missing_library_exits_2(tmp_path, capsys):
     for args in _commands(tmp_path / "nowhere", tmp_path):
         rc, out, err = run_cli(capsys, *args)
         assert rc == 2 and out == "", args
-        assert one_error(err).startswith("threadmate: error:")
+        assert one_line(err).startswith("threadmate: error:")
     assert not (tmp_path / "x.graphml").exists()
 
 
@@ -424,7 +416,7 @@ def test_thesis_library_exits_2(thesis_lib, tmp_path, capsys):
     for args in _commands(thesis_lib, tmp_path):
         rc, out, err = run_cli(capsys, *args)
         assert rc == 2 and out == "", args
-        assert "mechanics" in one_error(err)
+        assert "mechanics" in one_line(err)
     assert not (tmp_path / "x.graphml").exists()
 
 
@@ -441,7 +433,7 @@ def test_bad_outputs_exit_2(synth_lib, tmp_path, capsys, args):
     args = [a.format(lib=synth_lib, tmp=tmp_path) for a in args]
     rc, out, err = run_cli(capsys, *args)
     assert rc == 2 and out == ""
-    assert one_error(err).startswith("threadmate: error:")
+    assert one_line(err).startswith("threadmate: error:")
     assert [p.name for p in tmp_path.iterdir()] == []
 
 
@@ -467,4 +459,4 @@ def test_recommend_compares_libraries_of_one_grid_only(synth_lib, tmp_path, quar
         tmp_path / "lower", quarter_20, rows=rows[rows["held_pitch"] < 1], pitch=[-1.0, 0.0]
     )
     rc, out, err = run_cli(capsys, "recommend", synth_lib, other)
-    assert rc == 2 and out == "" and "one grid" in one_error(err)
+    assert rc == 2 and out == "" and "one grid" in one_line(err)

@@ -22,12 +22,8 @@ SPEC = {
 HALF_WINDOW = 360.0 * (0.21995 - 0.21455) / SQ3 / (2 * 0.05)
 
 
-def run(argv, capsys):
-    return run_cli(capsys, *argv)
-
-
 def test_json_document(spec_file, capsys):
-    rc, out, err = run(["planar", str(spec_file), "--json"], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(spec_file), "--json")
     assert rc == 0
     doc = json.loads(out)  # exactly one document
     for key in (
@@ -63,28 +59,33 @@ def test_json_document(spec_file, capsys):
 
 
 def test_phase_modulo_and_in_phase(spec_file, capsys):
-    rc, out, _ = run(["planar", str(spec_file), "--json", "--phase", "-350"], capsys)
+    rc, out, _ = run_cli(capsys, "planar", str(spec_file), "--json", "--phase", "-350")
     assert rc == 0 and json.loads(out)["phase"] == pytest.approx(10.0)
     doc = json.loads(out)
     assert doc["in_phase"] is True and doc["contacts"] == [] and doc["contact_angle"] == 0.0
-    rc, out, _ = run(["planar", str(spec_file), "--json", "--phase", "390"], capsys)
+    rc, out, _ = run_cli(capsys, "planar", str(spec_file), "--json", "--phase", "390")
     doc390 = json.loads(out)
-    rc, out, _ = run(["planar", str(spec_file), "--json", "--phase", "30"], capsys)
+    rc, out, _ = run_cli(capsys, "planar", str(spec_file), "--json", "--phase", "30")
     assert doc390["contacts"] == json.loads(out)["contacts"]
 
 
 def test_plots(spec_file, tmp_path, capsys):
     disk = tmp_path / "figs" / "disk.png"
-    rc, out, err = run(["planar", str(spec_file), "--json", "--plot", str(disk)], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(spec_file), "--json", "--plot", str(disk))
     assert rc == 0
     pivot = tmp_path / "figs" / "disk-pivot.png"
     assert json.loads(out)["figures"] == [str(disk), str(pivot)]
     for f in (disk, pivot):
         assert f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     svg = tmp_path / "pivot.svg"
-    rc, out, _ = run(
-        ["planar", str(spec_file), "--plot", str(tmp_path / "d.svg"), "--pivot-plot", str(svg)],
+    rc, out, _ = run_cli(
         capsys,
+        "planar",
+        str(spec_file),
+        "--plot",
+        str(tmp_path / "d.svg"),
+        "--pivot-plot",
+        str(svg),
     )
     assert rc == 0 and "contact 1" in out
     assert ET.parse(svg).getroot().tag.endswith("svg")
@@ -94,37 +95,40 @@ def test_plots(spec_file, tmp_path, capsys):
 
 @pytest.mark.parametrize("phase", ["nan", "inf", "-inf"])
 def test_non_finite_phase_is_refused(spec_file, capsys, phase):
-    rc, out, err = run(["planar", str(spec_file), "--json", f"--phase={phase}"], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(spec_file), "--json", f"--phase={phase}")
     assert rc == 2 and out == ""
     assert err.startswith("threadmate: error:") and "phase" in err and "Traceback" not in err
 
 
 def test_bad_plot_suffix_is_refused_before_any_work(tmp_path, capsys):
     # The spec does not exist: the figure name is checked first, and nothing is written.
-    rc, out, err = run(
-        ["planar", str(tmp_path / "missing.json"), "--plot", str(tmp_path / "disk.pdf")], capsys
+    rc, out, err = run_cli(
+        capsys, "planar", str(tmp_path / "missing.json"), "--plot", str(tmp_path / "disk.pdf")
     )
     assert rc == 2 and out == "" and "disk.pdf" in err and ".png" in err
-    rc, out, err = run(
-        ["planar", str(tmp_path / "missing.json"), "--pivot-plot", str(tmp_path / "pivot.jpeg")],
+    rc, out, err = run_cli(
         capsys,
+        "planar",
+        str(tmp_path / "missing.json"),
+        "--pivot-plot",
+        str(tmp_path / "pivot.jpeg"),
     )
     assert rc == 2 and "pivot.jpeg" in err
     assert list(tmp_path.iterdir()) == []
 
 
 def test_missing_and_invalid_spec(tmp_path, capsys):
-    rc, out, err = run(["planar", str(tmp_path / "nope.json"), "--json"], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(tmp_path / "nope.json"), "--json")
     assert rc == 2 and out == "" and "nope.json" in err
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps({**SPEC, "nut": {**SPEC["nut"], "pitch_diameter": 0.2}}))
-    rc, out, err = run(["planar", str(bad), "--json", "--plot", str(tmp_path / "d.png")], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(bad), "--json", "--plot", str(tmp_path / "d.png"))
     assert rc == 2 and out == "" and "pitch_diameter" in err
     assert not (tmp_path / "d.png").exists()
 
 
 def test_designation(capsys):
-    rc, out, err = run(["planar", "1/4-20 UNC-2A/2B", *THESIS_PARTS, "--json"], capsys)
+    rc, out, err = run_cli(capsys, "planar", "1/4-20 UNC-2A/2B", *THESIS_PARTS, "--json")
     assert rc == 0, err
     doc = json.loads(out)
     # Mean pitch diameters from ASME B1.1: bolt 0.2127-0.2164, nut 0.2175-0.2224.
@@ -136,8 +140,8 @@ def test_designation(capsys):
 def test_unwritable_figure_location(spec_file, tmp_path, capsys):
     blocker = tmp_path / "blocker"
     blocker.write_text("a file where a folder is needed")
-    rc, out, err = run(
-        ["planar", str(spec_file), "--json", "--plot", str(blocker / "disk.png")], capsys
+    rc, out, err = run_cli(
+        capsys, "planar", str(spec_file), "--json", "--plot", str(blocker / "disk.png")
     )
     assert rc == 2 and out == "" and "disk.png" in err and "Traceback" not in err
 
@@ -148,7 +152,7 @@ def test_absurd_pitch_exits_2_with_range_and_writes_nothing(tmp_path, capsys):
     spec.parent.mkdir()
     spec.write_text(json.dumps({**SPEC, "pitch": 1e308}))
     out_dir = tmp_path / "figs"
-    rc, out, err = run(["planar", str(spec), "--json", "--plot", str(out_dir / "d.png")], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(spec), "--json", "--plot", str(out_dir / "d.png"))
     assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
     assert "'pitch'" in err and "from 0.0001 to 1000 in" in err
     assert not out_dir.exists()
@@ -156,7 +160,7 @@ def test_absurd_pitch_exits_2_with_range_and_writes_nothing(tmp_path, capsys):
 
 @pytest.mark.parametrize("option", ["--plot", "--pivot-plot"])
 def test_uncreatable_figure_folder_exits_2(spec_file, capsys, option):
-    rc, out, err = run(["planar", str(spec_file), option, "/proc/threadmate-x/d.png"], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(spec_file), option, "/proc/threadmate-x/d.png")
     assert rc == 2 and out == "" and "Traceback" not in err and err.count("\n") == 1
     assert f"{option} /proc/threadmate-x/d.png" in err
 
@@ -164,13 +168,13 @@ def test_uncreatable_figure_folder_exits_2(spec_file, capsys, option):
 def test_figure_path_that_is_a_folder_exits_2(spec_file, tmp_path, capsys):
     folder = tmp_path / "d.png"
     folder.mkdir()
-    rc, out, err = run(["planar", str(spec_file), "--plot", str(folder)], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(spec_file), "--plot", str(folder))
     assert rc == 2 and out == "" and "is a directory" in err
     assert list(folder.iterdir()) == []
 
 
 def test_empty_designation_and_directory(tmp_path, capsys):
-    rc, out, err = run(["planar", ""], capsys)
+    rc, out, err = run_cli(capsys, "planar", "")
     assert rc == 2 and out == "" and "empty thread designation" in err
-    rc, out, err = run(["planar", str(tmp_path)], capsys)
+    rc, out, err = run_cli(capsys, "planar", str(tmp_path))
     assert rc == 2 and out == "" and "is a directory, not a spec file" in err

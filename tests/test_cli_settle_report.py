@@ -11,7 +11,7 @@ import pytest
 
 import threadmate.contact
 from _cli import THESIS_PARTS, run_cli
-from threadmate.contact import Compliance, ContactAnalyzer, Mechanics, settle
+from threadmate.contact import Compliance, Mechanics, contact_scene, settle
 from threadmate.geometry import spec_from_designation
 
 ARGS = ("1/4-20 UNC-2A/2B", *THESIS_PARTS, "--roll", "1", "--pitch", "0", "--phase", "0")
@@ -21,7 +21,7 @@ ARGS = ("1/4-20 UNC-2A/2B", *THESIS_PARTS, "--roll", "1", "--pitch", "0", "--pha
 def rest():
     """The real rest state the command computes for ARGS."""
     spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
-    mech = Mechanics(spec, Compliance(), analyzer=ContactAnalyzer(spec))
+    mech = Mechanics(spec, Compliance(), scene=contact_scene(spec))
     return settle(mech, 1.0, 0.0, 0.0)
 
 

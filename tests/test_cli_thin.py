@@ -16,6 +16,8 @@ import trimesh
 from _cli import refused, run_cli
 from _libraries import DESIGNATION, synthetic_library
 from threadmate import InputError, MeshError
+
+# The limits: internals with no public form (threadmate._validate owns them).
 from threadmate._validate import MAX_FACES, MAX_K, MAX_PHASE, MAX_TILT, check_roll_spread
 from threadmate.contact import MAX_SCREW_IN, MAX_STEP, ContactAnalyzer
 from threadmate.geometry import load_mesh, spec_from_designation, write_stl

@@ -9,22 +9,13 @@ import sys
 
 import pytest
 
-from _cli import THESIS_PARTS
-from threadmate.cli import main
+from _cli import THESIS_PARTS, run_cli
 from threadmate.geometry import BoltSpec, NutSpec, ThreadSpec, save_spec
-
-
-def run(capsys, *args: str) -> tuple[int, str, str]:
-    """Run the real entry point in-process; return (exit status, stdout, stderr)."""
-    with pytest.raises(SystemExit) as exc:
-        main(list(args))
-    out, err = capsys.readouterr()
-    return exc.value.code, out, err
 
 
 def test_json_quarter_20(capsys):
     # The thesis's flat parts: one pitch of bolt and of nut.
-    rc, out, err = run(capsys, "thread", "1/4-20 UNC-2A/2B", *THESIS_PARTS, "--json")
+    rc, out, err = run_cli(capsys, "thread", "1/4-20 UNC-2A/2B", *THESIS_PARTS, "--json")
     assert rc == 0
     doc = json.loads(out)  # exactly one JSON document
     assert doc["units"] == "in" and doc["pitch"] == pytest.approx(0.05)
@@ -43,7 +34,7 @@ def test_json_quarter_20(capsys):
 
 @pytest.mark.parametrize(("condition", "pick"), [("max", 1), ("min", 0), ("maximum", 1)])
 def test_json_m6_conditions(capsys, condition, pick):
-    rc, out, _ = run(capsys, "thread", "M6x1-6g/6H", "--condition", condition, "--json")
+    rc, out, _ = run_cli(capsys, "thread", "M6x1-6g/6H", "--condition", condition, "--json")
     assert rc == 0
     doc = json.loads(out)
     assert doc["units"] == "mm" and doc["pitch"] == 1.0
@@ -59,7 +50,7 @@ def test_json_m6_conditions(capsys, condition, pick):
 
 
 def test_table_output(capsys):
-    rc, out, err = run(capsys, "thread", "#10-24 UNC")
+    rc, out, err = run_cli(capsys, "thread", "#10-24 UNC")
     assert rc == 0 and err == ""
     assert "#10-24 UNC-2A/2B" in out
     for value in ("0.1818", "0.1890", "0.1586", "0.1619", "0.1450", "0.1560", "0.1629", "0.1672"):
@@ -80,7 +71,7 @@ def _spec() -> ThreadSpec:
 @pytest.mark.parametrize("suffix", [".json", ".toml"])
 def test_spec_file_round_trip(capsys, tmp_path, suffix):
     path = save_spec(_spec(), tmp_path / f"pair{suffix}")
-    rc, out, _ = run(capsys, "thread", str(path), "--json")
+    rc, out, _ = run_cli(capsys, "thread", str(path), "--json")
     assert rc == 0
     doc = json.loads(out)
     assert doc["units"] == "in" and doc["pitch"] == pytest.approx(0.05)
@@ -96,16 +87,16 @@ def test_json_and_toml_agree(capsys, tmp_path):
     docs = []
     for suffix in (".json", ".toml"):
         path = save_spec(_spec(), tmp_path / f"pair{suffix}")
-        docs.append(json.loads(run(capsys, "thread", str(path), "--json")[1]))
+        docs.append(json.loads(run_cli(capsys, "thread", str(path), "--json")[1]))
     assert docs[0] == docs[1]
 
 
 def test_designation_spec_survives_a_file(capsys, tmp_path):
     # Expand, save, and read back through the command: the same spec.
-    _, out, _ = run(capsys, "thread", "M8", "--condition", "min", "--json")
+    _, out, _ = run_cli(capsys, "thread", "M8", "--condition", "min", "--json")
     spec = ThreadSpec.from_dict(json.loads(out)["spec"])
     path = save_spec(spec, tmp_path / "m8.toml")
-    _, out2, _ = run(capsys, "thread", str(path), "--json")
+    _, out2, _ = run_cli(capsys, "thread", str(path), "--json")
     assert ThreadSpec.from_dict(json.loads(out2)["spec"]) == spec
 
 
@@ -120,7 +111,7 @@ def test_designation_spec_survives_a_file(capsys, tmp_path):
     ],
 )
 def test_bad_designation_exit_2(capsys, designation, message):
-    rc, out, err = run(capsys, "thread", designation, "--json")
+    rc, out, err = run_cli(capsys, "thread", designation, "--json")
     assert rc == 2
     assert out == ""
     assert err.startswith("threadmate: error: ") and message in err
@@ -155,18 +146,18 @@ def test_invalid_spec_file_exit_2(capsys, tmp_path, edit, key, suffix):
     data = _bad_spec(edit)
     path = tmp_path / f"bad{suffix}"
     path.write_text(json.dumps(data) if suffix == ".json" else tomli_w.dumps(data))
-    rc, out, err = run(capsys, "thread", str(path), "--json")
+    rc, out, err = run_cli(capsys, "thread", str(path), "--json")
     assert rc == 2 and out == ""
     assert f"'{key}'" in err and "Traceback" not in err
 
 
 def test_missing_spec_file_exit_2(capsys, tmp_path):
-    rc, out, err = run(capsys, "thread", str(tmp_path / "nope.json"))
+    rc, out, err = run_cli(capsys, "thread", str(tmp_path / "nope.json"))
     assert rc == 2 and out == "" and "not found" in err
 
 
 def test_bad_condition_is_a_usage_error(capsys):
-    rc, out, err = run(capsys, "thread", "M6", "--condition", "nominal")
+    rc, out, err = run_cli(capsys, "thread", "M6", "--condition", "nominal")
     assert rc == 2 and out == "" and "nominal" in err
 
 
@@ -209,19 +200,19 @@ def test_real_process_no_traceback():
 def test_absurd_spec_numbers_exit_2_with_range(capsys, tmp_path, edit, key):
     path = tmp_path / "absurd.json"
     path.write_text(json.dumps(_bad_spec(edit)))
-    rc, out, err = run(capsys, "thread", str(path), "--json")
+    rc, out, err = run_cli(capsys, "thread", str(path), "--json")
     assert rc == 2 and out == "" and "Traceback" not in err
     assert err.count("\n") == 1 and f"'{key}'" in err and "from 0.0001 to 1000 in" in err
 
 
 @pytest.mark.parametrize("text", ["", "   "])
 def test_empty_designation_says_so(capsys, text):
-    rc, out, err = run(capsys, "thread", text)
+    rc, out, err = run_cli(capsys, "thread", text)
     assert rc == 2 and out == "" and "Traceback" not in err
     assert "empty thread designation" in err and "not found" not in err
 
 
 def test_directory_as_spec_says_so(capsys, tmp_path):
-    rc, out, err = run(capsys, "thread", str(tmp_path))
+    rc, out, err = run_cli(capsys, "thread", str(tmp_path))
     assert rc == 2 and out == "" and "Traceback" not in err
     assert f"{tmp_path} is a directory, not a spec file" in err

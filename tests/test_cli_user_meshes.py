@@ -20,7 +20,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from _cli import run_cli
+from _cad_parts import MM_PER_IN
+from _cli import run_captured, run_cli, run_json
 from _libraries import library_rows
 from threadmate.contact import OFF_SPEC_REGIONS, Compliance
 from threadmate.geometry import (
@@ -38,17 +39,10 @@ STEP = "10"  # continuation step (deg), for speed
 CONFIG = ["--roll", "4", "--pitch", "0", "--phase", "185"]
 # The sweep's and the run's grid: one held tilt, two start phases (the run's smallest).
 GRID = ["--roll", "0", "--pitch", "0", "--phase", "300,330"]
-MM_PER_IN = 25.4
 
 
 def _digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
-
-
-def _json(capsys: pytest.CaptureFixture[str], *args: Any) -> tuple[dict[str, Any], str]:
-    rc, out, err = run_cli(capsys, *args, "--json")
-    assert rc == 0, err
-    return json.loads(out), err
 
 
 @pytest.fixture(scope="module")
@@ -121,18 +115,11 @@ def generated_contact(specs, capsys_module) -> dict[str, Any]:
 @pytest.fixture(scope="module")
 def capsys_module():
     """Run a command in-process with --json outside a test's capsys (module fixtures)."""
-    import contextlib
-    import io
-
-    from threadmate.cli import main
 
     def call(*args: Any) -> dict[str, Any]:
-        out, err = io.StringIO(), io.StringIO()
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-            with pytest.raises(SystemExit) as exc:
-                main([str(a) for a in [*args, "--json"]])
-        assert exc.value.code == 0, err.getvalue()
-        return json.loads(out.getvalue())
+        code, out, err = run_captured(*args, "--json")
+        assert code == 0, err
+        return json.loads(out)
 
     return call
 
@@ -171,7 +158,7 @@ def test_contact_on_the_generated_meshes_as_files(
     args = ["--bolt-mesh", meshes[bolt], "--nut-mesh", meshes[nut]]
     if units:
         args += ["--mesh-units", units]
-    doc, err = _json(capsys, "contact", specs["flat"], *CONFIG, "--chord", CHORD, *args)
+    _, doc, err = run_json(capsys, "contact", specs["flat"], *CONFIG, "--chord", CHORD, *args)
     gen = generated_contact
     tol = gen["tolerances"]["feature"]
     _same_stages(doc, gen, tol)
@@ -203,7 +190,7 @@ def test_contact_on_the_generated_meshes_as_files(
 def test_flat_spec_on_a_chamfered_cad_bolt_labels_the_chamfer_point(
     specs, meshes, generated_contact, quarter_20, capsys
 ):
-    doc, err = _json(
+    _, doc, err = run_json(
         capsys,
         "contact",
         specs["flat"],
@@ -254,8 +241,8 @@ def test_flat_spec_on_a_chamfered_cad_bolt_labels_the_chamfer_point(
 def test_settle_and_search_on_the_generated_meshes_as_files(specs, meshes, capsys):
     files = ["--bolt-mesh", meshes["bolt_ply"], "--nut-mesh", meshes["nut"]]
     base = ["--chord", CHORD]
-    gen, _ = _json(capsys, "settle", specs["flat"], *CONFIG, *base)
-    own, _ = _json(capsys, "settle", specs["flat"], *CONFIG, *base, *files)
+    _, gen, _ = run_json(capsys, "settle", specs["flat"], *CONFIG, *base)
+    _, own, _ = run_json(capsys, "settle", specs["flat"], *CONFIG, *base, *files)
     assert own["classification"] == gen["classification"]
     tol = 4 * float(CHORD)
     np.testing.assert_allclose(own["rest"]["origin"], gen["rest"]["origin"], atol=tol)
@@ -267,8 +254,8 @@ def test_settle_and_search_on_the_generated_meshes_as_files(specs, meshes, capsy
     assert gen["mesh"]["bolt"]["generated"] is True
 
     start = ["--roll", "0", "--pitch", "0", "--phase", "300", "--step", STEP]
-    gen, _ = _json(capsys, "search", specs["flat"], *start, *base)
-    own, _ = _json(capsys, "search", specs["flat"], *start, *base, *files)
+    _, gen, _ = run_json(capsys, "search", specs["flat"], *start, *base)
+    _, own, _ = run_json(capsys, "search", specs["flat"], *start, *base, *files)
     assert (gen["snap"] is None) == (own["snap"] is None)
     assert gen["snap"] is not None, "the start snaps within a turn"
     assert own["snap"]["phase"] == pytest.approx(gen["snap"]["phase"], abs=0.05)
@@ -349,8 +336,9 @@ def test_sweep_on_mesh_files_equals_the_generated_and_records_them(
     )
     assert rc == 0 and "resuming" in err, err
 
-    # What a worker receives pickles (paths, not meshes).
-    from threadmate.library._sweep import Job, MeshFile
+    # What a worker receives pickles (paths, not meshes): the sweep's job, an internal with
+    # no public form.
+    from threadmate.library._workers import Job, MeshFile
 
     job = Job(
         ThreadSpec.from_dict(json.loads(specs["flat"].read_text())),
@@ -381,7 +369,7 @@ def test_run_passes_the_meshes_and_the_report_names_them(
     # Without the meshes the library would not agree: the run hands them to the sweep.
     rc, _, err = run_cli(capsys, "run", specs["flat"], *base)
     assert rc == 2 and "bolt mesh" in err and "nut mesh" in err, err
-    doc, err = _json(capsys, "run", specs["flat"], *base, *files)
+    _, doc, err = run_json(capsys, "run", specs["flat"], *base, *files)
     assert doc["mesh"]["bolt"]["sha256"] == _digest(meshes["bolt_stl_mm"])
     assert doc["mesh"]["nut"]["file"] == "nut_mm.obj"
     report = (out / "report.md").read_text()

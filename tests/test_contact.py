@@ -30,7 +30,7 @@ from threadmate.contact import (
     ContactResult,
     record_schema,
 )
-from threadmate.contact._triangles import (
+from threadmate.contact.scene import (
     cluster_location,
     cluster_segments,
     intersection_segments,
@@ -81,7 +81,7 @@ def test_distinct_contacts_are_linked_by_segment_ends():
     far = [seg([1, 1, 0], [1.001, 1, 0])]
     start = np.array([s for s, _ in chain + far])
     end = np.array([e for _, e in chain + far])
-    from threadmate.contact._triangles import IntersectionSegments
+    from threadmate.contact.scene import IntersectionSegments
 
     segs = IntersectionSegments(start, end, np.ones(len(start), bool))
     labels = cluster_segments(segs, separation=0.0125)
@@ -99,7 +99,7 @@ def test_vertical_touch_is_the_least_drop_of_a_linear_program():
     included, in one call (the function's rows are independent)."""
     from scipy.optimize import linprog
 
-    from threadmate.contact._vertical import vertical_touch
+    from threadmate.contact.scene import vertical_touch
 
     rng = np.random.default_rng(7)
     n = 400
@@ -150,7 +150,7 @@ def test_dense_contact_patches_cluster_as_brute_force_single_linkage(seed):
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial.distance import cdist
 
-    from threadmate.contact._triangles import IntersectionSegments
+    from threadmate.contact.scene import IntersectionSegments
 
     rng = np.random.default_rng(seed)
     n, sep = int(rng.integers(65, 500)), 0.0125
@@ -350,7 +350,7 @@ def test_classifications_follow_the_thesis_rules(results, analyzer):
 
 
 def test_classification_rules_and_their_order():
-    from threadmate.contact._stability import classify
+    from threadmate.contact.thesis import classify
 
     base = dict(
         first_found=True,

@@ -21,7 +21,8 @@ from threadmate.contact import (
     off_spec_region,
     region_at,
 )
-from threadmate.contact._exact import Feature, _edge_points, feature_at, lowest_on_rim
+from threadmate.contact.scene import Feature, feature_at, lowest_on_rim
+from threadmate.contact.scene._exact import _edge_points  # an internal with no public form
 from threadmate.geometry import (
     BoltPoint,
     BoltSpec,

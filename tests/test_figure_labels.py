@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize
 
+# The shared label placement and the pivot-axes figure: internals with no public form.
 from threadmate._figures import EventLabel, label_events, new_figure, spread
 from threadmate.geometry import spec_from_designation
 from threadmate.planar import phase_sweep
@@ -202,13 +203,15 @@ def _search_run():
 
 
 def test_search_figure_labels_do_not_overlap(monkeypatch, tmp_path):
-    import threadmate.contact._figures
+    import threadmate.contact.mechanics._figures
     from threadmate.contact import plot_search
 
     figures = []
     # The figure as it would be saved.
     monkeypatch.setattr(
-        threadmate.contact._figures, "save_figure", lambda fig, path, fmt=None: figures.append(fig)
+        threadmate.contact.mechanics._figures,
+        "save_figure",
+        lambda fig, path, fmt=None: figures.append(fig),
     )
     spec = spec_from_designation("M10x1.5-6g/6H")
     plot_search(_search_run(), tmp_path / "s.png", spec=spec)

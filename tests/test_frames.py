@@ -51,7 +51,7 @@ def test_rotation_about_a_line_fixes_the_line():
 def test_axis_angle_rotation_matches_scipy():
     from scipy.spatial.transform import Rotation
 
-    from threadmate.geometry._frames import axis_angle_rotation
+    from threadmate.geometry import axis_angle_rotation
 
     rng = np.random.default_rng(0)
     for _ in range(50):

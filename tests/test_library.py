@@ -24,7 +24,7 @@ import pytest
 
 from _fcl import collider
 from _poses import axis_angle, leaves_branch
-from threadmate._errors import InputError, LibraryError
+from threadmate import InputError, LibraryError
 from threadmate.contact import (
     ROLES,
     STATE_COLUMNS,
@@ -409,12 +409,13 @@ def test_scheduler_without_dask_says_how_to_install(quarter_20, tmp_path, monkey
 
 def test_dask_scheduler_setting_is_read(monkeypatch):
     dask = pytest.importorskip("dask")
-    from threadmate.library._sweep import _scheduler_from_dask_config
+    # An internal with no public form: how a sweep reads Dask's own setting.
+    from threadmate.library._executors import scheduler_from_dask_config
 
     with dask.config.set({"scheduler-address": "tcp://10.1.2.3:8786"}):
-        assert _scheduler_from_dask_config() == "tcp://10.1.2.3:8786"
+        assert scheduler_from_dask_config() == "tcp://10.1.2.3:8786"
     with dask.config.set({"scheduler-address": None}):
-        assert _scheduler_from_dask_config() is None
+        assert scheduler_from_dask_config() is None
 
 
 @pytest.mark.slow

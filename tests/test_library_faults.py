@@ -21,8 +21,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from _cli import refused, run_cli
-from threadmate import library
-from threadmate._errors import InputError, LibraryError
+from threadmate import InputError, LibraryError, library
 
 DESIGNATION = "1/4-20 UNC-2A/2B"
 
@@ -179,6 +178,7 @@ def _all_commands(group, prefix=()):
 
 
 def test_every_command_takes_the_same_condition_spellings(capsys):
+    # The command tree, registered in full (an internal of the command line).
     from threadmate.cli._main import _register, cli
 
     _register()
@@ -511,7 +511,7 @@ with _store.sweep_lock(sys.argv[1]):
 
 @pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
 def test_a_forked_worker_does_not_keep_a_dead_sweeps_lock(tmp_path):
-    from threadmate.library._store import sweep_lock
+    from threadmate.library._store import sweep_lock  # an internal with no public form
 
     lib = tmp_path / "lib"
     lib.mkdir()

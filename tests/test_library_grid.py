@@ -7,7 +7,7 @@ import itertools
 import numpy as np
 import pytest
 
-from threadmate._errors import InputError
+from threadmate import InputError
 from threadmate.library import DEFAULT_GRID, Grid, parse_range
 
 

@@ -9,8 +9,9 @@ import time
 import pytest
 
 from _cli import refused
-from threadmate import library
-from threadmate._errors import InputError
+from threadmate import InputError, library
+
+# The limits are internals with no public form (threadmate._validate owns them).
 from threadmate._validate import (
     MAX_AXIS_VALUES,
     MAX_SEARCH_STEPS,

@@ -630,7 +630,7 @@ def test_rest_state_is_a_consequence_of_load_and_spring_not_of_the_search(quarte
     point lies within the bolt's radius plus its length of the compliance centre)."""
     tolerance = 1e-7
     coarse = Mechanics(quarter_20, DEFAULT, tolerance=tolerance)
-    fine = Mechanics(quarter_20, DEFAULT, tolerance=tolerance / 2, analyzer=coarse.analyzer)
+    fine = Mechanics(quarter_20, DEFAULT, tolerance=tolerance / 2, scene=coarse.scene)
     a, b = coarse.settle(*cfg).state, fine.settle(*cfg).state
     assert a.classification == b.classification != "unstable"
     reach = quarter_20.bolt.major / 2 + quarter_20.bolt.length

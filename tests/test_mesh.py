@@ -3,9 +3,10 @@ free of the coplanar-edge degeneracy that makes python-fcl miss triangle pairs.
 
 Every reference value here is computed independently of the mesh generator and of
 ``threadmate.geometry``'s profile code: the profile (sharp V clamped to the flats, with
-circular fillets tangent to flank and flat) is re-derived below from conventions.md, the
-exact volume integrates it, deviations are measured against a dense exact polyline of it,
-and the python-fcl check uses a brute-force triangle-triangle test written here.
+circular fillets tangent to flank and flat) is re-derived from conventions.md in
+``_meshes.py``, the exact volume integrates it, deviations are measured against a dense
+exact polyline of it, and the python-fcl check uses a brute-force triangle-triangle test
+written here.
 """
 
 from __future__ import annotations
@@ -19,7 +20,8 @@ from scipy import integrate
 from scipy.spatial import cKDTree
 
 from _fcl import bvh
-from threadmate._errors import InputError
+from _meshes import INSIDE_WEIGHTS, SQ3, ExactProfile, meridian_angles, meridian_gap
+from threadmate import InputError
 from threadmate.geometry import (
     DEFAULT_CHORD,
     BoltSpec,
@@ -32,8 +34,6 @@ from threadmate.geometry import (
     nut_mesh,
     thread_meshes,
 )
-
-SQ3 = math.sqrt(3.0)
 
 
 # -- specs -------------------------------------------------------------------------------
@@ -69,50 +69,15 @@ def pairs(quarter_20, sharp_quarter_20, m6, sharp_m6):
     }
 
 
-# -- an independent exact profile ----------------------------------------------------------
-def _exact_profile(spec: ThreadSpec, body: str):
-    """``R(u)`` for ``u = |t|`` in ``[0, p/2]``: flat, fillet, 60-degree flank, fillet, flat.
-
-    Each fillet is the circle of radius rho tangent to the flat and to the flank line
-    ``sqrt3 u + r = c`` (``c = pd/2 + sqrt3 p/4``); its centre lies rho from both.
-    """
-    b = getattr(spec, body)
-    p = spec.pitch
-    c = b.pitch_diameter / 2 + SQ3 * p / 4
-    r_hi = min(b.major / 2, c)
-    r_lo = max(b.minor / 2, b.pitch_diameter / 2 - SQ3 * p / 4)
-    rho_hi = b.crest_fillet if body == "bolt" else b.root_fillet
-    rho_lo = b.root_fillet if body == "bolt" else b.crest_fillet
-    # Centre of the high fillet: r = r_hi - rho and (c - sqrt3 u - r) / 2 = rho.
-    rc_hi = r_hi - rho_hi
-    uc_hi = (c - rc_hi - 2 * rho_hi) / SQ3
-    rc_lo = r_lo + rho_lo
-    uc_lo = (c - rc_lo + 2 * rho_lo) / SQ3
-    # Tangent points on the flank: the centre's foot on the line.
-    ut_hi = uc_hi + rho_hi * SQ3 / 2
-    ut_lo = uc_lo - rho_lo * SQ3 / 2
-
-    def radius(u):
-        u = np.abs(np.asarray(u, dtype=float))
-        flank = c - SQ3 * u
-        hi = rc_hi + np.sqrt(np.clip(rho_hi**2 - (u - uc_hi) ** 2, 0, None))
-        lo = rc_lo - np.sqrt(np.clip(rho_lo**2 - (u - uc_lo) ** 2, 0, None))
-        return np.select(
-            [u <= uc_hi, u <= ut_hi, u <= ut_lo, u <= uc_lo],
-            [np.full_like(u, r_hi), hi, flank, lo],
-            np.full_like(u, r_lo),
-        )
-
-    return radius, (uc_hi, ut_hi, ut_lo, uc_lo)
-
-
+# -- independent references -----------------------------------------------------------
 def _exact_volume(spec: ThreadSpec, body: str) -> float:
     """At any height the section sweeps whole pitches of ``t`` as theta turns once, so
     ``V = int int R^2/2 dtheta dz = pi * length * mean(R^2)`` (bolt) and
     ``pi * height * (outer^2 - mean(R^2))`` (nut)."""
-    radius, corners = _exact_profile(spec, body)
+    prof = ExactProfile(spec, body)
+    radius = prof.radius
     half = spec.pitch / 2
-    pts = sorted({c for c in corners if 0 < c < half})
+    pts = sorted({c for c in prof.corners if 0 < c < half})
     mean_r2 = (
         2
         * integrate.quad(
@@ -130,17 +95,14 @@ class _AxialDistance:
     profile (spacing ~ 1e-5 p: its own sagitta on the fillets is below 1e-9 p)."""
 
     def __init__(self, spec: ThreadSpec, body: str) -> None:
-        radius, _ = _exact_profile(spec, body)
+        prof = ExactProfile(spec, body)
+        radius = prof.radius
         p = spec.pitch
         t = np.linspace(-1.5 * p, 1.5 * p, 300_001)
         t = np.union1d(
             t,
             np.concatenate(
-                [
-                    s * np.asarray(_exact_profile(spec, body)[1]) + k * p
-                    for s in (-1, 1)
-                    for k in (-1, 0, 1)
-                ]
+                [s * np.asarray(prof.corners) + k * p for s in (-1, 1) for k in (-1, 0, 1)]
             ),
         )
         self.p = p
@@ -170,7 +132,7 @@ def _independent_deviation(spec: ThreadSpec, tb: TessellatedBody) -> tuple[float
     lead = spec.pitch * spec.starts
     hand = 1 if spec.hand == "right" else -1
     z0, z1 = (0.0, spec.bolt.length) if kind == "bolt" else (-spec.nut.height, 0.0)
-    radius, _ = _exact_profile(spec, kind)
+    radius = ExactProfile(spec, kind).radius
     v = np.asarray(tb.mesh.vertices)
     f = np.asarray(tb.mesh.faces)
 
@@ -190,18 +152,7 @@ def _independent_deviation(spec: ThreadSpec, tb: TessellatedBody) -> tuple[float
             d = np.minimum(d, np.abs(r - outer))
         return d
 
-    weights = np.array(
-        [
-            [1 / 3, 1 / 3, 1 / 3],
-            [0.5, 0.5, 0.0],
-            [0.0, 0.5, 0.5],
-            [0.5, 0.0, 0.5],
-            [0.6, 0.2, 0.2],
-            [0.2, 0.6, 0.2],
-            [0.2, 0.2, 0.6],
-        ]
-    )
-    inner = np.einsum("wk,nkd->wnd", weights, v[f]).reshape(-1, 3)
+    inner = np.einsum("wk,nkd->wnd", INSIDE_WEIGHTS, v[f]).reshape(-1, 3)
     return float(deviation(v).max()), float(deviation(inner).max())
 
 
@@ -314,27 +265,13 @@ def test_thread_meshes_is_cached_and_checks_its_input(quarter_20):
 
 
 # -- no shared meridian planes ---------------------------------------------------------------
-def _meridian_angles(tb: TessellatedBody) -> np.ndarray:
-    """Angles of the half-planes through the axis that hold a lateral mesh edge."""
-    v = np.asarray(tb.mesh.vertices)
-    e = tb.mesh.edges_unique
-    a, b = v[e[:, 0]], v[e[:, 1]]
-    ta, tb_ = np.arctan2(a[:, 1], a[:, 0]), np.arctan2(b[:, 1], b[:, 0])
-    ra, rb = np.hypot(a[:, 0], a[:, 1]), np.hypot(b[:, 0], b[:, 1])
-    meridional = (np.abs(np.sin(ta - tb_)) < 1e-12) & (ra > 0) & (rb > 0) & (a[:, 2] != b[:, 2])
-    return np.unique(np.round(ta[meridional], 12))
-
-
-def test_bolt_and_nut_share_no_meridian_plane_at_round_phases(pairs):
-    for name in ("1/4-20", "M6x1"):
-        _, bolt, nut = pairs[name]
-        mb, mn = _meridian_angles(bolt), _meridian_angles(nut)
-        assert len(mb) > 300 and len(mn) > 300
-        for phase in range(0, 360, 5):
-            shifted = np.mod(mb + math.radians(phase) + np.pi, 2 * np.pi) - np.pi
-            gap = np.abs(shifted[:, None] - mn[None, :])
-            gap = np.minimum(gap, 2 * np.pi - gap)
-            assert gap.min() > 1e-9, (name, phase)
+@pytest.mark.parametrize("name", ["1/4-20", "M6x1"])
+def test_bolt_and_nut_share_no_meridian_plane_at_round_phases(pairs, name):
+    _, bolt, nut = pairs[name]
+    mb, mn = meridian_angles(bolt), meridian_angles(nut)
+    assert len(mb) > 300 and len(mn) > 300
+    for phase in range(0, 360, 5):
+        assert meridian_gap(mb, mn, phase) > 1e-9, (name, phase)
 
 
 # -- python-fcl finds every intersecting pair ------------------------------------------------

@@ -4,7 +4,7 @@ exact trimmed surface, within the chord, of the exact volume, and seen by python
 Every reference value is computed here from conventions.md and the closed forms of the
 envelopes, independently of the mesh generator and of ``threadmate.geometry``'s profile
 and body code: the profile (sharp V clamped to the flats, circular fillets tangent to flank
-and flat) and its inverse are written out below, the trimmed lateral radius is
+and flat) and its inverse are written out in ``_meshes.py``, the trimmed lateral radius is
 ``min(R, e)`` (bolt) / ``max(R, e)`` (nut) with ``e`` the cone ``a + z tan(angle)``, the
 sphere ``rho^2 = r^2 + (z - z0)^2`` or the countersink ``b + z tan(angle / 2)``, the exact
 volume integrates it by Gauss-Legendre quadrature on its smooth pieces, and the python-fcl
@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 from _fcl import bvh
+from _meshes import GL_W, GL_X, INSIDE_WEIGHTS, ExactProfile, meridian_angles, meridian_gap
 from threadmate.geometry import (
     DEFAULT_CHORD,
     BoltPoint,
@@ -33,11 +34,6 @@ from threadmate.geometry import (
     mesh_deviation,
     nut_mesh,
 )
-
-SQ3 = math.sqrt(3.0)
-# Gauss-Legendre nodes and weights on [-1, 1]: exact to rounding for the smooth pieces
-# below (polynomials, circle arcs well inside their radius, square roots of them).
-GL_X, GL_W = np.polynomial.legendre.leggauss(48)
 
 # The pairs, with every end given explicitly (not from the standards' defaults).
 QUARTER = dict(
@@ -87,68 +83,6 @@ def _spec(pair: dict, point: str) -> ThreadSpec:
 
 
 # -- the exact trimmed bodies, written out ---------------------------------------------------
-class _Profile:
-    """``R(u)``, ``u = |t|`` in ``[0, p/2]``: flat, fillet, 60-degree flank, fillet, flat,
-    non-increasing from ``r_hi`` to ``r_lo`` (conventions.md, for either body).
-
-    Each fillet is the circle of radius rho tangent to the flat and to the flank line
-    ``sqrt3 u + r = c`` (``c = pd/2 + sqrt3 p/4``); its centre lies rho from both.
-    """
-
-    def __init__(self, spec: ThreadSpec, body: str) -> None:
-        b = getattr(spec, body)
-        p = self.p = spec.pitch
-        c = self.c = b.pitch_diameter / 2 + SQ3 * p / 4
-        self.r_hi = min(b.major / 2, c)
-        self.r_lo = max(b.minor / 2, b.pitch_diameter / 2 - SQ3 * p / 4)
-        self.rho_hi = b.crest_fillet if body == "bolt" else b.root_fillet
-        self.rho_lo = b.root_fillet if body == "bolt" else b.crest_fillet
-        self.rc_hi = self.r_hi - self.rho_hi
-        self.uc_hi = (c - self.rc_hi - 2 * self.rho_hi) / SQ3
-        self.rc_lo = self.r_lo + self.rho_lo
-        self.uc_lo = (c - self.rc_lo + 2 * self.rho_lo) / SQ3
-        self.ut_hi = self.uc_hi + self.rho_hi * SQ3 / 2  # tangent points on the flank
-        self.ut_lo = self.uc_lo - self.rho_lo * SQ3 / 2
-        self.pieces = [0.0, self.uc_hi, self.ut_hi, self.ut_lo, self.uc_lo, p / 2]
-        self.radii = [float(self.radius(u)) for u in self.pieces]  # non-increasing
-
-    def radius(self, u):
-        u = np.abs(np.asarray(u, dtype=float))
-        flank = self.c - SQ3 * u
-        hi = self.rc_hi + np.sqrt(np.clip(self.rho_hi**2 - (u - self.uc_hi) ** 2, 0, None))
-        lo = self.rc_lo - np.sqrt(np.clip(self.rho_lo**2 - (u - self.uc_lo) ** 2, 0, None))
-        return np.select(
-            [u <= self.uc_hi, u <= self.ut_hi, u <= self.ut_lo, u <= self.uc_lo],
-            [np.full_like(u, self.r_hi), hi, flank, lo],
-            np.full_like(u, self.r_lo),
-        )
-
-    def of_t(self, t):
-        """``R(t)`` for any axial coordinate (wrapped into one pitch)."""
-        t = np.asarray(t, dtype=float)
-        return self.radius(t - self.p * np.round(t / self.p))
-
-    def inverse(self, r):
-        """The ``u`` where ``R(u) = r`` (``r_lo < r < r_hi``), in closed form per piece."""
-        r = np.asarray(r, dtype=float)
-        arc_hi = self.uc_hi + np.sqrt(np.clip(self.rho_hi**2 - (r - self.rc_hi) ** 2, 0, None))
-        arc_lo = self.uc_lo - np.sqrt(np.clip(self.rho_lo**2 - (self.rc_lo - r) ** 2, 0, None))
-        return np.select(
-            [r >= self.radii[2], r >= self.radii[3]], [arc_hi, (self.c - r) / SQ3], arc_lo
-        )
-
-    def square_integral(self, u):
-        """``G(u) = int_0^u R^2``, Gauss-Legendre on each smooth piece."""
-        u = np.atleast_1d(np.asarray(u, dtype=float))
-        total = np.zeros_like(u)
-        for lo, hi in zip(self.pieces[:-1], self.pieces[1:], strict=True):
-            top = np.clip(u, lo, hi)
-            half = (top - lo) / 2
-            x = lo + half[:, None] * (GL_X + 1)
-            total += half * (self.radius(x) ** 2 @ GL_W)
-        return total
-
-
 @dataclass
 class _Envelope:
     """The point's or countersink's meridian curve ``r = e(z)`` over ``[z_lo, z_hi]``,
@@ -186,7 +120,7 @@ def _envelope(spec: ThreadSpec, body: str) -> _Envelope:
 
 def _lateral(spec: ThreadSpec, body: str, theta, z):
     """Radius of the exact trimmed lateral surface at angle ``theta``, height ``z``."""
-    prof, env = _Profile(spec, body), _envelope(spec, body)
+    prof, env = ExactProfile(spec, body), _envelope(spec, body)
     z = np.asarray(z, dtype=float)
     hand = 1 if spec.hand == "right" else -1
     R = prof.of_t(z - hand * spec.pitch * spec.starts * np.asarray(theta) / (2 * np.pi))
@@ -202,7 +136,7 @@ def _exact_volume(spec: ThreadSpec, body: str, trimmed: bool = True) -> float:
     the integrals are ``e^2 u_e + G(p/2) - G(u_e)`` and ``G(u_e) + e^2 (p/2 - u_e)``.
     Integrated over z on the pieces between the heights where ``e`` meets a corner radius
     of the profile (smooth there)."""
-    prof, env = _Profile(spec, body), _envelope(spec, body)
+    prof, env = ExactProfile(spec, body), _envelope(spec, body)
     half = spec.pitch / 2
     g_half = float(prof.square_integral(half)[0])
     outer2 = spec.nut.outer_radius**2 if body == "nut" else 0.0
@@ -279,7 +213,7 @@ def test_vertices_lie_on_the_trimmed_surface_and_the_envelope(built, pair, form)
     assert np.max(np.abs(r[lateral] - exact)) <= 1e-9 * spec.pitch
     # Where the envelope bounds the material (the thread lies beyond it), the vertex is on
     # the closed-form cone or sphere.
-    prof = _Profile(spec, body)
+    prof = ExactProfile(spec, body)
     hand = 1 if spec.hand == "right" else -1
     z = v[lateral, 2]
     R = prof.of_t(z - hand * spec.lead * theta[lateral] / (2 * np.pi))
@@ -368,18 +302,7 @@ def test_triangles_at_the_envelope_within_the_chord_by_an_independent_measure(bu
     if body == "nut":
         near &= r < spec.nut.outer_radius * (1 - 1e-12)
     tri = f[np.all(near[f], axis=1)]
-    weights = np.array(
-        [
-            [1 / 3, 1 / 3, 1 / 3],
-            [0.5, 0.5, 0.0],
-            [0.0, 0.5, 0.5],
-            [0.5, 0.0, 0.5],
-            [0.6, 0.2, 0.2],
-            [0.2, 0.6, 0.2],
-            [0.2, 0.2, 0.6],
-        ]
-    )
-    points = np.einsum("wk,nkd->wnd", weights, v[tri]).reshape(-1, 3)
+    points = np.einsum("wk,nkd->wnd", INSIDE_WEIGHTS, v[tri]).reshape(-1, 3)
     d = _axial_deviation(spec, body, points, tb.chord)
     assert len(tri) > 1000
     assert d.max() <= tb.chord
@@ -418,28 +341,14 @@ def test_quarter_20_chamfer_and_countersink_at_the_default_chord():
 
 
 # -- no shared meridian planes -------------------------------------------------------------------
-def _meridian_angles(tb: TessellatedBody) -> np.ndarray:
-    """Angles of the half-planes through the axis that hold a lateral mesh edge."""
-    v = np.asarray(tb.mesh.vertices)
-    e = tb.mesh.edges_unique
-    a, b = v[e[:, 0]], v[e[:, 1]]
-    ta, tb_ = np.arctan2(a[:, 1], a[:, 0]), np.arctan2(b[:, 1], b[:, 0])
-    ra, rb = np.hypot(a[:, 0], a[:, 1]), np.hypot(b[:, 0], b[:, 1])
-    meridional = (np.abs(np.sin(ta - tb_)) < 1e-12) & (ra > 0) & (rb > 0) & (a[:, 2] != b[:, 2])
-    return np.unique(np.round(ta[meridional], 12))
-
-
 @pytest.mark.parametrize("pair", ["1/4-20", "M6x1"])
 def test_pointed_bolt_and_countersunk_nut_share_no_meridian_plane(built, pair):
     _, _, bolt = built(pair, "chamfer")
     _, _, nut = built(pair, "countersink")
-    mb, mn = _meridian_angles(bolt), _meridian_angles(nut)
+    mb, mn = meridian_angles(bolt), meridian_angles(nut)
     assert len(mb) > 150 and len(mn) > 150
     for phase in range(0, 360, 5):
-        shifted = np.mod(mb + math.radians(phase) + np.pi, 2 * np.pi) - np.pi
-        gap = np.abs(shifted[:, None] - mn[None, :])
-        gap = np.minimum(gap, 2 * np.pi - gap)
-        assert gap.min() > 1e-9, phase
+        assert meridian_gap(mb, mn, phase) > 1e-9, phase
 
 
 # -- python-fcl on the chamfer in the countersink ---------------------------------------------
@@ -464,8 +373,8 @@ def test_fcl_sees_the_chamfer_meet_the_countersink(built, pair, phase, direction
     k_b = math.tan(math.radians(spec.bolt.point.angle))
     b = spec.nut.countersink.diameter / 2
     k_n = math.tan(math.radians(spec.nut.countersink.angle / 2))
-    bolt_band = (_Profile(spec, "bolt").r_lo - a) / k_b
-    nut_band = (b - _Profile(spec, "nut").r_hi) / k_n
+    bolt_band = (ExactProfile(spec, "bolt").r_lo - a) / k_b
+    nut_band = (b - ExactProfile(spec, "nut").r_hi) / k_n
     h = -0.4 * min(bolt_band, nut_band)
     assert k_b < k_n and h - (-nut_band) > 20 * chord  # the band below is far
     x_star = b + k_n * h - a

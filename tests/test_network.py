@@ -35,8 +35,7 @@ from _libraries import (
     walk_starts,
 )
 from _poses import axis_angle
-from threadmate import LibraryError, NoPathError
-from threadmate._errors import InputError
+from threadmate import InputError, LibraryError, NoPathError
 from threadmate.contact import TRANSITION_LABELS, search, thesis_schema
 from threadmate.geometry import spec_from_designation
 from threadmate.library import load, write_library

@@ -22,6 +22,8 @@ from threadmate.geometry import (
     spec_from_designation,
     thread_limits,
 )
+
+# The standards' tables: internals with no public form.
 from threadmate.geometry._iso import ISO_261
 from threadmate.geometry._unified import UNC, UNEF, UNF
 

@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 from threadmate import InputError, SpecError
+
+# The shared rules: internals with no public form.
 from threadmate._json import json_text, to_jsonable
 from threadmate._validate import (
     MAX_LENGTH,

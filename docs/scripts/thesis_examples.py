@@ -32,8 +32,8 @@ def ours(alpha: float, beta: float, phi: float) -> tuple[float, float, float]:
 def main() -> None:
     spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
     analyzer = ContactAnalyzer(spec)
-    mech = Mechanics(spec, Compliance(), analyzer=analyzer)
-    soft = Mechanics(spec, Compliance(stiffness=0.01), analyzer=analyzer)
+    mech = Mechanics(spec, Compliance(), scene=analyzer.scene)
+    soft = Mechanics(spec, Compliance(stiffness=0.01), scene=analyzer.scene)
     print(
         "| thesis (a, b, phi) | ours (roll, pitch, phase) | thesis's verdict | "
         "fixed-pivot model here | mechanics, default compliance (10 N, 1 N m/rad) | "

@@ -138,13 +138,11 @@ def _mechanics(
 ) -> Mechanics:
     """The mechanics on the generated meshes or the CAD meshes given (``--bolt-mesh``,
     ``--nut-mesh``: loaded and checked by the analyser; notes and warnings on stderr)."""
-    from ..contact import ContactAnalyzer, Mechanics
+    from ..contact import Mechanics, contact_scene
 
-    analyzer = ContactAnalyzer(
-        spec, chord=chord, compliance_z=compliance.compliance_z, **meshes.arguments()
-    )
-    echo_mesh_notes(analyzer.mesh_info, spec.units)
-    return Mechanics(spec, compliance, chord=chord, analyzer=analyzer)
+    scene = contact_scene(spec, chord=chord, **meshes.arguments())
+    echo_mesh_notes(scene.mesh_info, spec.units)
+    return Mechanics(spec, compliance, scene=scene)
 
 
 # -- text ------------------------------------------------------------------------------------
@@ -339,11 +337,11 @@ def _emit(
         else:
             plot_screw(run, figure, spec=spec)
     if as_json:
-        emit_json({**run.to_dict(), "mesh": mech.analyzer.mesh_info})
+        emit_json({**run.to_dict(), "mesh": mech.scene.mesh_info})
         return
     click.echo(text)
     if meshes.given:
-        click.echo(mesh_summary(mech.analyzer.mesh_info, spec.units))
+        click.echo(mesh_summary(mech.scene.mesh_info, spec.units))
     if figure is not None:
         click.echo(f"wrote {figure}")
 
@@ -413,11 +411,11 @@ def settle_command(
     if unsettled is not None:
         echo_err(f"threadmate: warning: not a rest state: {unsettled}")
     if as_json:
-        emit_json({**_settle_document(rest), "mesh": mech.analyzer.mesh_info})
+        emit_json({**_settle_document(rest), "mesh": mech.scene.mesh_info})
     else:
         click.echo(_settle_text(spec, rest))
         if meshes.given:
-            click.echo(mesh_summary(mech.analyzer.mesh_info, spec.units))
+            click.echo(mesh_summary(mech.scene.mesh_info, spec.units))
 
 
 @cli.command(

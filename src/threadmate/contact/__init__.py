@@ -57,22 +57,6 @@ from .._lazy import lazy_exports
 
 if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
     from .._validate import MAX_TILT
-    from ._analyzer import TRAVEL_TOLERANCE, ContactAnalyzer, analyze, check_mesh_file
-    from ._classes import (
-        CLASSIFICATIONS,
-        ERROR_CLASS,
-        IN_PHASE,
-        NO_CONTACT,
-        QUASI_STABLE,
-        REST_CLASSES,
-        STABLE,
-        TRANSITION_LABELS,
-        UNSTABLE,
-    )
-    from ._compliance import LIMITS as COMPLIANCE_LIMITS
-    from ._compliance import Compliance
-    from ._exact import OFF_SPEC_REGIONS, engagement_outline, off_spec_region, region_at
-    from ._figures import plot_screw, plot_search
     from ._records import (
         ROLES,
         STATE_COLUMNS,
@@ -84,30 +68,68 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
         state_schema,
         thesis_schema,
     )
-    from ._rest_state import (
-        LEAD_TOLERANCE,
-        Engagement,
-        LoadedContact,
-        MechanicalState,
-        RestState,
-        SearchEvent,
-        SearchResult,
-    )
-    from ._result import STAGES, Contact, ContactResult, StageResult, record_schema
-    from ._screw import OUTCOMES as SCREW_OUTCOMES
-    from ._screw import ScrewResult, screw
-    from ._search import STEEP, Continuation, Leg, default_torque_limit, search, sensor_click
-    from ._settings import (
+    from .mechanics import (
+        BALANCE,
+        COMPLIANCE_LIMITS,
         CONTINUATION_STEP,
+        LEAD_TOLERANCE,
         MAX_SCREW_IN,
         MAX_STEP,
+        MAX_STEPS,
         MAX_TURNS,
         PHASE_TOLERANCE,
         SCREW_IN,
+        SCREW_OUTCOMES,
+        STEEP,
+        Compliance,
+        Continuation,
+        Engagement,
+        Leg,
+        LoadedContact,
+        MechanicalState,
+        Mechanics,
+        RestState,
+        ScrewResult,
+        SearchEvent,
+        SearchResult,
         check_continuation,
         check_screw,
+        default_torque_limit,
+        plot_screw,
+        plot_search,
+        screw,
+        search,
+        sensor_click,
+        settle,
     )
-    from ._settle import BALANCE, MAX_STEPS, Mechanics, settle
+    from .scene import (
+        CLASSIFICATIONS,
+        ERROR_CLASS,
+        IN_PHASE,
+        NO_CONTACT,
+        OFF_SPEC_REGIONS,
+        QUASI_STABLE,
+        REST_CLASSES,
+        STABLE,
+        TRANSITION_LABELS,
+        TRAVEL_TOLERANCE,
+        UNSTABLE,
+        ContactScene,
+        check_mesh_file,
+        contact_scene,
+        engagement_outline,
+        off_spec_region,
+        region_at,
+    )
+    from .thesis import (
+        STAGES,
+        Contact,
+        ContactAnalyzer,
+        ContactResult,
+        StageResult,
+        analyze,
+        record_schema,
+    )
 
 __all__ = [
     "OFF_SPEC_REGIONS",
@@ -170,6 +192,8 @@ __all__ = [
     "TRAVEL_TOLERANCE",
     "Contact",
     "ContactAnalyzer",
+    "ContactScene",
+    "contact_scene",
     "ContactResult",
     "StageResult",
     "analyze",
@@ -184,8 +208,11 @@ _SOURCES = {
     # The tilt limit is a validation rule (threadmate._validate), light to import: the
     # commands check --roll and --pitch with it before anything is built.
     ".._validate": ("MAX_TILT",),
-    "._analyzer": ("TRAVEL_TOLERANCE", "ContactAnalyzer", "analyze", "check_mesh_file"),
-    "._classes": (
+    ".scene": (
+        "TRAVEL_TOLERANCE",
+        "ContactScene",
+        "check_mesh_file",
+        "contact_scene",
         "CLASSIFICATIONS",
         "ERROR_CLASS",
         "IN_PHASE",
@@ -195,9 +222,56 @@ _SOURCES = {
         "STABLE",
         "TRANSITION_LABELS",
         "UNSTABLE",
+        "OFF_SPEC_REGIONS",
+        "engagement_outline",
+        "off_spec_region",
+        "region_at",
     ),
-    "._compliance": ("COMPLIANCE_LIMITS", "Compliance"),
-    "._exact": ("OFF_SPEC_REGIONS", "engagement_outline", "off_spec_region", "region_at"),
+    ".thesis": (
+        "ContactAnalyzer",
+        "analyze",
+        "STAGES",
+        "Contact",
+        "ContactResult",
+        "StageResult",
+        "record_schema",
+    ),
+    # The mechanics; its continuation settings and their checks are light to import (the
+    # commands quote and check them before anything is built).
+    ".mechanics": (
+        "COMPLIANCE_LIMITS",
+        "Compliance",
+        "LEAD_TOLERANCE",
+        "Engagement",
+        "LoadedContact",
+        "MechanicalState",
+        "RestState",
+        "SearchEvent",
+        "SearchResult",
+        "SCREW_OUTCOMES",
+        "ScrewResult",
+        "screw",
+        "plot_screw",
+        "plot_search",
+        "STEEP",
+        "Continuation",
+        "Leg",
+        "default_torque_limit",
+        "search",
+        "sensor_click",
+        "CONTINUATION_STEP",
+        "MAX_SCREW_IN",
+        "MAX_STEP",
+        "MAX_TURNS",
+        "PHASE_TOLERANCE",
+        "SCREW_IN",
+        "check_continuation",
+        "check_screw",
+        "BALANCE",
+        "MAX_STEPS",
+        "Mechanics",
+        "settle",
+    ),
     "._records": (
         "ROLES",
         "STATE_COLUMNS",
@@ -209,48 +283,9 @@ _SOURCES = {
         "state_schema",
         "thesis_schema",
     ),
-    "._rest_state": (
-        "LEAD_TOLERANCE",
-        "Engagement",
-        "LoadedContact",
-        "MechanicalState",
-        "RestState",
-        "SearchEvent",
-        "SearchResult",
-    ),
-    "._result": (
-        "STAGES",
-        "Contact",
-        "ContactResult",
-        "StageResult",
-        "record_schema",
-    ),
-    "._screw": ("SCREW_OUTCOMES", "ScrewResult", "screw"),
-    "._figures": ("plot_screw", "plot_search"),
-    "._search": (
-        "STEEP",
-        "Continuation",
-        "Leg",
-        "default_torque_limit",
-        "search",
-        "sensor_click",
-    ),
-    # The continuation's settings and their checks, light to import: the commands quote
-    # and check them before anything is built.
-    "._settings": (
-        "CONTINUATION_STEP",
-        "MAX_SCREW_IN",
-        "MAX_STEP",
-        "MAX_TURNS",
-        "PHASE_TOLERANCE",
-        "SCREW_IN",
-        "check_continuation",
-        "check_screw",
-    ),
-    "._settle": ("BALANCE", "MAX_STEPS", "Mechanics", "settle"),
 }
 #: Public names that differ from their submodule's.
-_ALIASES: dict[str, str] = {"COMPLIANCE_LIMITS": "LIMITS", "SCREW_OUTCOMES": "OUTCOMES"}
+_ALIASES: dict[str, str] = {}
 _WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 
 

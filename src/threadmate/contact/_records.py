@@ -25,9 +25,9 @@ import numpy as np
 import pyarrow as pa
 
 from .._angles import wrap_phase
-from ._classes import REST_CLASSES, TRANSITION_LABELS
-from ._rest_state import MechanicalState
-from ._result import record_schema
+from .mechanics import MechanicalState
+from .scene import REST_CLASSES, TRANSITION_LABELS
+from .thesis import record_schema
 
 __all__ = [
     "Column",

@@ -3,33 +3,23 @@ in chunks, to disk.
 
 Work goes out in chunks of consecutive ``config_id``: for the mechanics one chunk is one
 held tilt with all its phases (the continuations of its starts join each other), for the
-thesis's model a run of configurations. Each worker process (or Dask worker thread)
-builds ONE :class:`~threadmate.contact.Mechanics` (or contact analyser), meshes and
-python-fcl BVHs included, the first time it sees a job, and keeps it for every later
-chunk: fcl objects neither pickle nor share between threads. Each finished chunk is
-written at once as its own Parquet part (temporary name, then rename), so an interrupted
-sweep loses at most the chunks in flight, and running the same request again computes
-only the configurations that no part holds yet.
+thesis's model a run of configurations. The chunks run where an executor puts them
+(:mod:`._executors`: this process, a process pool or Dask), each in a worker that keeps
+its model between chunks (:mod:`._workers`). Each finished chunk is written at once as its
+own Parquet part (temporary name, then rename), so an interrupted sweep loses at most the
+chunks in flight, and running the same request again computes only the configurations
+that no part holds yet; the library's metadata says which request it holds
+(:mod:`._metadata`).
 """
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import contextlib
-import datetime as _dt
-import functools
 import math
-import multiprocessing
 import os
-import re
 import shutil
-import signal
 import tempfile
-import threading
-import time
-import uuid
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -38,37 +28,29 @@ import pandas as pd
 import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
-from .._io import remove_stale_temporaries
-from .._validate import MAX_FACES, check_max_faces, check_starts, check_whole, check_workers
-from .._version import __version__
+from .._validate import check_max_faces, check_starts, check_whole
 from ..contact import (
     CONTINUATION_STEP,
-    ERROR_CLASS,
     PHASE_TOLERANCE,
-    SCREW_IN,
     Compliance,
-    blank_row,
     check_continuation,
 )
 from ..geometry import ThreadSpec, check_chord
+from ._executors import check_execution, cpu_count, lost_errors, open_executor
 from ._grid import Grid, Values
-from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_FOLLOW_TURNS, states_of_held_tilt
+from ._metadata import open_library, record_settings
 from ._models import check_model
 from ._store import (
-    FORMAT,
-    FORMAT_VERSION,
     METADATA_FILE,
-    compare_metadata,
     done_ids,
     library_schema,
     load,
     next_part_index,
-    read_metadata,
-    release_inherited_locks,
     sweep_lock,
     write_metadata,
     write_part,
 )
+from ._workers import Job, mesh_files
 
 __all__ = ["sweep", "write_library", "SweepInterrupted", "ProgressCallback"]
 
@@ -76,491 +58,12 @@ __all__ = ["sweep", "write_library", "SweepInterrupted", "ProgressCallback"]
 #: grid's size, called once before any work and after every chunk.
 ProgressCallback = Callable[[int, int], None]
 
-_DASK_HINT = "pip install threadmate[dask]"
-
 
 class SweepInterrupted(ThreadmateError):
     """A sweep stopped before the end (a worker died, the cluster was lost).
 
     Every finished chunk is saved: run the same sweep again to resume.
     """
-
-
-# -- the work, as run in a worker ---------------------------------------------------------
-@dataclass(frozen=True)
-class MeshFile:
-    """A mesh from CAD as a worker receives it: the path (fcl objects do not pickle: each
-    worker loads the file once), its units and the SHA-256 the sweep started with (a file
-    changed meanwhile is refused)."""
-
-    path: str
-    units: str
-    sha256: str
-
-
-@dataclass(frozen=True)
-class Job:
-    """Everything a worker needs to analyse configurations of one sweep (small, picklable)."""
-
-    spec: ThreadSpec
-    grid: Grid
-    chord: float
-    model: str
-    compliance: Compliance
-    step: float = CONTINUATION_STEP
-    phase_tolerance: float = PHASE_TOLERANCE
-    analyzer: Callable[..., Any] | None = None
-    bolt_mesh: MeshFile | None = None
-    nut_mesh: MeshFile | None = None
-    mesh_units: str | None = None
-    clockwise: bool = False
-    #: Most triangles a mesh from CAD may have (:func:`threadmate.geometry.load_mesh`):
-    #: a limit of the run, not of its results (not in :attr:`key` or the metadata).
-    max_faces: int = MAX_FACES
-
-    @property
-    def key(self) -> str:
-        return repr(
-            (
-                self.spec,
-                self.grid,
-                self.chord,
-                self.model,
-                self.compliance,
-                _describe_analyzer(self.analyzer),
-                self.bolt_mesh,
-                self.nut_mesh,
-                self.mesh_units,
-            )
-        )
-
-    def mesh_arguments(self) -> dict[str, Any]:
-        """The analyser's keyword arguments for the meshes from CAD (none without)."""
-        if self.bolt_mesh is None and self.nut_mesh is None:
-            return {}
-        limit = {} if self.max_faces == MAX_FACES else {"max_faces": self.max_faces}
-        return {
-            "bolt_mesh": None if self.bolt_mesh is None else self.bolt_mesh.path,
-            "nut_mesh": None if self.nut_mesh is None else self.nut_mesh.path,
-            "mesh_units": self.mesh_units,
-            **limit,  # a raised or lowered limit only (an analyser factory may not take it)
-        }
-
-
-_LOCAL = threading.local()
-
-
-def _worker_for(job: Job) -> Any:
-    """This worker's Mechanics (or thesis analyser) for ``job``, built on first use and
-    kept."""
-    if getattr(_LOCAL, "key", None) != job.key:
-        _LOCAL.worker = None  # free the old meshes before building new ones
-        meshes = job.mesh_arguments()
-        if job.model == "mechanics":
-            from ..contact import ContactAnalyzer, Mechanics
-
-            analyzer = None
-            if meshes:
-                analyzer = ContactAnalyzer(
-                    job.spec,
-                    chord=job.chord,
-                    compliance_z=job.compliance.compliance_z,
-                    **meshes,
-                )
-            _LOCAL.worker = Mechanics(job.spec, job.compliance, chord=job.chord, analyzer=analyzer)
-        else:
-            factory = job.analyzer
-            if factory is None:
-                from ..contact import ContactAnalyzer
-
-                factory = ContactAnalyzer
-            _LOCAL.worker = factory(
-                job.spec, chord=job.chord, compliance_z=job.compliance.compliance_z, **meshes
-            )
-        _check_mesh_files(job, _LOCAL.worker)
-        _LOCAL.key = job.key
-    return _LOCAL.worker
-
-
-def _check_mesh_files(job: Job, worker: Any) -> None:
-    """Refuse a mesh file whose content changed since the sweep started (the library
-    records the SHA-256 it was started with)."""
-    analyzer = getattr(worker, "analyzer", worker)
-    info = getattr(analyzer, "mesh_info", None)
-    for kind, given in (("bolt", job.bolt_mesh), ("nut", job.nut_mesh)):
-        if given is None or not isinstance(info, dict):
-            continue
-        got = (info.get(kind) or {}).get("sha256")
-        if got != given.sha256:
-            raise LibraryError(
-                f"{kind} mesh {given.path} changed while the sweep ran (SHA-256 "
-                f"{str(got)[:12]}, started with {given.sha256[:12]}); run the sweep again"
-            )
-
-
-def _settings(analyzer: Any) -> dict[str, Any]:
-    """The mesh and contact settings an analyser actually used (for the metadata)."""
-    tolerances = getattr(analyzer, "tolerances", None)
-    deviation = getattr(analyzer, "deviation", None)
-    meshes = getattr(analyzer, "mesh_info", None)
-    return {
-        "chord": getattr(analyzer, "chord", None),
-        "max_deviation": None if deviation is None else float(deviation),
-        "tolerances": None if tolerances is None else {k: float(v) for k, v in tolerances.items()},
-        "meshes": meshes if isinstance(meshes, dict) else None,
-    }
-
-
-def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]]:
-    """Analyse configurations in this process; a configuration that raises becomes a row
-    with classification ``error`` and the message in ``error``.
-
-    Returns
-    -------
-    table : pyarrow.Table
-        Rows in the library schema (without metadata).
-    settings : dict
-        The analyser's chord, mesh deviation and tolerances.
-    """
-    worker = _worker_for(job)
-    schema = library_schema(model=job.model)
-    configs = job.grid.configurations(config_ids)
-    if job.model == "mechanics":
-        # One chunk is one held tilt (see _chunks).
-        rows = states_of_held_tilt(
-            worker,
-            float(configs[0][0]),
-            float(configs[0][1]),
-            [float(c[2]) for c in configs],
-            config_ids,
-            step=job.step,
-            phase_tolerance=job.phase_tolerance,
-            clockwise=job.clockwise,
-        )
-        return pa.Table.from_pylist(rows, schema=schema), _settings(worker.analyzer)
-    blank = blank_row(schema)
-    rows = []
-    for cid, (roll, pitch, phase) in zip(config_ids, configs, strict=True):
-        try:
-            rec = worker.analyze(float(roll), float(pitch), float(phase)).to_record()
-            rec["error"] = ""
-        except Exception as exc:  # noqa: BLE001 - one bad configuration must not stop a sweep
-            rec = dict(
-                blank,
-                roll=float(roll),
-                pitch=float(pitch),
-                phase=float(phase),
-                classification=ERROR_CLASS,
-                error=f"{type(exc).__name__}: {exc}",
-            )
-        rec["config_id"] = int(cid)
-        rows.append(rec)
-    return pa.Table.from_pylist(rows, schema=schema), _settings(worker)
-
-
-# -- executors ----------------------------------------------------------------------------
-class _InProcess:
-    """Runs chunks in this process, one at a time (``workers=1``: no pool to start)."""
-
-    slots = 1
-    window = 1
-    description = "this process"
-
-    def submit(self, job: Job, ids: list[int]) -> cf.Future:
-        fut: cf.Future = cf.Future()
-        fut.set_result(run_chunk(job, ids))
-        return fut
-
-    def wait_first(self, futures: set[Any]) -> set[Any]:
-        return set(futures)
-
-    def close(self, cancel: bool) -> None:
-        pass
-
-
-def _watch_parent(pids: Any) -> None:
-    """Pool-worker initialiser: report this worker's pid, and exit when the sweep that
-    started it dies (a SIGKILL leaves no chance to stop the pool; without this its
-    workers would finish their chunk, minutes of work, for nobody)."""
-    pids.put(os.getpid())
-    release_inherited_locks()  # the library's lock is the sweep's, not this worker's
-    parent = os.getppid()
-
-    def watch() -> None:
-        while True:
-            time.sleep(1.0)
-            if os.getppid() != parent:
-                os._exit(1)
-
-    threading.Thread(target=watch, name="threadmate-parent-watch", daemon=True).start()
-
-
-class _Pool:
-    """A local process pool; each process keeps its own worker state and exits with the
-    sweep."""
-
-    def __init__(self, workers: int) -> None:
-        self.slots = workers
-        self.window = 2 * workers
-        self.description = f"process pool of {workers}"
-        context = multiprocessing.get_context()
-        self._pids = context.SimpleQueue()
-        self.pool = cf.ProcessPoolExecutor(
-            max_workers=workers,
-            mp_context=context,
-            initializer=_watch_parent,
-            initargs=(self._pids,),
-        )
-
-    def submit(self, job: Job, ids: list[int]) -> cf.Future:
-        return self.pool.submit(run_chunk, job, ids)
-
-    def wait_first(self, futures: set[Any]) -> set[Any]:
-        done, _ = cf.wait(futures, return_when=cf.FIRST_COMPLETED)
-        return done
-
-    def close(self, cancel: bool) -> None:
-        if not cancel:
-            self.pool.shutdown(wait=True)
-            return
-        # Chunks still running would only be thrown away: stop their processes now.
-        pids = []
-        while not self._pids.empty():
-            pids.append(self._pids.get())
-        self.pool.shutdown(wait=False, cancel_futures=True)
-        for pid in pids:
-            with contextlib.suppress(OSError):
-                os.kill(pid, signal.SIGTERM)
-        deadline = time.monotonic() + 5.0
-        for pid in pids:
-            while time.monotonic() < deadline:
-                try:
-                    os.kill(pid, 0)
-                except OSError:
-                    break
-                time.sleep(0.05)
-
-
-class _Dask:
-    """A Dask distributed client: an existing scheduler, or a LocalCluster it starts."""
-
-    def __init__(self, address: str, workers: int | None) -> None:
-        try:
-            import distributed
-        except ImportError:
-            raise InputError(
-                f"scheduler={address!r} needs Dask distributed, which is not "
-                f"installed: {_DASK_HINT}"
-            ) from None
-        self._distributed = distributed
-        self.cluster = None
-        try:
-            if address == "local":
-                n = workers or _cpu_count()
-                self.cluster = distributed.LocalCluster(
-                    n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
-                )
-                self.client = distributed.Client(self.cluster)
-                self.description = f"Dask LocalCluster of {n}"
-            else:
-                self.client = distributed.Client(address, timeout="10s")
-                self.description = f"Dask scheduler {address}"
-        except (OSError, TimeoutError) as exc:
-            if self.cluster is not None:
-                self.cluster.close()
-            raise InputError(f"cannot reach the Dask scheduler at {address}: {exc}") from None
-        threads = sum(self.client.nthreads().values())
-        self.slots = max(1, threads)
-        self.window = 2 * self.slots
-
-    def submit(self, job: Job, ids: list[int]) -> Any:
-        return self.client.submit(run_chunk, job, ids, pure=False)
-
-    def wait_first(self, futures: set[Any]) -> set[Any]:
-        done = self._distributed.wait(list(futures), return_when="FIRST_COMPLETED").done
-        return set(done)
-
-    def close(self, cancel: bool) -> None:
-        with contextlib.suppress(Exception):
-            self.client.close()
-        if self.cluster is not None:
-            with contextlib.suppress(Exception):
-                self.cluster.close()
-
-
-def _cpu_count() -> int:
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:
-        return max(1, os.cpu_count() or 1)
-
-
-def _scheduler_from_dask_config() -> str | None:
-    """The usual Dask setting (``scheduler-address``, env ``DASK_SCHEDULER_ADDRESS``)."""
-    try:
-        import dask.config
-    except ImportError:
-        return os.environ.get("DASK_SCHEDULER_ADDRESS") or None
-    return dask.config.get("scheduler-address", None) or None
-
-
-def _check_execution(workers: int | None, scheduler: str | None) -> None:
-    if workers is not None:
-        check_workers(workers)
-    if scheduler is not None and not isinstance(scheduler, str):
-        raise InputError(f"scheduler must be an address, 'local' or 'pool', got {scheduler!r}")
-    if scheduler is not None and scheduler.strip():
-        _check_scheduler(scheduler)
-
-
-#: A Dask scheduler address: ``tcp://host:port`` (or another protocol), or ``host:port``.
-_ADDRESS = re.compile(r"^([a-z][a-z0-9+.-]*://)?[A-Za-z0-9_.\-\[\]:]+:\d+$")
-
-
-def _check_scheduler(scheduler: str) -> str:
-    text = scheduler.strip()
-    if text in ("local", "pool") or _ADDRESS.match(text):
-        return text
-    raise InputError(
-        f"scheduler {scheduler!r} is not 'pool', 'local' or a Dask scheduler "
-        "address such as tcp://host:8786"
-    )
-
-
-def _executor(workers: int | None, scheduler: str | None) -> Any:
-    if scheduler is None:
-        scheduler = _scheduler_from_dask_config()
-    if scheduler is not None and scheduler.strip() and scheduler.strip() != "pool":
-        return _Dask(scheduler.strip(), workers)
-    n = workers or _cpu_count()
-    return _InProcess() if n == 1 else _Pool(n)
-
-
-# -- metadata -----------------------------------------------------------------------------
-def _describe_analyzer(factory: Callable[..., Any] | None) -> str:
-    if factory is None:
-        return "threadmate.contact.ContactAnalyzer"
-    if isinstance(factory, functools.partial):
-        args = ", ".join(
-            [repr(a) for a in factory.args]
-            + [f"{k}={v!r}" for k, v in sorted(factory.keywords.items())]
-        )
-        return f"{_describe_analyzer(factory.func)}({args})"
-    module = getattr(factory, "__module__", "")
-    name = getattr(factory, "__qualname__", repr(factory))
-    return f"{module}.{name}" if module else name
-
-
-def _request_metadata(job: Job) -> dict[str, Any]:
-    meta: dict[str, Any] = {
-        "format": FORMAT,
-        "format_version": FORMAT_VERSION,
-        "threadmate_version": __version__,
-        "model": job.model,
-        "units": job.spec.units,
-        "angles": "degrees",
-        "conventions": "conventions.md: x_F = Rx(roll) Ry(pitch) Rz(phase) x_B + origin",
-        "spec": job.spec.to_dict(),
-        "grid": job.grid.to_dict(),
-        "mesh": {
-            "chord": job.chord,
-            "max_deviation": None,
-            "bolt": _mesh_metadata(job.bolt_mesh),
-            "nut": _mesh_metadata(job.nut_mesh),
-        },
-        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
-        # Every part carries this id in its schema: a part of another library is told.
-        "library_id": uuid.uuid4().hex,
-    }
-    if job.model == "mechanics":
-        meta["compliance"] = job.compliance.to_dict()
-        meta["continuation"] = {
-            "step": job.step,
-            "phase_tolerance": job.phase_tolerance,
-            "screw_in": SCREW_IN,
-            "clockwise": job.clockwise,
-            "max_turns": MAX_FOLLOW_TURNS,
-            "join_tilt": JOIN_TILT,
-            "join_distance_pitches": JOIN_DISTANCE,
-            "units": "degrees; turns; pitches",
-        }
-        meta["contact"] = {"tolerances": None}
-        meta["columns"] = (
-            "one row per contact state: threadmate.contact.STATE_COLUMNS (docs/architecture.md)"
-        )
-    else:
-        meta["compliance"] = {"compliance_z": job.compliance.compliance_z}
-        meta["contact"] = {
-            "compliance_z": job.compliance.compliance_z,
-            "tolerances": None,
-            "analyzer": _describe_analyzer(job.analyzer),
-        }
-        meta["columns"] = "config_id, the contact record of docs/architecture.md, error"
-    return meta
-
-
-def _mesh_metadata(mesh: MeshFile | None) -> dict[str, Any] | None:
-    """A CAD mesh in the metadata: file name, SHA-256 and units (None: generated); its
-    deviation and off-spec shares are added from the first finished chunk."""
-    if mesh is None:
-        return None
-    return {"file": Path(mesh.path).name, "sha256": mesh.sha256, "units": mesh.units}
-
-
-def _mesh_files(
-    spec: ThreadSpec, bolt_mesh: Any, nut_mesh: Any, mesh_units: str | None, max_faces: int
-) -> tuple[MeshFile | None, MeshFile | None]:
-    """The CAD meshes of a sweep, validated here (before any library is written) as the
-    workers will load them."""
-    from ..contact import check_mesh_file
-
-    out: list[MeshFile | None] = []
-    for kind, given in (("bolt", bolt_mesh), ("nut", nut_mesh)):
-        if given is None:
-            out.append(None)
-            continue
-        if not isinstance(given, str | os.PathLike):
-            raise InputError(
-                f"{kind}_mesh must be a mesh file path for a sweep (its workers load it), "
-                f"got {type(given).__name__}"
-            )
-        doc = check_mesh_file(
-            os.fspath(given),
-            kind,  # type: ignore[arg-type]
-            spec,
-            mesh_units,
-            max_faces=max_faces,
-        )
-        out.append(MeshFile(str(Path(given).absolute()), doc["units"], doc["sha256"]))
-    return out[0], out[1]
-
-
-def _open_library(out: Path, job: Job) -> dict[str, Any]:
-    """Create the library directory, or check that an existing one holds this request."""
-    wanted = _request_metadata(job)
-    if out.exists() and not out.is_dir():
-        raise LibraryError(f"{out} exists and is not a directory: give a library directory")
-    if out.is_dir() and (out / METADATA_FILE).exists():
-        meta = read_metadata(out)
-        diff = compare_metadata(meta, wanted)
-        if diff:
-            raise LibraryError(
-                f"{out} holds a different sweep; refusing to mix it with this "
-                f"request. It differs in: {'; '.join(diff)}. Use another "
-                "output directory."
-            )
-        remove_stale_temporaries(out)
-        return meta
-    if out.is_dir() and any(not p.name.startswith(".") for p in out.iterdir()):
-        raise LibraryError(
-            f"{out} exists, is not empty and is not a threadmate library: "
-            "give a new or empty directory"
-        )
-    try:
-        write_metadata(out, wanted)
-    except OSError as exc:
-        raise LibraryError(f"cannot create the library at {out}: {exc.strerror or exc}") from None
-    return wanted
 
 
 def _chunks(ids: np.ndarray, size: int) -> Iterator[list[int]]:
@@ -695,8 +198,8 @@ def sweep(
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     model = check_model(model)
     grid = Grid.parse(roll, pitch, phase)
-    _check_execution(workers, scheduler)
-    n_workers = workers or _cpu_count()
+    check_execution(workers, scheduler)
+    n_workers = workers or cpu_count()
     what = grid.describe(size=False)
     check_starts(grid.size, max_starts, model=model, workers=n_workers, what=what)
     # The meshes' own check, before anything is written.
@@ -714,7 +217,7 @@ def sweep(
     if model == "mechanics" and analyzer is not None:
         raise InputError("analyzer is for the thesis's model only")
     max_faces = check_max_faces(max_faces)
-    bolt_file, nut_file = _mesh_files(spec, bolt_mesh, nut_mesh, mesh_units, max_faces)
+    bolt_file, nut_file = mesh_files(spec, bolt_mesh, nut_mesh, mesh_units, max_faces)
     job = Job(
         spec,
         grid,
@@ -804,7 +307,7 @@ def write_library(
         raise InputError(f"records do not fit the {model} schema: {exc}") from None
     out = Path(out)
     with _locked(out):
-        meta = _open_library(out, job)
+        meta = open_library(out, job)
         part = next_part_index(out)
         with_meta = table.replace_schema_metadata(library_schema(meta).metadata)
         for start in range(0, max(table.num_rows, 1), rows_per_part):
@@ -858,7 +361,7 @@ def _run_locked(
     progress: ProgressCallback | None,
     max_chunks: int | None,
 ) -> None:
-    meta = _open_library(out, job)
+    meta = open_library(out, job)
     total = job.grid.size
     done = done_ids(out)
     todo = np.setdiff1d(np.arange(total, dtype=np.int64), done, assume_unique=True)
@@ -868,7 +371,7 @@ def _run_locked(
             progress(n_done, total)
         return
     try:
-        executor = _executor(workers, scheduler)
+        executor = open_executor(workers, scheduler)
     except BaseException:
         if not existed:  # leave nothing behind for a request that never started
             (out / METADATA_FILE).unlink(missing_ok=True)  # the directory goes with the lock
@@ -887,7 +390,7 @@ def _run_locked(
         cancel = not _loop(
             job, out, executor, chunks, meta, part, n_done, total, progress, max_chunks
         )
-    except _lost_errors() as exc:
+    except lost_errors() as exc:
         n_saved = len(done_ids(out))
         raise SweepInterrupted(
             f"the sweep stopped: a worker or the cluster was lost ({type(exc).__name__}: "
@@ -922,20 +425,8 @@ def _loop(
     def save(fut: Any) -> None:
         nonlocal part, written, n_done
         table, settings = fut.result()
-        if meta["mesh"].get("max_deviation") is None:
-            # The first result tells what the workers' analysers actually used.
-            meta["mesh"].update(
-                chord=settings["chord"] or job.chord, max_deviation=settings["max_deviation"]
-            )
-            meshes = settings.get("meshes") or {}
-            for kind in ("bolt", "nut"):
-                if isinstance(meta["mesh"].get(kind), dict) and meshes.get(kind):
-                    # How the CAD mesh follows the spec (deviation, off-spec shares).
-                    extra = {k: v for k, v in meshes[kind].items() if k != "path"}
-                    meta["mesh"][kind] = {**extra, **meta["mesh"][kind]}
-            if meshes.get("off_spec_tolerance") is not None:
-                meta["mesh"]["off_spec_tolerance"] = meshes["off_spec_tolerance"]
-            meta["contact"]["tolerances"] = settings["tolerances"]
+        if record_settings(meta, settings, job.chord):
+            # The first result tells what the workers' models actually used.
             write_metadata(out, meta)
         write_part(out, part, table.replace_schema_metadata(library_schema(meta).metadata))
         part += 1
@@ -962,19 +453,3 @@ def _loop(
             if nxt is not None:
                 in_flight.add(executor.submit(job, nxt))
     return True
-
-
-def _lost_errors() -> tuple[type[BaseException], ...]:
-    """Exceptions that mean a worker or the cluster was lost (not a bug in the work)."""
-    from concurrent.futures.process import BrokenProcessPool
-
-    lost: tuple[type[BaseException], ...] = (BrokenProcessPool, cf.CancelledError)
-    try:
-        from distributed import KilledWorker
-        from distributed.client import FutureCancelledError
-        from distributed.comm.core import CommClosedError
-
-        lost += (KilledWorker, CommClosedError, FutureCancelledError)
-    except ImportError:
-        pass
-    return lost

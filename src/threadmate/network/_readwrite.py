@@ -12,6 +12,10 @@ compliance as JSON strings, units, cost units, threadmate version, the weight fo
 graph attributes; private keys (starting with ``_``) are not written. The node-link JSON
 is :func:`networkx.node_link_data` with missing values as ``null``.
 
+GraphML is written and read as a stream (:mod:`._graphml`: each node and edge goes to the
+file as it is produced, and is dropped once read), so that writing or reading the network
+of 10^5 starts needs little memory beyond the network's own, never a document tree.
+
 The network in memory leaves each state's rotation and its contacts' points and normals
 (:data:`GEOMETRY_ATTRIBUTES`) in the library, so that it stays small; given the library,
 the writers put them on every node of the files. The starts' CSV names each column with
@@ -21,21 +25,23 @@ file is written atomically.
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import os
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
 import networkx as nx
 import numpy as np
 import pandas as pd
-from networkx.readwrite.graphml import GraphMLWriter
 
 from .._errors import InputError
 from .._io import atomic_path, atomic_write_text
 from .._json import json_text, to_jsonable
 from ..library import load
+from ._graphml import read_graphml_stream, write_graphml_stream
 
 __all__ = [
     "GEOMETRY_ATTRIBUTES",
@@ -77,60 +83,65 @@ def _scalar(value: Any) -> Any:
     values); lists become their JSON text."""
     if type(value) is str:  # the common case first: this runs once per attribute
         return value
-    if isinstance(value, list | tuple | np.ndarray):
+    if isinstance(value, np.ndarray):
+        try:  # plain finite numbers or strings: their JSON text at once, the same text
+            return json.dumps(value.tolist(), allow_nan=False)
+        except (TypeError, ValueError):  # numpy scalars in an object array, NaN
+            return json_text(value, None, end="")
+    if isinstance(value, list | tuple):
         return json_text(value, None, end="")
     if value is None or isinstance(value, _SCALARS):
         return to_jsonable(value)
     raise TypeError(f"attribute value {value!r} is not a scalar")
 
 
-def _clean(data: dict[str, Any]) -> dict[str, Any]:
-    out = {}
-    for key, value in data.items():
-        if str(key).startswith("_"):
-            continue
-        v = _scalar(value)
-        if v is not None:
-            out[str(key)] = v
-    return out
+def _public(name: str) -> bool:
+    """Whether an attribute is written to the files (private keys start with ``_``)."""
+    return not name.startswith("_")
 
 
-def _geometry(library: Library | None) -> dict[str, dict[str, Any]]:
+class _Geometry:
     """Each state's :data:`GEOMETRY_ATTRIBUTES`, by state id, read from ``library`` (a
-    path, or rows as :func:`threadmate.library.load` gives them); empty without one."""
-    if library is None:
-        return {}
-    columns = ["state_id", *GEOMETRY_ATTRIBUTES]
-    rows = library if isinstance(library, pd.DataFrame) else load(library, columns=columns)
-    missing = [c for c in columns if c not in rows.columns]
-    if missing:
-        raise InputError(f"the library rows lack {', '.join(missing)}: not a mechanics library")
-    values = [rows[c].tolist() for c in GEOMETRY_ATTRIBUTES]
-    return {
-        sid: dict(zip(GEOMETRY_ATTRIBUTES, row, strict=True))
-        for sid, *row in zip(rows["state_id"].tolist(), *values, strict=True)
-    }
+    path, or rows as :func:`threadmate.library.load` gives them); none without one.
+
+    The values stay in the library's columns (one array per cell), found by row, so that
+    no dictionary per state is made."""
+
+    def __init__(self, library: Library | None) -> None:
+        self.row: dict[str, int] = {}
+        self.columns: list[list[Any]] = []
+        if library is None:
+            return
+        columns = ["state_id", *GEOMETRY_ATTRIBUTES]
+        rows = library if isinstance(library, pd.DataFrame) else load(library, columns=columns)
+        missing = [c for c in columns if c not in rows.columns]
+        if missing:
+            raise InputError(f"the library rows lack {', '.join(missing)}: not a mechanics library")
+        self.row = {sid: i for i, sid in enumerate(rows["state_id"].tolist())}
+        self.columns = [rows[c].tolist() for c in GEOMETRY_ATTRIBUTES]
+
+    def items(self, node: str, own: Mapping[Any, Any]) -> list[tuple[str, Any]]:
+        """The geometry of state ``node`` that its own attributes ``own`` do not hold."""
+        i = self.row.get(node)
+        if i is None:
+            return []
+        return [
+            (key, column[i])
+            for key, column in zip(GEOMETRY_ATTRIBUTES, self.columns, strict=True)
+            if key not in own
+        ]
 
 
-def _nodes(graph: nx.DiGraph, library: Library | None) -> Any:
-    """The graph's nodes with their attributes, and each state's geometry from
-    ``library`` where the node does not carry it."""
-    extra = _geometry(library)
+def _nodes(graph: nx.DiGraph, library: Library | None) -> Iterator[tuple[Any, Iterable[Any]]]:
+    """The graph's nodes with their attributes as (key, value) pairs, each state's
+    geometry from ``library`` first where the node does not hold it."""
+    geometry = _Geometry(library)
     for n, d in graph.nodes(data=True):
-        more = extra.get(str(n))
-        yield n, d if more is None else {**more, **d}
-
-
-def _export_graph(graph: nx.DiGraph, library: Library | None = None) -> nx.DiGraph:
-    out: nx.DiGraph[str] = nx.DiGraph()
-    out.graph.update(_clean(graph.graph))
-    out.add_nodes_from((str(n), _clean(d)) for n, d in _nodes(graph, library))
-    out.add_edges_from((str(u), str(v), _clean(d)) for u, v, d in graph.edges(data=True))
-    return out
+        yield n, itertools.chain(geometry.items(str(n), d), d.items())
 
 
 def write_graphml(graph: nx.DiGraph, path: str | Path, *, library: Library | None = None) -> Path:
-    """Write the network as GraphML, atomically.
+    """Write the network as GraphML, atomically, one node and edge at a time.
 
     Parameters
     ----------
@@ -147,22 +158,19 @@ def write_graphml(graph: nx.DiGraph, path: str | Path, *, library: Library | Non
     pathlib.Path
     """
     path = Path(path)
-    writer = _GraphMLWriter(encoding="utf-8", prettyprint=False)
-    writer.add_graph_element(_export_graph(graph, library))
+    nodes = ((str(n), items) for n, items in _nodes(graph, library))
+    edges = ((str(u), str(v), d.items()) for u, v, d in graph.edges(data=True))
     with atomic_path(path) as tmp, open(tmp, "wb") as fh:
-        writer.dump(fh)
+        write_graphml_stream(
+            fh,
+            graph.graph.items(),
+            nodes,
+            edges,
+            convert=_scalar,
+            keep=_public,
+            spool_dir=tmp.parent,
+        )
     return path
-
-
-class _GraphMLWriter(GraphMLWriter):
-    """networkx's writer, with booleans spelled as the GraphML schema has them."""
-
-    def add_data(
-        self, name: str, element_type: Any, value: Any, scope: str = "all", default: Any = None
-    ) -> Any:
-        if element_type is bool:  # networkx passes str(value): "True" or "False"
-            value = str(value).lower()
-        return super().add_data(name, element_type, value, scope, default)
 
 
 def write_node_link(graph: nx.DiGraph, path: str | Path, *, library: Library | None = None) -> Path:
@@ -173,8 +181,8 @@ def write_node_link(graph: nx.DiGraph, path: str | Path, *, library: Library | N
     gets its :data:`GEOMETRY_ATTRIBUTES`, as lists.
     """
     export: nx.DiGraph[str] = nx.DiGraph()
-    export.graph.update({k: v for k, v in graph.graph.items() if not str(k).startswith("_")})
-    export.add_nodes_from(_nodes(graph, library))
+    export.graph.update({k: v for k, v in graph.graph.items() if _public(str(k))})
+    export.add_nodes_from((n, dict(items)) for n, items in _nodes(graph, library))
     export.add_edges_from(graph.edges(data=True))
     doc = nx.node_link_data(export, edges="edges")
     return atomic_write_text(path, json_text(doc, None))  # values made plain by to_jsonable
@@ -192,7 +200,7 @@ def read_graphml(path: str | Path) -> nx.DiGraph:
     if not path.is_file():
         raise InputError(f"no network file at {path}")
     try:
-        graph = nx.read_graphml(path)
+        graph = read_graphml_stream(path)
     except Exception as exc:  # noqa: BLE001 - networkx/lxml raise many kinds on bad files
         raise InputError(f"{path} is not readable GraphML: {exc}") from None
     if "grid" not in graph.graph or not isinstance(graph, nx.DiGraph):

@@ -50,8 +50,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
-from .._angles import SQRT3, TWO_PI
-from ..geometry import Pose, ThreadBody
+from ..._angles import SQRT3, TWO_PI
+from ...geometry import Pose, ThreadBody
 
 __all__ = [
     "Feature",

@@ -12,11 +12,11 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from .._angles import wrap_phase
-from .._errors import InputError
-from .._figures import EventLabel, Mark, save_figure, signature_figure
-from .._validate import FIGURE_FORMATS
-from ..geometry import ThreadSpec
+from ..._angles import wrap_phase
+from ..._errors import InputError
+from ..._figures import EventLabel, Mark, save_figure, signature_figure
+from ..._validate import FIGURE_FORMATS
+from ...geometry import ThreadSpec
 from ._rest_state import SearchEvent, SearchResult
 from ._screw import ScrewResult
 

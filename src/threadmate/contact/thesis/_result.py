@@ -7,16 +7,17 @@ docs/architecture.md, with the types of :func:`record_schema`; missing values ar
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
-from typing import TYPE_CHECKING, Any, cast
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pyarrow as pa
 
-from ..geometry import Pose
+from ...geometry import Pose
+from ..scene import RegionPair, Vec, as_vec
 
 if TYPE_CHECKING:
-    from _typeshed import DataclassInstance
+    pass
 
 __all__ = ["Contact", "StageResult", "ContactResult", "record_schema", "STAGES"]
 
@@ -26,33 +27,6 @@ STAGES = ("first", "second", "third")
 SLOTS = 3
 
 _NAN = float("nan")
-Vec = tuple[float, float, float]
-
-
-def _vec(v: Any) -> Vec:
-    a = np.asarray(v, dtype=float).reshape(3)
-    return (float(a[0]), float(a[1]), float(a[2]))
-
-
-class RegionPair:
-    """What every contact record shares: its regions and its JSON form (its fields in
-    order, vectors as lists)."""
-
-    bolt_region: str
-    nut_region: str
-
-    @property
-    def regions(self) -> str:
-        """``bolt/nut`` region pair, e.g. ``base/surface``."""
-        return f"{self.bolt_region}/{self.nut_region}"
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain mapping for JSON."""
-        return {
-            f.name: list(v) if isinstance(v, tuple) else v
-            for f in fields(cast("DataclassInstance", self))  # every subclass is one
-            for v in [getattr(self, f.name)]
-        }
 
 
 @dataclass(frozen=True)
@@ -126,16 +100,16 @@ class StageResult:
         axis: tuple[Any, Any] | None = None,
     ) -> StageResult:
         """A found stage at ``pose``."""
-        rot = (_vec(pose.rotation[0]), _vec(pose.rotation[1]), _vec(pose.rotation[2]))
+        rot = (as_vec(pose.rotation[0]), as_vec(pose.rotation[1]), as_vec(pose.rotation[2]))
         return cls(
             name,
             True,
             float(angle),
-            _vec(pose.origin),
+            as_vec(pose.origin),
             rot,
             tuple(contacts),
-            None if axis is None else _vec(axis[0]),
-            None if axis is None else _vec(axis[1]),
+            None if axis is None else as_vec(axis[0]),
+            None if axis is None else as_vec(axis[1]),
             int(queries),
         )
 

@@ -66,27 +66,28 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
-from .._angles import TWO_PI, axis_angle, phase_difference
-from .._errors import InputError
-from .._units import METRES_PER_UNIT, MJ_PER_J
-from .._validate import check_configuration, check_open_range
-from ..geometry import Pose, ThreadSpec, bolt_rotation, rot_x
-from ._analyzer import ContactAnalyzer
-from ._cad import off_spec
-from ._collision import pair_keys
-from ._compliance import Compliance
-from ._exact import (
+from ..._angles import TWO_PI, axis_angle, phase_difference
+from ..._errors import InputError
+from ..._units import METRES_PER_UNIT, MJ_PER_J
+from ..._validate import check_configuration, check_open_range
+from ...geometry import Pose, ThreadSpec, bolt_rotation, rot_x
+from ..scene import (
+    ContactScene,
+    as_vec,
     contact_normal,
+    contact_scene,
     edge_crossing,
     lowest_on_rim,
     on_thread,
+    pair_keys,
     refined_contact,
     region_at,
+    vertical_rise,
+    vertical_touch,
 )
+from ._compliance import Compliance
 from ._lcp import contact_step
 from ._rest_state import LoadedContact, MechanicalState, RestState
-from ._result import _vec
-from ._vertical import vertical_rise, vertical_touch
 
 __all__ = ["Mechanics", "BALANCE", "MAX_STEPS", "mechanics", "settle"]
 
@@ -190,8 +191,9 @@ class _Near:
 class Mechanics:
     """Rest states and the counter-clockwise search of one thread pair and compliance.
 
-    Meshes and BVHs are built once (through a :class:`ContactAnalyzer`); one instance per
-    process (python-fcl objects neither pickle nor release the GIL).
+    Its world (exact bodies, meshes, the python-fcl pair, the tolerances) is a
+    :class:`ContactScene`, built once per process and shared with the thesis's procedure;
+    one instance per process (python-fcl objects neither pickle nor release the GIL).
 
     Parameters
     ----------
@@ -202,11 +204,14 @@ class Mechanics:
     chord : float, optional
         Chord tolerance of the generated meshes (spec units).
     bolt_mesh, nut_mesh : path or trimesh.Trimesh, optional
-        Meshes from CAD, each in its own frame (see :class:`ContactAnalyzer`).
+        Meshes from CAD, each in its own frame (see :class:`ContactScene`).
     mesh_units : {"in", "mm"}, optional
-        Units of the mesh files (see :class:`ContactAnalyzer`).
+        Units of the mesh files (see :class:`ContactScene`).
     max_faces : int, optional
-        Most triangles a mesh file may have (see :class:`ContactAnalyzer`).
+        Most triangles a mesh file may have (see :class:`ContactScene`).
+    scene : ContactScene, optional
+        A scene already built (default :func:`contact_scene` of the spec, chord and
+        meshes, built once per process); its spec must be ``spec``.
     tolerance : float, optional
         Length tolerance of the descent (spec units, default the contact stages' travel
         tolerance, 1e-7 in): a rest state's tilt is converged when no bolt point would
@@ -223,7 +228,7 @@ class Mechanics:
         nut_mesh: object = None,
         mesh_units: str | None = None,
         tolerance: float | None = None,
-        analyzer: ContactAnalyzer | None = None,
+        scene: ContactScene | None = None,
         max_faces: int | None = None,
     ) -> None:
         if compliance is None:
@@ -233,27 +238,25 @@ class Mechanics:
         if not isinstance(spec, ThreadSpec):
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
         compliance.check_for(spec.pitch)
-        if analyzer is None:
-            analyzer = ContactAnalyzer(
+        if scene is None:
+            scene = contact_scene(
                 spec,
                 chord=chord,
-                compliance_z=compliance.compliance_z,
                 bolt_mesh=bolt_mesh,
                 nut_mesh=nut_mesh,
                 mesh_units=mesh_units,
                 max_faces=max_faces,
             )
-        elif analyzer.compliance_z != compliance.compliance_z or analyzer.spec != spec:
-            raise InputError(
-                "the analyzer's spec or compliance centre differs from the compliance's"
-            )
+        elif scene.spec != spec:
+            raise InputError("the scene's spec differs from the spec given")
         self.spec = spec
         self.units = spec.units
         self.compliance = compliance
-        self.analyzer = analyzer
-        self.engine = analyzer.engine
+        #: The exact bodies, meshes, collision pair and tolerances (:class:`ContactScene`).
+        self.scene = scene
+        self.engine = scene.engine
         self.metres = METRES_PER_UNIT[spec.units]
-        travel = analyzer.search.travel
+        travel = scene.travel
         if tolerance is not None:
             travel = check_open_range(
                 "tolerance", tolerance, 0.0, spec.pitch / 100, units=spec.units
@@ -272,7 +275,7 @@ class Mechanics:
         self.stall_steps = STALL_STEPS
         self.separation = spec.pitch / 4
         self.radius = 0.5 * spec.bolt.major  # moment scale (spec units)
-        self._floor = analyzer.nut.z_min - 2 * analyzer.bolt.z_max - spec.pitch
+        self._floor = scene.nut.z_min - 2 * scene.bolt.z_max - spec.pitch
         # Vertices that can pass whole into the other body: the nut's in its top pitch,
         # the bolt's in its first (the thread's run-outs on the end faces are wedges),
         # counted from where the full thread begins.
@@ -280,7 +283,20 @@ class Mechanics:
         self._nut_top = nv[nv[:, 2] >= -spec.pitch - spec.countersink_depth]
         self._bolt_tip = bv[bv[:, 2] <= spec.pitch + spec.point_height]
         #: Where meshes from CAD do not follow the spec (None: generated meshes).
-        self._off = off_spec(analyzer)
+        self._off = scene.off_spec
+
+    @property
+    def tolerances(self) -> dict[str, float]:
+        """Tolerances in force (spec units): the descent's travel, the feature tolerance
+        of the exact contact geometry, the touching gap, the contacts' grouping distance
+        and the meshes' deviation."""
+        return {
+            "travel": self.tolerance,
+            "feature": self.scene.feature_tolerance,
+            "touching": self.touching,
+            "separation": self.separation,
+            "mesh_deviation": self.scene.deviation,
+        }
 
     @property
     def load_carrying(self) -> float:
@@ -610,7 +626,7 @@ class Mechanics:
         """Whether a vertex of one mesh lies inside the other exact body, deeper than the
         meshes' deviation, at the pose where the bolt's centre is at ``zc``."""
         pose = self._pose(rotation, xy, zc)
-        an = self.analyzer
+        an = self.scene
         depth = 2 * an.deviation + self.tolerance
         # Only points within the other body's slab can be inside it: their height there
         # first (one product per point), the whole transform for those alone.
@@ -709,7 +725,7 @@ class Mechanics:
         rotation = self._rotation(upright, phase)
         # Turning upright moves no bolt point farther than this: the seat's height is
         # within it of the present one.
-        reach = float(np.hypot(*tilt)) * (self.radius + self.analyzer.bolt.z_max)
+        reach = float(np.hypot(*tilt)) * (self.radius + self.scene.bolt.z_max)
         # The seat lies below ``u_most`` only if it lies below this height. Where the bolt
         # collides there, the seat (the first touch from above, so no lower) does not:
         # one yes/no query, cheap where it collides, spares the lowering (a face landing
@@ -741,7 +757,7 @@ class Mechanics:
         refine: bool = True,
         upper: bool = False,
     ) -> _Near:
-        an = self.analyzer
+        an = self.scene
         pose = self._pose(d.rotation, d.xy, d.zc + gap if upper else d.zc - gap)
         refined = (
             refined_contact(
@@ -783,7 +799,7 @@ class Mechanics:
         """
         if c.bolt_feature != "rim" or c.nut_feature not in ("cap", "rim"):
             return [c]
-        an = self.analyzer
+        an = self.scene
         theta = math.atan2(c.point[1], c.point[0])
         edge = float(an.nut.lateral_radius(theta, 0.0))
         if abs(math.hypot(c.point[0], c.point[1]) - edge) > self.separation / 8:
@@ -1224,8 +1240,8 @@ class Mechanics:
         ]
         contacts = tuple(
             LoadedContact(
-                _vec(c.point),
-                _vec(c.normal),
+                as_vec(c.point),
+                as_vec(c.normal),
                 float(f),
                 0.0 if c.gap <= self.touching else float(c.gap),
                 c.bolt_region,
@@ -1237,16 +1253,16 @@ class Mechanics:
             for c, f, t in zip(near, forces, twin, strict=True)
             if not t
         )
-        rot = (_vec(d.rotation[0]), _vec(d.rotation[1]), _vec(d.rotation[2]))
+        rot = (as_vec(d.rotation[0]), as_vec(d.rotation[1]), as_vec(d.rotation[2]))
         return MechanicalState(
             kind,
             cls,
             float(phase),
             math.degrees(tilt[0]),
             math.degrees(tilt[1]),
-            _vec(pose.origin),
+            as_vec(pose.origin),
             rot,
-            _vec(centre),
+            as_vec(centre),
             contacts,
             MJ_PER_J * self.potential(d.zc, tilt, d.xy, held),
             torque,
@@ -1349,7 +1365,7 @@ class Mechanics:
             # Continuation: the model at the state left is a good start for the next.
             curvature, prox = np.array(start.contact_curvature, dtype=float), prox * 1e-2
         u = self.potential(d.zc, tilt, xy, held)
-        noise = 2.0 * f * max(self.analyzer.deviation, self.tolerance) * self.metres
+        noise = 2.0 * f * max(self.scene.deviation, self.tolerance) * self.metres
         engaged = self.engaged(near)  # the pose in phase (the descent's path records it)
         last_step = np.zeros(2)
         nudged = 0.0  # bolt motion since python-fcl last lowered the bolt (see _nudged)
@@ -1435,7 +1451,7 @@ class Mechanics:
             dtilt = dq[1:3]
             dxy = dq[3:5] / self.metres if len(dq) > 3 else np.zeros(2)
             moved = (
-                float(np.abs(dtilt).max()) * (self.radius + self.analyzer.bolt.z_max)
+                float(np.abs(dtilt).max()) * (self.radius + self.scene.bolt.z_max)
                 + float(np.abs(dxy).max(initial=0.0))
                 + abs(dq[0]) / self.metres
             )

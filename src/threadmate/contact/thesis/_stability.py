@@ -56,7 +56,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from ..geometry import Pose, ThreadBody
+from ...geometry import Pose, ThreadBody
 
 __all__ = ["interference_depth", "classify", "pivot_offset", "is_rolling"]
 

@@ -45,8 +45,8 @@ import trimesh
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from .._angles import TWO_PI
-from ..geometry import Pose
+from ..._angles import TWO_PI
+from ...geometry import Pose
 
 __all__ = ["CollisionPair", "MeshSolid", "pair_keys"]
 

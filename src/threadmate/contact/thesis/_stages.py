@@ -46,9 +46,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from ..geometry import Pose
-from ._collision import CollisionPair
-from ._triangles import (
+from ...geometry import Pose
+from ..scene import (
+    CollisionPair,
     IntersectionSegments,
     cluster_location,
     cluster_segments,

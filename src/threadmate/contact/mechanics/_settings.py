@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import math
 
-from .._errors import InputError
-from .._validate import check_open_range, check_search_steps
+from ..._errors import InputError
+from ..._validate import check_open_range, check_search_steps
 
 __all__ = [
     "CONTINUATION_STEP",

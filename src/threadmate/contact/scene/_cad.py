@@ -38,8 +38,8 @@ chamfer at about three chords. Measured on a 1/4-20 (chord 1e-4 in): a chamfered
 countersunk nut, a bolt flaring into a head and a hex nut on the flat spec measure 0.9
 to 2.1 chords, where the whole mesh's deviation is 0.025 to 0.16 in.
 
-Contacts farther than :attr:`ContactAnalyzer.off_spec_tolerance
-<threadmate.contact.ContactAnalyzer>` from the exact surface are labelled by where they
+Contacts farther than :attr:`ContactScene.off_spec_tolerance
+<threadmate.contact.ContactScene>` from the exact surface are labelled by where they
 lie (``point``, ``countersink``, ``other``; :func:`~._exact.off_spec_region`); the share
 of the mesh's area, and of its contact zone's, that lies farther than that is reported.
 
@@ -63,13 +63,13 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from .._errors import MeshError
-from .._units import MM_PER_UNIT, unit_scale
-from ..geometry import ThreadBody, ThreadSpec, stl_units
+from ..._errors import MeshError
+from ..._units import MM_PER_UNIT, unit_scale
+from ...geometry import ThreadBody, ThreadSpec, stl_units
 from ._exact import CREASE, OffSpec
 
 if TYPE_CHECKING:
-    from ._analyzer import ContactAnalyzer
+    from ._scene import ContactScene
 
 __all__ = [
     "COARSEST",
@@ -246,8 +246,8 @@ def mesh_fit(
 _TIE = 1e-12
 
 
-def off_spec(analyzer: ContactAnalyzer) -> OffSpec | None:
-    """Where the analyser's CAD meshes do not follow the spec: their own surfaces there
+def off_spec(scene: ContactScene) -> OffSpec | None:
+    """Where the scene's CAD meshes do not follow the spec: their own surfaces there
     (:class:`._exact.OffSpec`), None without CAD meshes.
 
     A triangle follows the spec when its deviation (:func:`face_deviation`, found when
@@ -256,14 +256,14 @@ def off_spec(analyzer: ContactAnalyzer) -> OffSpec | None:
     one's distance does: on the edge where an unstated countersink meets the thread's
     crest, the crest's triangle is nearest as often as the countersink's.
     """
-    tolerance = analyzer.off_spec_tolerance
-    info = analyzer.mesh_info
+    tolerance = scene.off_spec_tolerance
+    info = scene.mesh_info
     kinds = frozenset(k for k in ("bolt", "nut") if not info[k].get("generated"))
     if tolerance is None or not kinds:
         return None
-    engine = analyzer.engine
-    bodies = {"bolt": analyzer.bolt, "nut": analyzer.nut}
-    reach = analyzer.feature_tolerance
+    engine = scene.engine
+    bodies = {"bolt": scene.bolt, "nut": scene.nut}
+    reach = scene.feature_tolerance
     # The fit's own cut (float rounding aside): a following triangle's deviation is at most
     # the mesh's, which is the largest of them.
     limit = {k: float(info[k]["deviation"]) * (1 + 1e-9) for k in kinds}

@@ -34,10 +34,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .._angles import Z_AXIS, axis_angle
-from .._errors import InputError
-from .._units import MJ_PER_J
-from ..geometry import ThreadSpec
+from ..._angles import Z_AXIS, axis_angle
+from ..._errors import InputError
+from ..._units import MJ_PER_J
+from ...geometry import ThreadSpec
 from ._compliance import Compliance
 from ._rest_state import (
     LEAD_TOLERANCE,
@@ -51,13 +51,10 @@ from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE, SCREW_IN, check_conti
 from ._settle import Mechanics, mechanics
 
 __all__ = [
-    "CONTINUATION_STEP",
+    "STEEP",
     "Continuation",
     "Leg",
-    "SCREW_IN",
     "SENSES",
-    "check_continuation",
-    "check_screw",
     "default_torque_limit",
     "engagement",
     "search",

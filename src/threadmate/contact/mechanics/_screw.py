@@ -22,7 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from ..geometry import ThreadSpec
+from ...geometry import ThreadSpec
 from ._compliance import Compliance
 from ._rest_state import (
     LEAD_TOLERANCE,

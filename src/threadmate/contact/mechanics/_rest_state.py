@@ -11,8 +11,8 @@ from typing import Any
 
 import numpy as np
 
-from ..geometry import Pose
-from ._result import RegionPair, Vec
+from ...geometry import Pose
+from ..scene import RegionPair, Vec
 
 __all__ = [
     "tightening_torque",

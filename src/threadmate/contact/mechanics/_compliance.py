@@ -30,8 +30,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any, cast
 
-from .._errors import InputError
-from .._validate import check_number
+from ..._errors import InputError
+from ..._validate import check_number
 
 __all__ = ["Compliance", "LIMITS"]
 

@@ -9,38 +9,34 @@ from __future__ import annotations
 
 import functools
 import math
-from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
-import trimesh
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
-from .._errors import InputError
-from .._units import MM_PER_UNIT, unit_scale
-from .._validate import (
-    MAX_TILT,
+from ..._errors import InputError
+from ..._validate import (
     check_configuration,
     check_length,
-    check_max_faces,
     check_open_range,
 )
-from ..geometry import (
-    DEFAULT_CHORD,
+from ...geometry import (
     Pose,
-    ThreadBody,
     ThreadSpec,
-    bolt_body,
     bolt_rotation,
-    load_mesh,
-    nut_body,
-    thread_meshes,
 )
-from ._cad import OFF_SPEC_WARNING, MeshFit, describe, file_units, mesh_fit
-from ._collision import CollisionPair
-from ._exact import contact_normal, engagement_outline, region_at, turn_axis_tangent
-from ._result import Contact, ContactResult, StageResult, _vec
+from ..scene import (
+    ContactScene,
+    as_vec,
+    contact_normal,
+    contact_scene,
+    engagement_outline,
+    intersection_segments,
+    region_at,
+    turn_axis_tangent,
+)
+from ._result import Contact, ContactResult, StageResult
 from ._stability import classify, interference_depth, is_rolling, pivot_offset
 from ._stages import (
     Cluster,
@@ -49,112 +45,14 @@ from ._stages import (
     lowering_direction,
     turn_to_new_contact,
 )
-from ._triangles import intersection_segments
 
-__all__ = [
-    "ContactAnalyzer",
-    "analyze",
-    "check_mesh_file",
-    "MAX_TILT",
-    "OFF_SPEC_FACTOR",
-    "TRAVEL_TOLERANCE",
-]
-
-#: Bisection tolerance on travel (bolt motion), per unit.
-TRAVEL_TOLERANCE = {u: 1e-7 * unit_scale("in", u) for u in MM_PER_UNIT}
-#: With a mesh from CAD, a contact farther than the feature tolerance plus this many mesh
-#: deviations from the exact surface lies where the mesh does not follow the spec. A
-#: contact point lies on both meshes (:func:`._triangles.cluster_location`), so within a
-#: deviation of each exact surface where the mesh follows it; the feature tolerance (two
-#: deviations and the travel) plus three more leaves a margin of five over that.
-OFF_SPEC_FACTOR = 3.0
+__all__ = ["ContactAnalyzer", "analyze"]
 
 
 def _positive(name: str, value: float | None) -> float | None:
     if value is None:
         return None
     return check_open_range(name, value, 0.0, math.inf)
-
-
-def _user_mesh(
-    mesh: Any,
-    kind: Literal["bolt", "nut"],
-    spec: ThreadSpec,
-    units: str | None = None,
-    max_faces: int | None = None,
-) -> trimesh.Trimesh:
-    """A user mesh from a path (validated by :func:`threadmate.geometry.load_mesh`, in
-    ``units``: see :func:`._cad.file_units`; at most ``max_faces`` triangles) or a Trimesh
-    (in ``units``, default the spec's; checked to sit in its frame)."""
-    if isinstance(mesh, str | Path):
-        units = file_units(mesh, units, spec)
-        return load_mesh(mesh, kind, spec=spec, units=units, max_faces=max_faces)
-    if not isinstance(mesh, trimesh.Trimesh):
-        raise InputError(
-            f"{kind}_mesh must be a mesh file path or a trimesh.Trimesh, got {type(mesh).__name__}"
-        )
-    if units is not None and units != spec.units:
-        mesh = mesh.copy()
-        mesh.apply_scale(unit_scale(units, spec.units))
-    lo, hi = mesh.bounds
-    size = float(np.max(hi - lo))
-    slack = 1e-6 * max(size, spec.pitch)
-    centred = np.all(np.abs(0.5 * (lo[:2] + hi[:2])) <= 0.05 * size)
-    if kind == "bolt":
-        framed = abs(lo[2]) <= slack and centred
-        where = "tip face at z = 0, body in z >= 0, axis along Z"
-    else:
-        framed = abs(hi[2]) <= slack and centred
-        where = "top face at z = 0, body in z <= 0, axis along Z"
-    if not framed:
-        raise InputError(
-            f"{kind} mesh is not in its frame ({where}); its bounds are "
-            f"{lo.round(6).tolist()} to {hi.round(6).tolist()}"
-        )
-    if not mesh.is_watertight:
-        raise InputError(f"{kind} mesh is not a closed volume (not watertight)")
-    return mesh
-
-
-def _cad_mesh(
-    given: Any,
-    kind: Literal["bolt", "nut"],
-    spec: ThreadSpec,
-    body: ThreadBody,
-    units: str | None,
-    max_faces: int | None = None,
-) -> tuple[trimesh.Trimesh, MeshFit, dict[str, Any]]:
-    """A mesh from CAD, validated, with how it follows ``body`` and its description."""
-    path = given if isinstance(given, str | Path) else None
-    resolved = file_units(path, units, spec) if path is not None else (units or spec.units)
-    mesh = _user_mesh(given, kind, spec, units, max_faces)
-    name = f"{kind} mesh {Path(path).name}" if path is not None else f"{kind} mesh"
-    fit = mesh_fit(mesh, body, spec, name)
-    info = describe(path, resolved, spec)
-    info["deviation"] = fit.deviation
-    return mesh, fit, info
-
-
-def check_mesh_file(
-    path: str | Path,
-    kind: Literal["bolt", "nut"],
-    spec: ThreadSpec,
-    units: str | None = None,
-    *,
-    max_faces: int | None = None,
-) -> dict[str, Any]:
-    """Validate a mesh file as :class:`ContactAnalyzer` would (format, triangle count,
-    closed volume, size, frame, units, that it follows the spec somewhere) without
-    building anything, and describe it: ``{"file", "path", "sha256", "units", "scale",
-    "deviation"}``. ``max_faces``: as :func:`threadmate.geometry.load_mesh`'s.
-
-    For a caller that hands the path on to other processes (the library sweep): the
-    refusal comes here, before anything is written.
-    """
-    if units is not None and units not in MM_PER_UNIT:
-        raise InputError(f"mesh_units must be 'in' or 'mm', got {units!r}")
-    body = bolt_body(spec) if kind == "bolt" else nut_body(spec)
-    return _cad_mesh(path, kind, spec, body, units, max_faces)[2]
 
 
 def _share(cluster: Cluster, corners: NDArray[np.float64]) -> list[Cluster]:
@@ -211,9 +109,10 @@ class ContactAnalyzer:
     """First, second and third contact of a bolt on its nut, for any orientation: the
     thesis's fixed-pivot procedure, classified by its criteria of section 4.2.
 
-    Meshes and their python-fcl BVHs are built once here and reused by every
-    :meth:`analyze` call (the bolt only moves). One analyser per process: fcl objects
-    neither pickle nor release the GIL.
+    Its world (exact bodies, meshes and their python-fcl BVHs, tolerances) is a
+    :class:`ContactScene`, built once per process and reused by every :meth:`analyze`
+    call (the bolt only moves) and by the mechanics. fcl objects neither pickle nor
+    release the GIL: one scene per process.
 
     Parameters
     ----------
@@ -245,12 +144,10 @@ class ContactAnalyzer:
         when comparing it with the origin drop (default 4 x the mesh deviation bound).
     max_turn : float
         Search range of the second and third stages (degrees, default 30).
+    scene : ContactScene, optional
+        A scene already built (default :func:`contact_scene` of the spec, chord and
+        meshes, built once per process); its spec must be ``spec``.
     """
-
-    #: Distance from the exact surface beyond which a contact on a CAD mesh lies where the
-    #: mesh does not follow the spec (None: generated meshes, which always do): the feature
-    #: tolerance plus :data:`OFF_SPEC_FACTOR` mesh deviations.
-    off_spec_tolerance: float | None
 
     def __init__(
         self,
@@ -265,111 +162,48 @@ class ContactAnalyzer:
         max_turn: float = 30.0,
         mesh_units: str | None = None,
         max_faces: int | None = None,
+        scene: ContactScene | None = None,
     ) -> None:
         if not isinstance(spec, ThreadSpec):
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
-        chord = _positive("chord", chord)
-        max_faces = check_max_faces(max_faces)  # before any mesh is built
         compliance_z = check_length("compliance_z", compliance_z, spec.units, signed=True)
         if not (isinstance(max_turn, int | float) and 0 < max_turn <= 90):
             raise InputError(f"max_turn must be within (0, 90] degrees, got {max_turn!r}")
+        if scene is None:
+            scene = contact_scene(
+                spec,
+                chord=chord,
+                bolt_mesh=bolt_mesh,
+                nut_mesh=nut_mesh,
+                mesh_units=mesh_units,
+                max_faces=max_faces,
+            )
+        elif scene.spec != spec:
+            raise InputError("the scene's spec differs from the spec given")
+        #: The exact bodies, meshes, collision pair and tolerances (:class:`ContactScene`).
+        self.scene = scene
         self.spec = spec
         self.units = spec.units
         self.compliance_z = float(compliance_z)
-        self.bolt = bolt_body(spec)
-        self.nut = nut_body(spec)
-
-        if mesh_units is not None and mesh_units not in MM_PER_UNIT:
-            raise InputError(f"mesh_units must be 'in' or 'mm', got {mesh_units!r}")
-        generated = None
-        if bolt_mesh is None or nut_mesh is None:
-            generated = dict(zip(("bolt", "nut"), thread_meshes(spec, chord), strict=True))
-        self.chord = float(chord if chord is not None else DEFAULT_CHORD[spec.units])
-        #: Where each mesh came from and how it follows the spec (:attr:`mesh_info`).
-        self._mesh_info: dict[str, dict[str, Any]] = {}
-        fits: dict[str, MeshFit] = {}
-        meshes: dict[str, trimesh.Trimesh] = {}
-        sources: tuple[tuple[Literal["bolt", "nut"], Any, ThreadBody], ...] = (
-            ("bolt", bolt_mesh, self.bolt),
-            ("nut", nut_mesh, self.nut),
-        )
-        for kind, given, body in sources:
-            if given is None:
-                assert generated is not None
-                tb = generated[kind]
-                meshes[kind] = tb.mesh
-                self._mesh_info[kind] = {
-                    "generated": True,
-                    "chord": float(tb.chord),
-                    "deviation": float(tb.max_deviation),
-                }
-                continue
-            meshes[kind], fits[kind], self._mesh_info[kind] = _cad_mesh(
-                given, kind, spec, body, mesh_units, max_faces
-            )
-        deviation = max(float(info["deviation"]) for info in self._mesh_info.values())
-        self._setup(
-            meshes["bolt"],
-            meshes["nut"],
-            max(deviation, 0.0),
-            quasi_tolerance,
-            interference_tolerance,
-            max_turn,
-        )
-        if fits:
-            self.off_spec_tolerance = self.feature_tolerance + OFF_SPEC_FACTOR * max(
-                self.deviation, 1e-9 * spec.pitch
-            )
-            for name, fit in fits.items():
-                self._describe_fit(name, fit)
-
-    def _describe_fit(self, kind: str, fit: MeshFit) -> None:
-        """The off-spec shares of a CAD mesh, and a warning when much of its contact zone
-        lies off the spec."""
-        assert self.off_spec_tolerance is not None
-        share, zone_share = fit.off_spec_share(self.off_spec_tolerance)
-        info = self._mesh_info[kind]
-        info["off_spec_share"] = share
-        info["zone_off_spec_share"] = zone_share
-        info["warning"] = None
-        if zone_share > OFF_SPEC_WARNING:
-            what = {"bolt": "point", "nut": "countersink"}[kind]
-            info["warning"] = (
-                f"{kind} mesh {info['file'] or '(object)'}: {zone_share:.0%} of its contact "
-                f"zone lies off the spec (farther than {self.off_spec_tolerance:.3g} "
-                f"{self.units} from its exact surface); contacts there are labelled "
-                f"{what}/other. If the part has a {what} the spec does not state, state it."
-            )
-
-    def _setup(
-        self,
-        bolt_mesh: trimesh.Trimesh,
-        nut_mesh: trimesh.Trimesh,
-        deviation: float,
-        quasi_tolerance: float | None,
-        interference_tolerance: float | None,
-        max_turn: float,
-    ) -> None:
-        spec = self.spec
-        self.deviation = deviation
-        self.engine = CollisionPair(bolt_mesh, nut_mesh)
+        self.bolt, self.nut = scene.bolt, scene.nut
+        self.chord = scene.chord
+        self.engine = scene.engine
+        self.deviation = scene.deviation
+        self.feature_tolerance = scene.feature_tolerance
+        self.off_spec_tolerance = scene.off_spec_tolerance
         self._bolt_tree = cKDTree(self.engine.bolt_vertices)
         # Where the bolt's teeth begin to engage, from the exact bodies (also under a CAD
         # mesh, which the spec describes where it follows it): in phase below the nut's.
         self._engagement, self._nut_engagement = engagement_outline(self.bolt, self.nut)
         self._nut_tree = cKDTree(self.engine.nut_vertices)
-        travel = TRAVEL_TOLERANCE[spec.units]
         self.search = Search(
-            travel=travel,
+            travel=scene.travel,
             separation=spec.pitch / 4,
             pitch=spec.pitch,
             min_radius=0.5 * min(spec.nut.minor, spec.bolt.minor),
             max_turn=float(max_turn),
         )
-        bound = max(deviation, 1e-9 * spec.pitch)
-        #: Distance within which a contact point is taken to lie on a face or edge.
-        self.feature_tolerance = 2.0 * bound + 10.0 * travel
-        self.off_spec_tolerance = None
+        bound = max(self.deviation, 1e-9 * spec.pitch)
         self.quasi_tolerance = _positive("quasi_tolerance", quasi_tolerance) or spec.pitch / 10
         self.interference_tolerance = (
             _positive("interference_tolerance", interference_tolerance) or 4.0 * bound
@@ -384,16 +218,12 @@ class ContactAnalyzer:
         of the whole mesh and of its contact zone, farther than the off-spec tolerance
         from the exact surface); and ``off_spec_tolerance`` (None without CAD meshes).
         Lengths in the spec's units."""
-        return {
-            "bolt": dict(self._mesh_info["bolt"]),
-            "nut": dict(self._mesh_info["nut"]),
-            "off_spec_tolerance": self.off_spec_tolerance,
-        }
+        return self.scene.mesh_info
 
     @property
     def mesh_warnings(self) -> list[str]:
         """Warnings about CAD meshes much of whose contact zone is off the spec."""
-        return [w for info in self._mesh_info.values() if (w := info.get("warning"))]
+        return self.scene.mesh_warnings
 
     @property
     def tolerances(self) -> dict[str, float]:
@@ -417,8 +247,8 @@ class ContactAnalyzer:
             n, fn, fb = contact_normal(self.nut, self.bolt, pose, c.point, tol)
             out.append(
                 Contact(
-                    _vec(c.point),
-                    _vec(n),
+                    as_vec(c.point),
+                    as_vec(n),
                     c.pairs,
                     region_at(self.bolt, pose.to_bolt(c.point), fb, self.off_spec_tolerance),
                     region_at(self.nut, c.point, fn, self.off_spec_tolerance),

@@ -1,0 +1,245 @@
+"""The sweep's work as a worker runs it: the job, the model kept per worker, one chunk.
+
+A :class:`Job` is everything a worker needs (small and picklable: it travels to a pool
+process or a Dask worker). Each worker process (or Dask worker thread) builds ONE
+:class:`~threadmate.contact.Mechanics` (or thesis analyser), meshes and python-fcl BVHs
+included, the first time it sees a job, and keeps it for every later chunk: fcl objects
+neither pickle nor share between threads. :func:`run_chunk` turns a chunk of
+``config_id`` into rows of the library schema.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pyarrow as pa
+
+from .._errors import InputError, LibraryError
+from .._validate import MAX_FACES
+from ..contact import (
+    CONTINUATION_STEP,
+    ERROR_CLASS,
+    PHASE_TOLERANCE,
+    Compliance,
+    blank_row,
+)
+from ..geometry import ThreadSpec
+from ._grid import Grid
+from ._held_tilt import states_of_held_tilt
+from ._store import library_schema
+
+__all__ = ["MeshFile", "Job", "describe_analyzer", "mesh_files", "run_chunk"]
+
+
+@dataclass(frozen=True)
+class MeshFile:
+    """A mesh from CAD as a worker receives it: the path (fcl objects do not pickle: each
+    worker loads the file once), its units and the SHA-256 the sweep started with (a file
+    changed meanwhile is refused)."""
+
+    path: str
+    units: str
+    sha256: str
+
+
+@dataclass(frozen=True)
+class Job:
+    """Everything a worker needs to analyse configurations of one sweep (small, picklable)."""
+
+    spec: ThreadSpec
+    grid: Grid
+    chord: float
+    model: str
+    compliance: Compliance
+    step: float = CONTINUATION_STEP
+    phase_tolerance: float = PHASE_TOLERANCE
+    analyzer: Callable[..., Any] | None = None
+    bolt_mesh: MeshFile | None = None
+    nut_mesh: MeshFile | None = None
+    mesh_units: str | None = None
+    clockwise: bool = False
+    #: Most triangles a mesh from CAD may have (:func:`threadmate.geometry.load_mesh`):
+    #: a limit of the run, not of its results (not in :attr:`key` or the metadata).
+    max_faces: int = MAX_FACES
+
+    @property
+    def key(self) -> str:
+        return repr(
+            (
+                self.spec,
+                self.grid,
+                self.chord,
+                self.model,
+                self.compliance,
+                describe_analyzer(self.analyzer),
+                self.bolt_mesh,
+                self.nut_mesh,
+                self.mesh_units,
+            )
+        )
+
+    def mesh_arguments(self) -> dict[str, Any]:
+        """The analyser's keyword arguments for the meshes from CAD (none without)."""
+        if self.bolt_mesh is None and self.nut_mesh is None:
+            return {}
+        limit = {} if self.max_faces == MAX_FACES else {"max_faces": self.max_faces}
+        return {
+            "bolt_mesh": None if self.bolt_mesh is None else self.bolt_mesh.path,
+            "nut_mesh": None if self.nut_mesh is None else self.nut_mesh.path,
+            "mesh_units": self.mesh_units,
+            **limit,  # a raised or lowered limit only (an analyser factory may not take it)
+        }
+
+
+_LOCAL = threading.local()
+
+
+def _worker_for(job: Job) -> Any:
+    """This worker's Mechanics (or thesis analyser) for ``job``, built on first use and
+    kept."""
+    if getattr(_LOCAL, "key", None) != job.key:
+        _LOCAL.worker = None  # free the old meshes before building new ones
+        meshes = job.mesh_arguments()
+        if job.model == "mechanics":
+            from ..contact import Mechanics, contact_scene
+
+            scene = contact_scene(job.spec, chord=job.chord, **meshes)
+            _LOCAL.worker = Mechanics(job.spec, job.compliance, scene=scene)
+        else:
+            factory = job.analyzer
+            if factory is None:
+                from ..contact import ContactAnalyzer
+
+                factory = ContactAnalyzer
+            _LOCAL.worker = factory(
+                job.spec, chord=job.chord, compliance_z=job.compliance.compliance_z, **meshes
+            )
+        _check_mesh_files(job, _LOCAL.worker)
+        _LOCAL.key = job.key
+    return _LOCAL.worker
+
+
+def _check_mesh_files(job: Job, worker: Any) -> None:
+    """Refuse a mesh file whose content changed since the sweep started (the library
+    records the SHA-256 it was started with)."""
+    info = getattr(getattr(worker, "scene", None), "mesh_info", None)
+    for kind, given in (("bolt", job.bolt_mesh), ("nut", job.nut_mesh)):
+        if given is None or not isinstance(info, dict):
+            continue
+        got = (info.get(kind) or {}).get("sha256")
+        if got != given.sha256:
+            raise LibraryError(
+                f"{kind} mesh {given.path} changed while the sweep ran (SHA-256 "
+                f"{str(got)[:12]}, started with {given.sha256[:12]}); run the sweep again"
+            )
+
+
+def _settings(worker: Any) -> dict[str, Any]:
+    """The mesh and contact settings a model actually used (for the metadata)."""
+    scene = getattr(worker, "scene", None)
+    tolerances = getattr(worker, "tolerances", None)
+    deviation = getattr(scene, "deviation", None)
+    meshes = getattr(scene, "mesh_info", None)
+    return {
+        "chord": getattr(scene, "chord", None),
+        "max_deviation": None if deviation is None else float(deviation),
+        "tolerances": None if tolerances is None else {k: float(v) for k, v in tolerances.items()},
+        "meshes": meshes if isinstance(meshes, dict) else None,
+    }
+
+
+def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]]:
+    """Analyse configurations in this process; a configuration that raises becomes a row
+    with classification ``error`` and the message in ``error``.
+
+    Returns
+    -------
+    table : pyarrow.Table
+        Rows in the library schema (without metadata).
+    settings : dict
+        The analyser's chord, mesh deviation and tolerances.
+    """
+    worker = _worker_for(job)
+    schema = library_schema(model=job.model)
+    configs = job.grid.configurations(config_ids)
+    if job.model == "mechanics":
+        # One chunk is one held tilt (see _chunks).
+        rows = states_of_held_tilt(
+            worker,
+            float(configs[0][0]),
+            float(configs[0][1]),
+            [float(c[2]) for c in configs],
+            config_ids,
+            step=job.step,
+            phase_tolerance=job.phase_tolerance,
+            clockwise=job.clockwise,
+        )
+        return pa.Table.from_pylist(rows, schema=schema), _settings(worker)
+    blank = blank_row(schema)
+    rows = []
+    for cid, (roll, pitch, phase) in zip(config_ids, configs, strict=True):
+        try:
+            rec = worker.analyze(float(roll), float(pitch), float(phase)).to_record()
+            rec["error"] = ""
+        except Exception as exc:  # noqa: BLE001 - one bad configuration must not stop a sweep
+            rec = dict(
+                blank,
+                roll=float(roll),
+                pitch=float(pitch),
+                phase=float(phase),
+                classification=ERROR_CLASS,
+                error=f"{type(exc).__name__}: {exc}",
+            )
+        rec["config_id"] = int(cid)
+        rows.append(rec)
+    return pa.Table.from_pylist(rows, schema=schema), _settings(worker)
+
+
+def describe_analyzer(factory: Callable[..., Any] | None) -> str:
+    """The thesis analyser's factory as text (its module and name, a partial's arguments):
+    part of a job's identity and of the library's metadata."""
+    if factory is None:
+        return "threadmate.contact.ContactAnalyzer"
+    if isinstance(factory, functools.partial):
+        args = ", ".join(
+            [repr(a) for a in factory.args]
+            + [f"{k}={v!r}" for k, v in sorted(factory.keywords.items())]
+        )
+        return f"{describe_analyzer(factory.func)}({args})"
+    module = getattr(factory, "__module__", "")
+    name = getattr(factory, "__qualname__", repr(factory))
+    return f"{module}.{name}" if module else name
+
+
+def mesh_files(
+    spec: ThreadSpec, bolt_mesh: Any, nut_mesh: Any, mesh_units: str | None, max_faces: int
+) -> tuple[MeshFile | None, MeshFile | None]:
+    """The CAD meshes of a sweep, validated here (before any library is written) as the
+    workers will load them."""
+    from ..contact import check_mesh_file
+
+    out: list[MeshFile | None] = []
+    for kind, given in (("bolt", bolt_mesh), ("nut", nut_mesh)):
+        if given is None:
+            out.append(None)
+            continue
+        if not isinstance(given, str | os.PathLike):
+            raise InputError(
+                f"{kind}_mesh must be a mesh file path for a sweep (its workers load it), "
+                f"got {type(given).__name__}"
+            )
+        doc = check_mesh_file(
+            os.fspath(given),
+            kind,  # type: ignore[arg-type]
+            spec,
+            mesh_units,
+            max_faces=max_faces,
+        )
+        out.append(MeshFile(str(Path(given).absolute()), doc["units"], doc["sha256"]))
+    return out[0], out[1]
