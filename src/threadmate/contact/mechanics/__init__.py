@@ -16,6 +16,10 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
     from ._compliance import (
         Compliance,
     )
+    from ._descent import (
+        BALANCE,
+        MAX_STEPS,
+    )
     from ._figures import (
         plot_screw,
         plot_search,
@@ -62,8 +66,6 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
         check_screw,
     )
     from ._settle import (
-        BALANCE,
-        MAX_STEPS,
         Mechanics,
         mechanics,
         settle,
@@ -161,9 +163,11 @@ _SOURCES = {
         "PHASE_TOLERANCE",
         "SCREW_IN",
     ),
-    "._settle": (
+    "._descent": (
         "BALANCE",
         "MAX_STEPS",
+    ),
+    "._settle": (
         "Mechanics",
         "mechanics",
         "settle",

@@ -1,0 +1,413 @@
+"""Lowering the bolt onto the nut at a tilt: the touching pose, exact for the meshes.
+
+The bolt at a tilt is placed a little above where it is expected to touch, checked free
+with one yes/no query, and every triangle pair that intersects a little lower is
+enumerated with one more (:meth:`_Lowering.drop`); the exact drop at which each pair
+first touches (:func:`threadmate.contact.scene.vertical_touch`) gives the contact height
+without bisection, and the gaps of the other contacts within the depth ``near``. A
+lowering that is kept is verified (:meth:`_Lowering.verified`): the pairs crossing just
+above its touch, and yes/no queries above it, find what the pairs at the bracket's foot
+missed. A motion finer than the length tolerance is lowered onto the pairs already known,
+with no query (:meth:`_Lowering._nudged`), and the nut's material above the bolt, where
+the bolt lies in the thread, is known as the pairs below are (:meth:`_Lowering._overhead`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..scene import pair_keys, vertical_rise, vertical_touch
+from ._held_bolt import _HeldBolt
+
+__all__: list[str] = []
+
+
+@dataclass
+class _Drop:
+    """The bolt lowered onto the nut at one tilt."""
+
+    rotation: NDArray[np.float64]
+    xy: NDArray[np.float64]
+    zc: float  # height of the compliance centre when touching
+    top: float  # the free height the touch is measured from
+    start: float  # where the lowering started (see Mechanics.verified)
+    span: float  # its last step
+    cap: float  # the longest step it may take
+    pairs: NDArray[np.int64]  # (bolt, nut) face pairs whose touch from ``top`` is known
+    drops: NDArray[np.float64]  # each pair's drop from ``top`` to its touch (or inf)
+    touches: NDArray[np.float64]  # where each pair touches (F; NaN with an inf drop)
+    gaps: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))  # vertical (>= 0)
+    points: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 3)))  # (F)
+    verified: bool = False  # at the first touch from ``top`` (Mechanics.verified)
+    # The nut's material above the bolt (Mechanics._overhead; None: not looked for yet):
+    # face pairs, each one's rise to its touch and where.
+    over_pairs: NDArray[np.int64] | None = None
+    rises: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))
+    over_points: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 3)))
+
+
+class _Lowering(_HeldBolt):
+    """Lowering the bolt onto the nut (module docstring): a layer of :class:`Mechanics`."""
+
+    def drop(
+        self,
+        rotation: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        zc: float | None,
+        span: float | None = None,
+        *,
+        verify: bool = True,
+        climb: bool = True,
+        reach: float = 0.0,
+    ) -> _Drop | None:
+        """Lower the bolt at ``rotation`` (compliance centre over ``xy``) onto the nut.
+
+        ``zc`` is where the compliance centre is expected to touch (None: unknown, the
+        bolt comes from above the nut). Returns None when the bolt passes the nut.
+        Without ``verify`` the touch is the one the bracket's pairs give, which can lie
+        below the first touch (see :meth:`verified`): a descent step asks for it only once
+        the step would be kept there, since the first touch lies higher still.
+        Without ``climb``, a pose that meets material above where it is expected to touch
+        is lowered off it by as much as ``reach`` (the step's motion: what its linearised
+        contacts can miss by), else gives None: in the thread, with material above, a
+        climb can only leave the thread.
+        """
+        known_free = False
+        # Where the lowest bolt point is just above the nut's top face: free for sure.
+        above = self._clear_of_top(rotation) + self.tolerance
+        if zc is None or zc + (span or 0.0) >= above:
+            # Short first steps, doubling: a thin wedge of material where a thread runs out
+            # on the nut's face (a few 1e-5 in at the edge of the in-phase window) is met
+            # by a step no longer than it before one can pass it unseen.
+            zc, span, known_free = above, self.spec.pitch / 4096, True
+        # (Under material a bracket may be shorter than the tolerance: it starts between
+        # the flanks, where the gap may be that narrow.)
+        span = max(span or 0.0, self.tolerance if climb else 0.0)
+        # The bracket [top - span - near, top] reaches a little below the expected height
+        # (a quarter of ``near`` at most): the linearised contacts predict the touch within
+        # a few thousandths of a span, and half the touches fall just below the
+        # prediction, each of which would otherwise need a second enumeration of the pairs
+        # within ``near`` of it. (No further: a deeper bracket can pass a thin wedge of
+        # material whole, where a thread runs out on an end face.)
+        top = zc if known_free else zc + span - min(0.25 * span, 0.25 * self.near)
+        found = self._bracket(
+            rotation, xy, top, span, known_free, self.spec.pitch / 16, None if climb else reach
+        )
+        return self.verified(found) if verify and found is not None else found
+
+    def _bracket(
+        self,
+        rotation: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        top: float,
+        span: float,
+        known_free: bool,
+        cap: float,
+        reach: float | None = None,
+    ) -> _Drop | None:
+        """The touch the pairs crossing at a bracket's foot give, lowering from ``top`` in
+        steps of ``span`` doubling up to ``cap`` (see :meth:`drop`; ``reach``: no climb)."""
+        eng = self.engine
+        start, hit = top, -math.inf  # hit: the highest height known to collide
+        for _ in range(200):
+            # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
+            # longer cross a little lower, so one enumeration below cannot tell.
+            if not known_free:
+                if eng.collides(self._pose(rotation, xy, top)):
+                    if reach is not None:
+                        under = self._under(rotation, xy, top, reach)
+                        if under is None:
+                            return None
+                        top, known_free = under, True
+                        continue
+                    hit = top
+                    top += span
+                    span = min(2 * span, cap)
+                    continue
+                known_free = True
+            low = top - span - self.near
+            pairs = eng.pairs(self._pose(rotation, xy, low))
+            if len(pairs) == 0:
+                top = low
+                span = min(2 * span, cap)
+                if top < self._floor:
+                    return None
+                continue
+            drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), pairs))
+            ok = np.isfinite(drop)
+            if not ok.any():  # only pairs seen edge-on from above: a shallower bracket
+                span /= 2
+                continue
+            first = float(drop[ok].min())
+            if first < 0.0:  # a pair crosses at ``top`` after all: start higher
+                top += span - first
+                known_free = False
+                continue
+            touch = top - first
+            # Pairs asked for below are added to those known, never put in their place: a
+            # pair crossing higher up can lie wholly inside the other body lower down.
+            if touch < hit:
+                # Below a height known to collide: the bracket, long after a climb, passed
+                # material whole (a thin tooth where a thread runs out on an end face).
+                low = hit
+                pairs, drop, points, more = self._with_pairs_at(
+                    rotation, xy, top, pairs, drop, points, low
+                )
+                touch = max(touch, top - float(more[np.isfinite(more)].min(initial=math.inf)))
+            if touch - low < self.near * (1 - 1e-9):
+                pairs, drop, points, _ = self._with_pairs_at(
+                    rotation, xy, top, pairs, drop, points, touch - self.near
+                )
+            return self._touching(
+                _Drop(
+                    rotation,
+                    np.array(xy, dtype=float),
+                    touch,
+                    top,
+                    start,
+                    span,
+                    cap,
+                    pairs,
+                    drop,
+                    points,
+                )
+            )
+        raise RuntimeError("lowering the bolt did not settle on a bracket")
+
+    def _under(
+        self, rotation: NDArray[np.float64], xy: NDArray[np.float64], top: float, reach: float
+    ) -> float | None:
+        """A free height just below ``top``, where the bolt there meets material above it
+        by no more than ``reach`` (or the length tolerance); None otherwise."""
+        eng = self.engine
+        pose = self._pose(rotation, xy, top)
+        pairs = eng.pairs(pose)
+        if len(pairs) == 0:
+            return None
+        bolt, nut = eng.triangles(pose, pairs)
+        # Bolt faces turned up, under the nut's material (its flank or the edge where its
+        # thread meets the top face, whose faces either side both cross).
+        if not np.all(_facing(bolt) > 0):
+            return None  # material below crosses too: no height here is free
+        rise, _ = vertical_rise(bolt, nut)
+        depth = -float(rise[np.isfinite(rise)].min(initial=math.inf))
+        if not 0.0 <= depth <= max(reach, self.tolerance):
+            return None
+        lower = top - depth - 1e-3 * self.tolerance
+        return None if eng.collides(self._pose(rotation, xy, lower)) else lower
+
+    def _with_pairs_at(
+        self,
+        rotation: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        top: float,
+        pairs: NDArray[np.int64],
+        drops: NDArray[np.float64],
+        touches: NDArray[np.float64],
+        at: float,
+        sectors: frozenset[int] | None = None,
+    ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """``pairs`` (with their ``drops`` from ``top`` and ``touches``) and the pairs that
+        cross at the height ``at`` (of the nut's ``sectors``, default all) added; and the
+        drops of the pairs added."""
+        eng = self.engine
+        found = eng.pairs(self._pose(rotation, xy, at), sectors)
+        new = found[~np.isin(pair_keys(found), pair_keys(pairs))]
+        drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), new))
+        return (
+            np.concatenate([pairs, new]),
+            np.concatenate([drops, drop]),
+            np.concatenate([touches, points]),
+            drop,
+        )
+
+    def _touching(self, d: _Drop, depth: float | None = None) -> _Drop:
+        """``d`` with its touch raised to the first of its pairs' (when higher), and the
+        gaps and points of its pairs within ``depth`` (default ``near``) below it."""
+        ok = np.isfinite(d.drops)
+        first = min(d.top - d.zc, float(d.drops[ok].min(initial=math.inf)))
+        gaps = d.drops - first
+        keep = ok & (gaps <= (self.near if depth is None else depth))
+        return replace(
+            d,
+            zc=d.top - first,
+            gaps=np.maximum(gaps[keep], 0.0),
+            points=d.touches[keep],
+        )
+
+    def verified(self, d: _Drop) -> _Drop:
+        """``d`` at the first touch below its free top.
+
+        The pairs crossing at the bracket's foot can miss what the bolt meets first, as
+        python-fcl sees crossing triangles, never containment:
+
+        - a bolt triangle meeting a nut flank nearly parallel to it sinks whole into the
+          nut within the bracket and then crosses no nut triangle. The pairs crossing just
+          above the touch are the ones missed: there are none, or they raise the touch;
+        - a long bracket passes a thin tooth whole (where a thread runs out on an end
+          face, a few 1e-4 in thick). Yes/no queries every :attr:`probe` above the touch
+          find it, and the pairs crossing there raise the touch.
+        """
+        if d.verified:
+            return d
+        eng = self.engine
+        while True:
+            above, probed = d.zc + self.tolerance, d.zc
+            while above < d.top:
+                # Just above the touch, the pairs missed lie within the crossing pairs'
+                # ring: a region of one body sunk into the other is bounded by crossings.
+                # At a probe that collides, anywhere.
+                around = eng.sectors_around(d.pairs) if above == d.zc + self.tolerance else None
+                pairs, drops, touches, more = self._with_pairs_at(
+                    d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, above, around
+                )
+                raised = more[np.isfinite(more)]
+                # (Touching just above within rounding is free there.)
+                if len(raised) and d.top - float(raised.min()) > d.zc + self.tolerance:
+                    d = self._touching(replace(d, pairs=pairs, drops=drops, touches=touches))
+                    above, probed = d.zc + self.tolerance, d.zc
+                    continue
+                above = probed + self.probe
+                while above < d.top and not eng.collides(self._pose(d.rotation, d.xy, above)):
+                    above += self.probe
+                probed = above
+            if not (d.start - d.zc > 2 * self.near and self._embedded(d.rotation, d.xy, d.zc)):
+                return replace(d, verified=True)
+            # A thin wedge of one body (where a thread runs out on an end face) passed whole
+            # into the other within a step. Again from the start, in steps a quarter as long.
+            cap = d.cap / 4
+            if cap < self.tolerance:
+                raise RuntimeError("lowering the bolt keeps passing into the nut")
+            found = self._bracket(d.rotation, d.xy, d.start, min(d.span, cap), False, cap)
+            if found is None:  # pragma: no cover - the bolt touched from this start before
+                raise RuntimeError("lowering the bolt passed the nut on a second try")
+            d = found
+
+    def _deepened(self, d: _Drop, depth: float) -> _Drop:
+        """``d`` knowing every contact within ``depth`` (more than ``near``) below its
+        touch."""
+        if depth <= self.near:
+            return d
+        pairs, drops, touches, _ = self._with_pairs_at(
+            d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, d.zc - depth
+        )
+        return self._touching(replace(d, pairs=pairs, drops=drops, touches=touches), depth)
+
+    def _nudged(self, d: _Drop, rotation: NDArray[np.float64], xy: NDArray[np.float64]) -> _Drop:
+        """``d`` turned to ``rotation`` over ``xy`` by a motion that moves no bolt point
+        by more than :attr:`tolerance` (with the nudges before it, since python-fcl last
+        lowered the bolt), lowered onto its own pairs.
+
+        The balance asks for tilts far finer than the length tolerance (the last steps
+        of a descent move the bolt by nanometres), and any pair the motion brings to touch
+        was within ``near`` below the touch before it, so among the pairs ``d`` knows: the
+        exact drops of those pairs from ``d``'s free top, with no python-fcl query, give
+        the touch (what a query could add lies within the tolerance).
+        """
+        eng = self.engine
+        drops, touches = vertical_touch(*eng.triangles(self._pose(rotation, xy, d.top), d.pairs))
+        ok = np.isfinite(drops)
+        first = float(drops[ok].min()) if ok.any() else d.top - d.zc
+        nudged = self._touching(
+            replace(
+                d,
+                rotation=rotation,
+                xy=np.array(xy, dtype=float),
+                zc=d.top - first,
+                drops=drops,
+                touches=touches,
+                verified=True,
+            )
+        )
+        # The material above as well: its pairs are those known (the motion is as small).
+        return nudged if d.over_pairs is None else self._overhead(nudged)
+
+    def _overhead(self, d: _Drop) -> _Drop:
+        """``d`` knowing the nut's material within :attr:`near` above the bolt.
+
+        In the thread the bolt lies between two nut flanks. Tilted as it goes in, or
+        turned where the thread starts pinch it, its flank meets the nut's flank above:
+        that bounds its motion from above as the pairs below bound it from below (a
+        contact whose normal points down, opening as the bolt moves down). Only where the
+        bolt's end lies below the nut's top face can nut material lie over it. The pairs
+        are looked for once per lowering (one enumeration, lifted by ``near``) and their
+        rises re-evaluated exactly at each pose.
+        """
+        eng = self.engine
+        pairs = d.over_pairs
+        pose = self._pose(d.rotation, d.xy, d.zc)
+        if pairs is None:
+            if d.zc >= self._clear_of_top(d.rotation):
+                pairs = np.empty((0, 2), dtype=np.int64)
+            else:
+                found = eng.pairs(self._pose(d.rotation, d.xy, d.zc + self.near))
+                bolt, nut = eng.triangles(pose, found)
+                # A nut face turned down over a bolt face turned up (outward normals): the
+                # pairs of the contacts below, which a lift only separates, are not these.
+                pairs = found[(_facing(bolt) > 0) & (_facing(nut) < 0)]
+        if len(pairs) == 0:
+            return replace(d, over_pairs=pairs, rises=np.empty(0), over_points=np.empty((0, 3)))
+        rise, points = vertical_rise(*eng.triangles(pose, pairs))
+        keep = np.isfinite(rise) & (rise <= self.near)
+        return replace(
+            d, over_pairs=pairs, rises=np.maximum(rise[keep], 0.0), over_points=points[keep]
+        )
+
+    def _embedded(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> bool:
+        """Whether a vertex of one mesh lies inside the other exact body, deeper than the
+        meshes' deviation, at the pose where the bolt's centre is at ``zc``."""
+        pose = self._pose(rotation, xy, zc)
+        an = self.scene
+        depth = 2 * an.deviation + self.tolerance
+        # Only points within the other body's slab can be inside it: their height there
+        # first (one product per point), the whole transform for those alone.
+        rot, origin = pose.rotation, pose.origin
+        bolt_z = (self._nut_top - origin) @ rot[:, 2]
+        nut_z = self._bolt_tip @ rot[2] + origin[2]
+        bolt, nut = an.bolt, an.nut
+        m = self.tolerance  # a margin: rounding differs from the full transform's
+        candidates = (
+            (
+                bolt,
+                pose.to_bolt(
+                    self._nut_top[(bolt_z >= bolt.z_min - m) & (bolt_z <= bolt.z_max + m)]
+                ),
+            ),
+            (
+                nut,
+                pose.to_fixed(self._bolt_tip[(nut_z >= nut.z_min - m) & (nut_z <= nut.z_max + m)]),
+            ),
+        )
+        for body, points in candidates:
+            # Only points on the material's side of the profile's extreme radius can be
+            # inside (the bolt's material lies within r_hi, the nut's beyond r_lo): most
+            # are not, and the exact test is dearer.
+            z, r2 = points[:, 2], points[:, 0] ** 2 + points[:, 1] ** 2
+            prof = body.profile
+            if body.kind == "bolt":
+                maybe = r2 <= prof.r_hi**2 * (1 + 1e-9)
+            else:
+                maybe = r2 >= prof.r_lo**2 * (1 - 1e-9)
+            points = points[maybe & (z >= body.z_min) & (z <= body.z_max)]
+            inside = points[body.contains(points)]  # cheap; the distance only for these
+            deep = inside[body.surface_distance(inside) > depth]
+            # A mesh from CAD is taken as given: deep in the spec's body is not inside the
+            # mesh where it does not follow the spec (an unstated point or countersink).
+            if len(deep) and (
+                self._off is None
+                or body.kind not in self._off.bodies
+                or float(self.engine.signed_distance(body.kind, deep).min()) < -depth
+            ):
+                return True
+        return False
+
+
+def _facing(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The Z part of each triangle's outward normal (unnormalised; the meshes wind their
+    triangles outward): positive for a face turned up."""
+    t = np.asarray(triangles, dtype=float)
+    return np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]
