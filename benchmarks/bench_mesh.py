@@ -77,8 +77,8 @@ def main() -> None:
                 )
         bolt_o = fcl.CollisionObject(bvh(built["bolt"].mesh))
         nut_o = fcl.CollisionObject(bvh(built["nut"].mesh))
-        pitch = spec_from_designation(designation).pitch
-        pose = Pose.from_angles(2.0, 0.0, 180.0, 0.04 * pitch)
+        thread_pitch = spec_from_designation(designation).pitch
+        pose = Pose.from_angles(2.0, 0.0, 180.0, 0.04 * thread_pitch)
         bolt_o.setTransform(fcl.Transform(pose.rotation, pose.origin))
 
         def yes_no(bolt_o=bolt_o, nut_o=nut_o) -> bool:

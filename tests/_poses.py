@@ -15,8 +15,8 @@ def axis_angle(rotation_a: Any, rotation_b: Any) -> float:
     return math.degrees(math.acos(min(1.0, float(a @ b))))
 
 
-def leaves_branch(fall: float, turned: float, in_phase: bool, pitch: float) -> bool:
+def leaves_branch(fall: float, turned: float, in_phase: bool, thread_pitch: float) -> bool:
     """Whether two states are a jump apart by the continuation's thresholds (mechanics.md):
-    the second in phase, or the compliance centre fallen more than pitch / 40, or the bolt
-    axis turned more than 0.5 degree."""
-    return in_phase or fall > pitch / 40 or turned > 0.5
+    the second in phase, or the compliance centre fallen more than thread_pitch / 40, or the
+    bolt axis turned more than 0.5 degree."""
+    return in_phase or fall > thread_pitch / 40 or turned > 0.5

@@ -261,7 +261,7 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     assert rc == 0
     q = json.loads(out)
     assert q["model"] == "mechanics" and q["units"]["length"] == "in"
-    assert q["snapped"] and q["grid"] == {"roll": 2.0, "pitch": -1.0, "phase": 270.0}
+    assert q["moved_to_grid"] and q["grid"] == {"roll": 2.0, "pitch": -1.0, "phase": 270.0}
     direct = mech.settle(2, -1, 270)
     assert q["record"]["role"] == "start"
     assert q["record"]["classification"] == direct.classification
@@ -270,7 +270,22 @@ def test_info_query_summary(swept, capsys, quarter_20, tmp_path, mech):
     rc, out, _ = run_cli(
         capsys, "library", "query", str(swept), "--roll", "2", "--pitch", "-1", "--phase", "270"
     )
-    assert rc == 0 and "snapped" not in out and f"Rest state: {direct.classification}" in out
+    assert rc == 0 and "moved to the nearest" not in out
+    assert f"Rest state: {direct.classification}" in out
+    rc, out, _ = run_cli(
+        capsys,
+        "library",
+        "query",
+        str(swept),
+        "--roll",
+        "1.9",
+        "--pitch",
+        "-1",
+        "--phase",
+        "-90",
+        "--nearest",
+    )
+    assert rc == 0 and "config_id" in out and "(moved to the nearest grid state)" in out
 
     figs = tmp_path / "figs"
     rc, out, _ = run_cli(
@@ -318,7 +333,7 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
     assert rc == 0
     q = json.loads(out)
     assert q["model"] == "thesis" and q["units"]["length"] == "in"
-    assert q["snapped"] and q["grid"] == {"roll": 1.0, "pitch": 1.0, "phase": 240.0}
+    assert q["moved_to_grid"] and q["grid"] == {"roll": 1.0, "pitch": 1.0, "phase": 240.0}
     direct = ContactAnalyzer(quarter_20, chord=float(CHORD)).analyze(1, 1, 240).to_record()
     assert q["record"]["classification"] == direct["classification"]
     assert q["record"]["n_contacts"] == direct["n_contacts"]
@@ -335,7 +350,7 @@ def test_thesis_info_query_summary(thesis_swept, capsys, quarter_20):
         "--phase",
         "240",
     )
-    assert rc == 0 and "snapped" not in out and direct["classification"] in out
+    assert rc == 0 and "moved to the nearest" not in out and direct["classification"] in out
 
     rc, out, _ = run_cli(capsys, "library", "summary", str(thesis_swept), "--json")
     assert rc == 0

@@ -328,7 +328,7 @@ def test_sweep_refuses_a_foreign_directory(quarter_20, tmp_path):
 
 def test_query_takes_the_nearest_grid_state_only_when_asked(library, analyzer):
     exact = query(library, 4, 2, 235)
-    assert not exact["snapped"] and exact["computed"]
+    assert not exact["moved_to_grid"] and exact["computed"]
     assert exact["grid"] == {"roll": 4.0, "pitch": 2.0, "phase": 235.0}
     assert exact["config_id"] == Grid.parse(ROLL, PITCH, PHASE).config_id(2, 1, 2)
     direct = analyzer.analyze(4, 2, 235).to_record()
@@ -337,8 +337,8 @@ def test_query_takes_the_nearest_grid_state_only_when_asked(library, analyzer):
     # 3.2 -> 4, 1.4 -> 2, -130 (= 230) -> 235: refused with the nearest named, or taken.
     with pytest.raises(InputError, match="nearest configuration is roll 4, pitch 2, phase 235"):
         query(library, 3.2, 1.4, -130)
-    snapped = query(library, 3.2, 1.4, -130, nearest=True)
-    assert snapped["snapped"] and snapped["grid"] == exact["grid"]
+    moved = query(library, 3.2, 1.4, -130, nearest=True)
+    assert moved["moved_to_grid"] and moved["grid"] == exact["grid"]
     assert query(library, 4, 2, -125)["grid"] == exact["grid"]  # the same phase mod 360
 
 
@@ -703,7 +703,7 @@ def test_mechanics_summary_query_and_figures(mech_library, mech_rows, mech, tmp_
     ]
 
     q = query(mech_library, 2.3, -1, 136, nearest=True)
-    assert q["snapped"] and q["model"] == "mechanics" and q["units"] == "in"
+    assert q["moved_to_grid"] and q["model"] == "mechanics" and q["units"] == "in"
     assert q["grid"] == {"roll": 2.0, "pitch": -1.0, "phase": 135.0}
     assert q["record"]["role"] == "start"
     assert q["record"]["classification"] == mech.settle(2, -1, 135).classification

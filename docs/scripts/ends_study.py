@@ -37,7 +37,7 @@ PARTS = {"flat (thesis)": {"point": "flat", "countersink": False}, "chamfer + co
 GRID = ("-2:2:1", "-2:2:1", "0:340:20")
 
 
-def _summary(outcomes, pitch: float) -> dict[str, float]:
+def _summary(outcomes, thread_pitch: float) -> dict[str, float]:
     ok = outcomes[~outcomes["failed"]]
     snapped = ok[ok["snapped"]]
     size = np.hypot(ok["held_roll"], ok["held_pitch"])
@@ -51,7 +51,7 @@ def _summary(outcomes, pitch: float) -> dict[str, float]:
         "turn_mean": float(snapped["turn"].mean()),
         "turn_worst": float(snapped["turn"].max()),
         "click_mean": float(snapped["click"].mean()),
-        "click_mean_pitches": float(snapped["click"].mean() / pitch),
+        "click_mean_pitches": float(snapped["click"].mean() / thread_pitch),
         "work_mean": float(snapped["work"].mean()),
     }
 

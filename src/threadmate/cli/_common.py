@@ -8,7 +8,6 @@ import shutil
 import sys
 import tempfile
 from collections.abc import Iterator
-from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -16,10 +15,9 @@ import click
 
 from .._errors import InputError
 from .._json import json_text, to_jsonable
-from ..geometry import ThreadSpec, with_parts
+from ..geometry import SpecParts, ThreadSpec, with_parts
 
 __all__ = [
-    "Parts",
     "parts_document",
     "resolve_spec",
     "is_spec_path",
@@ -50,36 +48,15 @@ def is_spec_path(text: str) -> bool:
     return path.suffix.lower() in (".json", ".toml") or path.exists()
 
 
-@dataclass(frozen=True)
-class Parts:
-    """The bolt's point, the nut's countersink and the two lengths as the options
-    (:func:`threadmate.cli._options.parts_option`) give them; None: not given. Applied by
-    :func:`resolve_spec` through :func:`threadmate.geometry.with_parts`, whose keyword
-    arguments they are."""
-
-    point: str | None = None
-    chamfer_angle: float | None = None
-    point_diameter: float | None = None
-    round_radius: float | None = None
-    countersink: bool | None = None
-    countersink_angle: float | None = None
-    countersink_diameter: float | None = None
-    bolt_length: str | None = None
-    nut_height: str | None = None
-
-    def arguments(self) -> dict[str, Any]:
-        """The keyword arguments of :func:`threadmate.geometry.with_parts`."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-
-def resolve_spec(text: str, condition: str = "mean", parts: Parts | None = None) -> ThreadSpec:
+def resolve_spec(text: str, condition: str = "mean", parts: SpecParts | None = None) -> ThreadSpec:
     """A spec from a designation or a spec-file path (refusing a missing file, a folder or
     an empty designation clearly), with the bolt's point, the nut's countersink and their
-    lengths as ``parts`` gives them (:func:`threadmate.geometry.with_parts`: a designation
-    takes a chamfered point and the standard countersink unless told otherwise, a spec
-    file its own)."""
+    lengths as ``parts`` gives them (the options of
+    :func:`threadmate.cli._options.parts_option`, applied by
+    :func:`threadmate.geometry.with_parts`: a designation takes a chamfered point and the
+    standard countersink unless told otherwise, a spec file its own)."""
     spec: str | Path = Path(text) if is_spec_path(text) else text
-    return with_parts(spec, condition=condition, **(parts or Parts()).arguments())
+    return with_parts(spec, condition=condition, **(parts or SpecParts()).arguments())
 
 
 def parts_document(spec: ThreadSpec) -> dict[str, Any]:

@@ -12,8 +12,8 @@ from typing import TYPE_CHECKING
 import click
 
 from .._validate import MAX_LENGTH, MAX_TILT, check_configuration
-from ..geometry import check_chord
-from ._common import SPEC_HELP, Parts, emit_json, resolve_spec
+from ..geometry import SpecParts, check_chord
+from ._common import SPEC_HELP, emit_json, resolve_spec
 from ._main import cli
 from ._options import (
     MeshFiles,
@@ -150,7 +150,7 @@ def contact(
     compliance_z: float,
     condition: str,
     as_json: bool,
-    parts: Parts,
+    parts: SpecParts,
     meshes: MeshFiles,
 ) -> None:
     """Run the three contact stages for one configuration."""

@@ -17,8 +17,9 @@ import click
 from .._errors import InputError
 from .._validate import check_workers
 from ..contact import CONTINUATION_STEP, MAX_STEP, PHASE_TOLERANCE
+from ..geometry import SpecParts
 from ..library import MODELS
-from ._common import SPEC_HELP, Parts, emit_json, resolve_spec, writable_directory
+from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
@@ -239,7 +240,7 @@ def sweep_command(
     max_starts: int | None,
     condition: str,
     as_json: bool,
-    parts: Parts,
+    parts: SpecParts,
     meshes: MeshFiles,
 ) -> None:
     """Sweep the grid into a library."""

@@ -25,14 +25,14 @@ from ..contact import (
     MAX_TURNS,
     PHASE_TOLERANCE,
     SCREW_IN,
+    UNSTABLE,
     Compliance,
     check_continuation,
     check_screw,
 )
-from ..geometry import check_chord
+from ..geometry import SpecParts, check_chord
 from ._common import (
     SPEC_HELP,
-    Parts,
     echo_err,
     emit_json,
     resolve_spec,
@@ -116,7 +116,7 @@ def _setup(
     compliance_z: float,
     chord: float | None,
     condition: str,
-    parts: Parts | None = None,
+    parts: SpecParts | None = None,
 ) -> tuple[ThreadSpec, Compliance]:
     """Check the options (cheapest first) and build the spec and the compliance.
 
@@ -385,7 +385,7 @@ def settle_command(
     chord: float | None,
     condition: str,
     as_json: bool,
-    parts: Parts,
+    parts: SpecParts,
     meshes: MeshFiles,
 ) -> None:
     """One rest state (see the command's help)."""
@@ -489,7 +489,7 @@ def search_command(
     plot: Path | None,
     screw_in: float,
     torque_limit: float | None,
-    parts: Parts,
+    parts: SpecParts,
     meshes: MeshFiles,
 ) -> None:
     """The simulated search (see the command's help)."""
@@ -527,7 +527,7 @@ def search_command(
             screw_in=screw_in,
             torque_limit=torque_limit,
         )
-    if run.states and run.states[0].classification == "unstable":
+    if run.states and run.states[0].classification == UNSTABLE:
         echo_err(
             "threadmate: warning: the start is not a rest state (its descent did not "
             "converge): the search begins where the descent stopped"
@@ -632,7 +632,7 @@ def screw_command(
     step: float,
     plot: Path | None,
     torque_limit: float | None,
-    parts: Parts,
+    parts: SpecParts,
     meshes: MeshFiles,
 ) -> None:
     """A clockwise start (see the command's help)."""

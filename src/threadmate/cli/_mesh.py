@@ -9,9 +9,9 @@ import click
 
 from .._errors import InputError
 from .._io import atomic_path
+from ..geometry import SpecParts
 from ._common import (
     SPEC_HELP,
-    Parts,
     emit_json,
     resolve_spec,
     writable_directory,
@@ -29,7 +29,7 @@ def mesh_document(
     out_dir: str | Path,
     chord: float | None = None,
     condition: str = "mean",
-    parts: Parts | None = None,
+    parts: SpecParts | None = None,
     force: bool = False,
 ) -> dict[str, Any]:
     """Tessellate a designation or spec file into ``out_dir/bolt.stl`` and ``nut.stl``.
@@ -104,7 +104,7 @@ def mesh(
     chord: float | None,
     condition: str,
     as_json: bool,
-    parts: Parts,
+    parts: SpecParts,
 ) -> None:
     """Tessellate a thread pair and write its two STL files."""
     doc = mesh_document(designation, out_dir, chord, condition.lower(), parts, force)

@@ -11,6 +11,7 @@ import click
 
 from .._errors import InputError, NoPathError
 from .._validate import FIGURE_FORMATS, MAX_K, MAX_TILT, check_configuration, check_roll_spread
+from ..contact import UNSTABLE
 from ._common import (
     echo_err,
     emit_json,
@@ -95,7 +96,7 @@ def _summary(graph: Any) -> tuple[dict[str, Any], Any]:
     ok = out[~out["failed"]]
     snapped = ok[ok["snapped"]]
     # A start whose descent did not converge is not a rest state (its class: unstable).
-    not_at_rest = ok.loc[ok["classification"] == "unstable", "node"].tolist()
+    not_at_rest = ok.loc[ok["classification"] == UNSTABLE, "node"].tolist()
     return {
         "nodes": graph.number_of_nodes(),
         "edges": graph.number_of_edges(),

@@ -22,8 +22,7 @@ from .._errors import InputError
 from .._units import unit_scale
 from .._validate import MAX_FACES, MAX_STARTS, MAX_STARTS_CEILING, WARN_FACES
 from ..contact import Compliance
-from ..geometry import DEFAULT_CHORD, POINT_FORMS, material_condition
-from ._common import Parts
+from ..geometry import DEFAULT_CHORD, POINT_FORMS, SpecParts, material_condition
 
 __all__ = [
     "COMPLIANCE_PARAMETERS",
@@ -288,7 +287,7 @@ def parts_option(func: Callable[..., Any]) -> Callable[..., Any]:
     ``--point-diameter``, ``--round-radius``, ``--countersink/--no-countersink``,
     ``--countersink-angle``, ``--countersink-diameter``, ``--bolt-length``,
     ``--nut-height``. The command receives them as one keyword argument ``parts``
-    (:class:`threadmate.cli._common.Parts`, for :func:`~threadmate.cli._common.resolve_spec`).
+    (:class:`threadmate.geometry.SpecParts`, for :func:`~threadmate.cli._common.resolve_spec`).
     """
     options: list[Callable[[Any], Any]] = [
         click.option(
@@ -367,11 +366,11 @@ def parts_option(func: Callable[..., Any]) -> Callable[..., Any]:
             "countersink's depth and one pitch).",
         ),
     ]
-    names = [f.name for f in fields(Parts)]
+    names = [f.name for f in fields(SpecParts)]
 
     @functools.wraps(func)
     def command(*args: Any, **kwargs: Any) -> Any:
-        parts = Parts(**{name: kwargs.pop(name) for name in names})
+        parts = SpecParts(**{name: kwargs.pop(name) for name in names})
         return func(*args, parts=parts, **kwargs)
 
     wrapped: Callable[..., Any] = command

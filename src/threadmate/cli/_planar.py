@@ -9,9 +9,9 @@ import click
 
 from .._errors import InputError
 from .._validate import check_phase
+from ..geometry import SpecParts
 from ._common import (
     SPEC_HELP,
-    Parts,
     emit_json,
     resolve_spec,
     writable_output,
@@ -83,7 +83,7 @@ def planar(
     as_json: bool,
     plot: Path | None,
     pivot_plot: Path | None,
-    parts: Parts,
+    parts: SpecParts,
 ) -> None:
     """Report the planar contact state (see the command's help)."""
     check_phase("phase", phase)  # the API's one limit of a phase, before the stage loads

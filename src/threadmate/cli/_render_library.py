@@ -155,11 +155,11 @@ def echo_info(library: Path, doc: dict[str, Any]) -> None:
 def echo_query(doc: dict[str, Any]) -> None:
     """``library query``'s text: the configuration and its stored state."""
     g = doc["grid"]
-    snap = " (snapped to the nearest grid state)" if doc["snapped"] else ""
+    moved = " (moved to the nearest grid state)" if doc["moved_to_grid"] else ""
     held = "HELD " if doc["model"] == "mechanics" else ""
     click.echo(
         f"{held}ROLL = {g['roll']:g}   {held}PITCH = {g['pitch']:g}   PHASE = "
-        f"{g['phase']:g}   config_id {doc['config_id']}{snap}"
+        f"{g['phase']:g}   config_id {doc['config_id']}{moved}"
     )
     rec = doc["record"]
     if rec is None:

@@ -10,9 +10,10 @@ import click
 
 from .._errors import InputError
 from .._validate import MAX_TILT, check_roll_spread, check_workers
-from ..contact import CONTINUATION_STEP
+from ..contact import CONTINUATION_STEP, UNSTABLE
+from ..geometry import SpecParts
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID
-from ._common import SPEC_HELP, Parts, echo_err, emit_json, resolve_spec, writable_directory
+from ._common import SPEC_HELP, echo_err, emit_json, resolve_spec, writable_directory
 from ._library import _RANGE_HELP, _progress_bar
 from ._main import cli
 from ._options import (
@@ -137,7 +138,7 @@ def run_command(
     max_starts: int | None,
     condition: str,
     as_json: bool,
-    parts: Parts,
+    parts: SpecParts,
     meshes: MeshFiles,
 ) -> None:
     """The main job (help text above)."""
@@ -196,7 +197,7 @@ def run_command(
             "is whole: make room and run the same command to go on)"
         ) from None
     echo_mesh_notes(result.meshes, spec.units)
-    unsettled = result.counts.get("starts unstable", 0)  # a start's class when not at rest
+    unsettled = result.counts.get(f"starts {UNSTABLE}", 0)  # a start's class when not at rest
     if unsettled:
         echo_err(
             f"threadmate: warning: {unsettled} start(s) did not reach a rest state (the "

@@ -6,9 +6,9 @@ from typing import Any
 
 import click
 
-from ..geometry import ThreadSpec
+from ..geometry import SpecParts, ThreadSpec
 from ..geometry import thread_limits as _thread_limits
-from ._common import SPEC_HELP, Parts, emit_json, is_spec_path, parts_document, resolve_spec
+from ._common import SPEC_HELP, emit_json, is_spec_path, parts_document, resolve_spec
 from ._main import cli
 from ._options import condition_option, parts_option
 
@@ -18,7 +18,7 @@ _DIAMETERS = ("major", "pitch_diameter", "minor")
 
 
 def thread_document(
-    text: str, condition: str = "mean", parts: Parts | None = None
+    text: str, condition: str = "mean", parts: SpecParts | None = None
 ) -> dict[str, Any]:
     """The ``--json`` document of ``threadmate thread`` for a designation or spec file.
 
@@ -118,7 +118,7 @@ def _parts_lines(parts: dict[str, Any], units: str) -> list[str]:
 @condition_option
 @parts_option
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
-def thread(designation: str, condition: str, as_json: bool, parts: Parts) -> None:
+def thread(designation: str, condition: str, as_json: bool, parts: SpecParts) -> None:
     """Print the limits of size (designation) or the values (spec file) of a thread pair."""
     doc = thread_document(designation, condition, parts)
     if as_json:

@@ -3,7 +3,8 @@
 Everything here follows ``conventions.md`` (see the package documentation, "Conventions"):
 lengths in the spec's ``units``, angles in degrees at every interface. A designation or a
 spec takes its bolt's point, its nut's countersink and their lengths from
-:func:`with_parts`; the meshes' chord from :data:`DEFAULT_CHORD` and :func:`check_chord`.
+:func:`with_parts` (its keyword arguments held as one value: :class:`SpecParts`); the
+meshes' chord from :data:`DEFAULT_CHORD` and :func:`check_chord`.
 """
 
 from typing import TYPE_CHECKING
@@ -27,7 +28,7 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
     from ._mesh import TessellatedBody, bolt_mesh, mesh_deviation, nut_mesh, thread_meshes
     from ._meshio import load_mesh, read_stl, stl_header, stl_units, write_stl
     from ._nuts import countersink_limits, standard_countersink_diameter, standard_nut_height
-    from ._parts import with_parts
+    from ._parts import SpecParts, with_parts
     from ._profile import BOLT_REGIONS, NUT_REGIONS, Profile, bolt_profile, nut_profile, wrap_t
     from ._spec import UNITS, BoltSpec, NutSpec, ThreadSpec, load_spec, parse_length, save_spec
 
@@ -45,6 +46,7 @@ __all__ = [
     "Designation",
     "NutSpec",
     "Pose",
+    "SpecParts",
     "Profile",
     "TessellatedBody",
     "ThreadBody",
@@ -106,7 +108,7 @@ _SOURCES = {
     "._mesh": ("TessellatedBody", "bolt_mesh", "mesh_deviation", "nut_mesh", "thread_meshes"),
     "._meshio": ("load_mesh", "read_stl", "stl_header", "stl_units", "write_stl"),
     "._nuts": ("countersink_limits", "standard_countersink_diameter", "standard_nut_height"),
-    "._parts": ("with_parts",),
+    "._parts": ("SpecParts", "with_parts"),
     "._profile": (
         "BOLT_REGIONS",
         "NUT_REGIONS",

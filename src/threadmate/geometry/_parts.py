@@ -13,6 +13,7 @@ import os
 from collections.abc import Callable
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
+from typing import Any
 
 from .._errors import InputError, SpecError
 from ._designation import Designation, parse_designation, spec_from_designation
@@ -20,7 +21,7 @@ from ._ends import BoltPoint, Countersink
 from ._nuts import standard_countersink_diameter, standard_nut_height
 from ._spec import ThreadSpec, load_spec, parse_length
 
-__all__ = ["with_parts"]
+__all__ = ["SpecParts", "with_parts"]
 
 #: The spec key each parameter of :func:`with_parts` sets: a refusal of that key names the
 #: parameter first.
@@ -119,7 +120,7 @@ def with_parts(
     >>> with_parts(spec, point="chamfer", bolt_length="3p").bolt.length == 3 * spec.pitch
     True
     """
-    parts = _Parts(
+    parts = SpecParts(
         point,
         chamfer_angle,
         point_diameter,
@@ -145,8 +146,18 @@ def with_parts(
 
 
 @dataclass(frozen=True)
-class _Parts:
-    """The parts :func:`with_parts` was given (None: not given)."""
+class SpecParts:
+    """The bolt's point, the nut's countersink and the two lengths as :func:`with_parts`
+    takes them, its keyword arguments (None: not given; their meaning is its).
+
+    Examples
+    --------
+    >>> from threadmate.geometry import SpecParts, with_parts
+    >>> parts = SpecParts(point="flat", countersink=False)
+    >>> spec = with_parts("1/4-20 UNC-2A/2B", **parts.arguments())
+    >>> spec.bolt.point.form, spec.nut.countersink
+    ('flat', None)
+    """
 
     point: str | None = None
     chamfer_angle: float | None = None
@@ -158,8 +169,13 @@ class _Parts:
     bolt_length: float | str | None = None
     nut_height: float | str | None = None
 
+    def arguments(self) -> dict[str, Any]:
+        """The keyword arguments of :func:`with_parts`, one per field."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
     @property
     def given(self) -> bool:
+        """Whether any part is given."""
         return any(getattr(self, f.name) is not None for f in fields(self))
 
     def naming(self, build: Callable[[], ThreadSpec]) -> ThreadSpec:
@@ -200,7 +216,7 @@ def _length_value(value: float | str | None) -> float | str | None:
     return value
 
 
-def _parts_of_designation(des: Designation, condition: str, parts: _Parts) -> ThreadSpec:
+def _parts_of_designation(des: Designation, condition: str, parts: SpecParts) -> ThreadSpec:
     form = parts.point or "chamfer"
     wanted = True if parts.countersink is None else parts.countersink
     parts.check_applies(form, wanted)
@@ -240,7 +256,7 @@ def _length(value: float | str | None, name: str, spec: ThreadSpec) -> float | N
     return parse_length(value, spec.pitch, name, spec.units)
 
 
-def _parts_of_spec(spec: ThreadSpec, parts: _Parts) -> ThreadSpec:
+def _parts_of_spec(spec: ThreadSpec, parts: SpecParts) -> ThreadSpec:
     """``spec`` with the parts given replaced. A length that is the spec's default (the
     point's height or the countersink's depth, and one pitch) stays the default: it
     follows new ends."""

@@ -33,6 +33,10 @@ import numpy as np
 from .._angles import axis_angle, phase_difference, wrap_phase
 from ..contact import (
     ERROR_CLASS,
+    IN_PHASE,
+    QUASI_STABLE,
+    STABLE,
+    UNSTABLE,
     Continuation,
     Leg,
     MechanicalState,
@@ -155,7 +159,7 @@ class _Tilt:
         def arrive(s: MechanicalState) -> MechanicalState | None:
             for o in known:
                 t = self.states[o]
-                if t.classification in ("stable", "quasi-stable") and self._joins(t, s):
+                if t.classification in (STABLE, QUASI_STABLE) and self._joins(t, s):
                     return t
             return None
 
@@ -244,7 +248,7 @@ def states_of_held_tilt(
     for j, phase in enumerate(grid):
         try:
             rest = mech.settle(roll, pitch, phase)
-            if rest.state.classification == "in-phase":
+            if rest.state.classification == IN_PHASE:
                 # A start in phase is a snap only if it screws in (as a landing is).
                 rest = replace(
                     rest, state=replace(rest.state, engagement=walk.prove(rest.state, phase))
@@ -257,11 +261,11 @@ def states_of_held_tilt(
         for s in rest.path:
             sid = tilt.add(s, "first-contact" if s.kind == "first-contact" else "passed", ids[j])
             if prev is not None:
-                tilt.link(prev, sid, "settling", "unstable")
+                tilt.link(prev, sid, "settling", UNSTABLE)
             prev = sid
         sid = tilt.add(rest.state, "start", ids[j])
         if prev is not None:
-            tilt.link(prev, sid, "settling", "unstable")
+            tilt.link(prev, sid, "settling", UNSTABLE)
         if clockwise:
             try:
                 turned = screw(mech, roll, pitch, phase, step=step, phase_tolerance=phase_tolerance)

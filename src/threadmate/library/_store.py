@@ -536,8 +536,8 @@ def query(
     Returns
     -------
     dict
-        ``requested`` and ``grid`` (roll, pitch, phase), ``snapped`` (True when the grid
-        state differs from the request), ``config_id``, ``units``, ``model``, ``computed``
+        ``requested`` and ``grid`` (roll, pitch, phase), ``moved_to_grid`` (True when the
+        grid state differs from the request), ``config_id``, ``units``, ``model``, ``computed``
         (False when an unfinished sweep has not reached it yet) and ``record`` (the
         thesis's row, or the rest state the mechanics' drop reaches; None if not computed).
     """
@@ -551,7 +551,7 @@ def query(
     return {
         "requested": {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)},
         "grid": {"roll": on_grid[0], "pitch": on_grid[1], "phase": on_grid[2]},
-        "snapped": moved,
+        "moved_to_grid": moved,
         "config_id": cid,
         "units": meta["units"],
         "model": meta["model"],

@@ -38,7 +38,7 @@ from .._errors import InputError, LibraryError
 from .._json import json_text
 from .._units import MJ_PER_J, to_metres
 from .._validate import check_range
-from ..contact import ERROR_CLASS, IN_PHASE, STATE_COLUMNS, TRANSITIONS
+from ..contact import ERROR_CLASS, IN_PHASE, STATE_COLUMNS, TRANSITIONS, UNSTABLE
 from ..library import Grid, load, progress
 
 __all__ = [
@@ -138,9 +138,11 @@ def build_network(
         )
     jump_penalty = _finite_nonnegative("jump_penalty", jump_penalty)
     force = float(meta["compliance"]["force"])
-    pitch_mj = MJ_PER_J * force * to_metres(float(meta["spec"]["pitch"]), meta["units"])
+    thread_pitch_mj = MJ_PER_J * force * to_metres(float(meta["spec"]["pitch"]), meta["units"])
     move_penalty = (
-        pitch_mj if move_penalty is None else _finite_nonnegative("move_penalty", move_penalty)
+        thread_pitch_mj
+        if move_penalty is None
+        else _finite_nonnegative("move_penalty", move_penalty)
     )
     graph: nx.DiGraph[str] = nx.DiGraph(
         units=meta["units"],
@@ -253,7 +255,7 @@ def _add_tilt_steps(
                         target[0],
                         {
                             "kind": "tilt-step",
-                            "label": "unstable",
+                            "label": UNSTABLE,
                             "turn": 0.0,
                             "work_friction": 0.0,
                             "work_potential": MJ_PER_J * force * lift,

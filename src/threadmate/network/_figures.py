@@ -60,9 +60,10 @@ def plot_click_signature(
 
 
 def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str], units: str) -> Path:
-    """The click (drop at the snap) and the turn to it against the held tilt's size, one
-    point per start that snaps within a turn (starts already in phase left out), with the
-    mean per size, and each snap's window (where the drop may come earlier)."""
+    """The click (the fall at the snap, from the smooth ride to the landing) and the turn
+    to it against the held tilt's size, one point per start that snaps within a turn
+    (starts already in phase left out), with the mean per size, and each snap's window
+    (where the snap may come earlier)."""
     ok = outcomes[outcomes["snapped"] & (outcomes["turn"] > 0)].copy()
     ok["tilt"] = np.hypot(ok["held_roll"], ok["held_pitch"])
     fig = new_figure((7.0, 5.0))
@@ -70,7 +71,7 @@ def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str], uni
     ax1.plot(ok["tilt"], ok["click"], ".", color="#9ecae1", ms=3)
     ax2.plot(ok["tilt"], ok["turn"], ".", color="#9ecae1", ms=3)
     if "snap_window" in ok and bool((ok["snap_window"] > 0).any()):
-        # Where the snap is a window, the drop may come anywhere in it: drawn down from
+        # Where the snap is a window, the snap may come anywhere in it: drawn down from
         # the snap's turn to the window's start.
         win = ok[ok["snap_window"] > 0]
         ax2.vlines(

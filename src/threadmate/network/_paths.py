@@ -21,7 +21,7 @@ import pandas as pd
 
 from .._errors import InputError, NoPathError
 from .._validate import MAX_K, check_whole
-from ..contact import ERROR_CLASS, IN_PHASE
+from ..contact import ERROR_CLASS, IN_PHASE, UNSTABLE
 from ._build import start_node, starts
 
 __all__ = [
@@ -97,7 +97,7 @@ class PathResult:
     def passes_unstable(self) -> bool:
         """True when a transition before the snap is labelled unstable."""
         return any(
-            lab == "unstable" for lab, k in zip(self.labels, self.kinds, strict=True) if k != "snap"
+            lab == UNSTABLE for lab, k in zip(self.labels, self.kinds, strict=True) if k != "snap"
         )
 
     @property
@@ -378,7 +378,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
                     nan,
                     nan,
                     peak,
-                    any(e["label"] == "unstable" and e["kind"] != "snap" for e in ring),
+                    any(e["label"] == UNSTABLE and e["kind"] != "snap" for e in ring),
                     nan,
                 )
                 break
@@ -395,7 +395,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
                 click = _click(e)
                 window = float(e.get("snap_window", nan))
             peak = _larger(peak, e["torque_peak"])
-            unstable = unstable or (e["label"] == "unstable" and e["kind"] != "snap")
+            unstable = unstable or (e["label"] == UNSTABLE and e["kind"] != "snap")
             memo[m] = (
                 reaches,
                 turn + e["turn"],

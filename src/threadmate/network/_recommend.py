@@ -11,8 +11,9 @@ others, from :func:`start_outcomes` (the passive search):
 - ``share_snap``: share that snap within one turn;
 - ``turn_mean``, ``turn_worst``: degrees turned to the snap (over those that snap);
 - ``work_mean``, ``work_worst``: the driver's work to the snap (mJ, same starts);
-- ``click_mean``: the snap's drop of the compliance centre (spec units; starts that drop
-  straight in phase have no click and are left out);
+- ``click_mean``: the click, the fall of the compliance centre at the snap from the last
+  state of the smooth ride to the landing (spec units; starts that drop straight in phase
+  have no click and are left out);
 - ``torque_peak``: the largest driver torque met (N m);
 - ``share_unstable``: share whose path passes a jump or an unstable transition before
   the snap.
@@ -50,6 +51,7 @@ from .._figures import new_figure, save_figure
 from .._io import atomic_write_text
 from .._json import json_text
 from .._validate import check_roll_spread
+from ..contact import UNSTABLE
 from ._paths import start_outcomes
 
 __all__ = [
@@ -75,7 +77,7 @@ METRICS = {
 
 
 #: The class of a start whose descent did not reach a rest state (it did not converge).
-NOT_AT_REST = "unstable"
+NOT_AT_REST = UNSTABLE
 
 
 def _figures(rows: pd.DataFrame) -> dict[str, Any]:

@@ -26,7 +26,7 @@ from typing import Any
 from .._io import atomic_write_text, remove_stale_temporaries
 from .._validate import check_roll_spread
 from .._version import __version__
-from ..contact import CONTINUATION_STEP, Compliance
+from ..contact import CONTINUATION_STEP, UNSTABLE, Compliance
 from ..geometry import ThreadSpec
 from ..library import Grid, info, load, sweep, write_figures
 from ..network import (
@@ -281,7 +281,7 @@ def _clockwise_section(rows: Any) -> str:
 def _not_at_rest(outcomes: Any) -> Any:
     """The starts whose descent did not reach a rest state (class unstable: it did not
     converge), failed ones aside."""
-    return outcomes[~outcomes["failed"] & (outcomes["classification"] == "unstable")]
+    return outcomes[~outcomes["failed"] & (outcomes["classification"] == UNSTABLE)]
 
 
 def _not_at_rest_line(unsettled: Any) -> str:
@@ -310,7 +310,7 @@ def _not_at_rest_line(unsettled: Any) -> str:
 
 def _count_name(key: str) -> str:
     """A count of the library's by-class tally as the report names it."""
-    return "starts not at rest (unstable)" if key == "starts unstable" else key
+    return f"starts not at rest ({UNSTABLE})" if key == f"starts {UNSTABLE}" else key
 
 
 def _telling_phase(outcomes: Any) -> tuple[float, int, int]:
@@ -374,7 +374,7 @@ def _click_signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, f
         (outcomes["held_pitch"] == best["held_pitch"])
         & outcomes["snapped"]
         & (outcomes["turn"] > 0)
-        & (outcomes["classification"] != "unstable")  # a start at rest
+        & (outcomes["classification"] != UNSTABLE)  # a start at rest
     ]
     if rows.empty:
         return None
@@ -469,15 +469,15 @@ def _report(
         f"(worst {_num(best['turn_worst'], '.0f')} deg), for "
         f"{_num(best['work_mean'], '.3g')} mJ of driver work on average (worst "
         f"{_num(best['work_worst'], '.3g')} mJ) and a peak torque of "
-        f"{_num(best['torque_peak'], '.3g')} N m. The click to listen for: "
-        f"{_num(best['click_mean'], '.4g')} {u} of drop.",
+        f"{_num(best['torque_peak'], '.3g')} N m. The click to listen for: a fall of "
+        f"{_num(best['click_mean'], '.4g')} {u} from the smooth ride to the landing.",
     ]
     snaps = outcomes[outcomes["snapped"] & (outcomes["turn"] > 0)]
     windows = snaps[snaps["snap_window"] > 0]
     if len(windows):
         lines.append(
             f"- {len(windows)} of the {len(snaps)} snaps (every setting) are windows: the "
-            "drop may come up to "
+            "snap may come up to "
             f"{float(windows['snap_window'].max()):.1f} deg before the phase given "
             f"(median {float(windows['snap_window'].median()):.1f} deg), where the branch "
             'before it is a shallow basin (docs/mechanics.md, "The snap\'s window").'
@@ -547,8 +547,9 @@ def _report(
         "it passes quasi-stable ones, *unstable* when it jumps or passes an unstable state "
         "(every snap is a jump).",
         "- Columns of the table: *share snap*, the share of starts that snap within one "
-        "turn; *turn* and *work*, to the snap, over those that snap; *click*, the drop of "
-        "the compliance centre at the snap; *torque peak*, the largest driver torque; "
+        "turn; *turn* and *work*, to the snap, over those that snap; *click*, the fall of "
+        "the compliance centre at the snap, from the last state of the smooth ride to the "
+        "landing; *torque peak*, the largest driver torque; "
         "*share unstable*, starts whose search jumps or passes an unstable state before "
         "the snap. The starts of a held tilt share their search once their continuations "
         "join, so this share moves by many starts at once: one continuation step that "

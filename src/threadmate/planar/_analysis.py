@@ -276,7 +276,7 @@ def _outline_normal(theta: float, r: float, dr: float) -> tuple[float, float]:
 def _contact(pair: OutlinePair, sigma: float, tau: float, side: int, theta: float) -> PlanarContact:
     """The contact at ``tau`` (seen at F-angle ``theta``), its regions and slopes read on
     ``side`` (+1 / -1: toward larger / smaller ``tau``; 0: at the point)."""
-    step = side * SIDE_STEP * pair.pitch
+    step = side * SIDE_STEP * pair.thread_pitch
     r = float(pair.nut.radius(tau))
     dt_dtheta = -pair.hand * pair.lead / TWO_PI
     dr_bolt = float(pair.bolt.slope(tau + sigma + step)) * dt_dtheta
@@ -336,7 +336,7 @@ def _build(
 def _state(pair: OutlinePair, phase: float) -> PlanarState:
     sigma = pair.shift(phase)
     top, where = pair.maximum(sigma)
-    deg_per_tau = 360.0 / pair.pitch  # summed over the starts
+    deg_per_tau = 360.0 / pair.thread_pitch  # summed over the starts
     if top < -pair.tol:
         return PlanarState(phase, True, (), 0.0, 0.0, None, False)
     if top <= pair.tol:
@@ -362,7 +362,7 @@ def _state(pair: OutlinePair, phase: float) -> PlanarState:
 @lru_cache(maxsize=64)
 def _window(spec: ThreadSpec) -> tuple[tuple[float, float], ...]:
     pair = outline_pair(spec)
-    p = pair.pitch
+    p = pair.thread_pitch
 
     def top(sigma: float) -> float:
         return pair.maximum(sigma)[0]

@@ -124,18 +124,18 @@ class OutlinePair:
     def __init__(self, bolt: Profile, nut: Profile, lead: float, hand: int, starts: int):
         self.bolt = bolt
         self.nut = nut
-        self.pitch = bolt.pitch
+        self.thread_pitch = bolt.pitch
         self.lead = lead
         self.hand = hand
         self.starts = starts
-        self.tol = TOUCH_TOL * self.pitch
+        self.tol = TOUCH_TOL * self.thread_pitch
         self.bolt_edges = self._edges(bolt)
         self.nut_edges = self._edges(nut)
         self._scans: dict[float, _Scan] = {}
 
     def _edges(self, profile: Profile) -> np.ndarray:
         pts = [e for _, a, b in profile.region_bounds() for e in (a, b)]
-        return np.unique(wrap_t(np.asarray(pts), self.pitch))
+        return np.unique(wrap_t(np.asarray(pts), self.thread_pitch))
 
     # -- phase <-> shift ---------------------------------------------------------------
     def shift(self, phase: float) -> float:
@@ -170,7 +170,7 @@ class OutlinePair:
 
     # -- pieces ------------------------------------------------------------------------
     def _is_arc(self, profile: Profile, t: np.ndarray) -> np.ndarray:
-        u = np.abs(wrap_t(t, self.pitch))
+        u = np.abs(wrap_t(t, self.thread_pitch))
         a1, a2, a3, a4 = profile.breakpoints
         return ((u > a1) & (u <= a2)) | ((u > a3) & (u <= a4))
 
@@ -181,11 +181,13 @@ class OutlinePair:
         hit = self._scans.get(key)
         if hit is not None:
             return hit
-        h = self.pitch / 2
+        h = self.thread_pitch / 2
         pts = np.unique(
-            np.concatenate([self.nut_edges, wrap_t(self.bolt_edges - sigma, self.pitch), [-h, h]])
+            np.concatenate(
+                [self.nut_edges, wrap_t(self.bolt_edges - sigma, self.thread_pitch), [-h, h]]
+            )
         )
-        keep = np.concatenate([np.diff(pts) > 1e-15 * self.pitch, [True]])
+        keep = np.concatenate([np.diff(pts) > 1e-15 * self.thread_pitch, [True]])
         keep[0] = True
         pts = pts[keep]
         pts[-1] = h
@@ -211,7 +213,12 @@ class OutlinePair:
         if ga == 0.0 or gb == 0.0 or (ga > 0) == (gb > 0):
             return None
         return brentq(
-            self.d_slope, a, b, args=(sigma,), xtol=1e-15 * self.pitch, rtol=4 * np.finfo(float).eps
+            self.d_slope,
+            a,
+            b,
+            args=(sigma,),
+            xtol=1e-15 * self.thread_pitch,
+            rtol=4 * np.finfo(float).eps,
         )
 
     def roots(self, sigma: float) -> list[float]:
@@ -240,19 +247,19 @@ class OutlinePair:
                             a,
                             b,
                             args=(sigma,),
-                            xtol=1e-15 * self.pitch,
+                            xtol=1e-15 * self.thread_pitch,
                             rtol=4 * np.finfo(float).eps,
                         )
                     )
-        h = self.pitch / 2
-        found = sorted(float(wrap_t(r, self.pitch)) for r in found)
+        h = self.thread_pitch / 2
+        found = sorted(float(wrap_t(r, self.thread_pitch)) for r in found)
         out: list[float] = []
         for r in found:
-            if not out or r - out[-1] > 1e-13 * self.pitch:
+            if not out or r - out[-1] > 1e-13 * self.thread_pitch:
                 out.append(r)
-        if len(out) > 1 and out[0] + self.pitch - out[-1] <= 1e-13 * self.pitch:
+        if len(out) > 1 and out[0] + self.thread_pitch - out[-1] <= 1e-13 * self.thread_pitch:
             out.pop()
-        return [r if r < h else r - self.pitch for r in out]
+        return [r if r < h else r - self.thread_pitch for r in out]
 
     def maximum(self, sigma: float) -> tuple[float, float]:
         """``(max d, tau at the max)`` over one pitch, from breakpoints and stationary
@@ -271,7 +278,7 @@ class OutlinePair:
         roots = self.roots(sigma)
         if not roots:
             return []
-        ends = [*roots, roots[0] + self.pitch]
+        ends = [*roots, roots[0] + self.thread_pitch]
         positive = [
             self.d(0.5 * (a + b), sigma) > 0.0 for a, b in zip(ends[:-1], ends[1:], strict=True)
         ]
@@ -283,14 +290,14 @@ class OutlinePair:
         out: list[Stretch] = []
         start: float | None = None
         for i in range(k, k + n):
-            a = roots[i % n] + self.pitch * (i // n)
+            a = roots[i % n] + self.thread_pitch * (i // n)
             if positive[i % n] and start is None:
                 start = a
             elif not positive[i % n] and start is not None:
                 out.append(Stretch(start, a))
                 start = None
         if start is not None:
-            out.append(Stretch(start, roots[k] + self.pitch * (1 + k // n)))
+            out.append(Stretch(start, roots[k] + self.thread_pitch * (1 + k // n)))
         return out
 
     def coincident(self, sigma: float) -> list[Stretch]:
@@ -306,13 +313,13 @@ class OutlinePair:
         if not any(flags):
             return []
         if all(flags):
-            return [Stretch(float(pts[0]), float(pts[0]) + self.pitch)]
+            return [Stretch(float(pts[0]), float(pts[0]) + self.thread_pitch)]
         k = flags.index(False)
         out: list[Stretch] = []
         start = end = 0.0
         open_ = False
         for i in range(k, k + n):
-            shift = self.pitch * (i // n)
+            shift = self.thread_pitch * (i // n)
             if flags[i % n]:
                 if not open_:
                     start, open_ = float(pts[i % n]) + shift, True

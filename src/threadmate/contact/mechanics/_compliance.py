@@ -121,13 +121,13 @@ class Compliance:
         """Whether the compliance centre is held at x = y = 0."""
         return self.lateral_stiffness is None
 
-    def check_for(self, pitch: float) -> None:
-        """Refuse a compliance centre absurdly far from a thread of ``pitch`` (spec
-        units): beyond 1000 pitches from the tip it is no longer the bolt's."""
-        if abs(self.compliance_z) > 1000 * pitch:
+    def check_for(self, thread_pitch: float) -> None:
+        """Refuse a compliance centre absurdly far from a thread of ``thread_pitch``
+        (spec units): beyond 1000 pitches from the tip it is no longer the bolt's."""
+        if abs(self.compliance_z) > 1000 * thread_pitch:
             raise InputError(
                 f"compliance_z {self.compliance_z:g} is out of range: give a "
-                f"height within +/-{1000 * pitch:g} (1000 pitches) of the tip"
+                f"height within +/-{1000 * thread_pitch:g} (1000 pitches) of the tip"
             )
 
     def to_dict(self) -> dict[str, Any]:

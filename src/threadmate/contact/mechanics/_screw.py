@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ...geometry import ThreadSpec
+from ..scene import IN_PHASE, QUASI_STABLE, STABLE
 from ._compliance import Compliance
 from ._rest_state import (
     LEAD_TOLERANCE,
@@ -31,16 +32,16 @@ from ._rest_state import (
     tightening_torque,
     turn_units,
 )
-from ._search import Continuation, Leg, wedged
-from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE, check_continuation, check_screw
-from ._settle import Mechanics, mechanics
+from ._search import Leg, begin_turn, wedged
+from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE
+from ._settle import Mechanics
 
 __all__ = ["OUTCOMES", "ENGAGED_TURN", "ScrewResult", "screw"]
 
 #: What a clockwise start does.
 OUTCOMES = ("engaged", "riding", "jammed")
 #: Classes of rest states whose load-carrying contacts are not all on the helices.
-OFF_HELIX = ("stable", "quasi-stable")
+OFF_HELIX = (STABLE, QUASI_STABLE)
 #: Turn in phase over which a descent at the lead decides ``engaged`` (degrees).
 ENGAGED_TURN = 90.0
 
@@ -188,23 +189,22 @@ def screw(
     progress : callable, optional
         Called as ``progress(done, total)`` with the whole degrees turned and to turn.
     """
-    check_continuation(turns=turns, step=step, phase_tolerance=phase_tolerance)
-    check_screw(torque_limit=torque_limit)
-    mech = mechanics(target, compliance, chord)
-    q0 = mech.engine.queries
-    walk = Continuation(
-        mech,
+    turn = begin_turn(
+        target,
         roll,
         pitch,
+        phase,
+        compliance=compliance,
+        turns=turns,
         step=step,
         phase_tolerance=phase_tolerance,
-        sense="tighten",
+        chord=chord,
         torque_limit=torque_limit,
+        sense="tighten",
     )
+    mech, walk, end = turn.mech, turn.walk, turn.end
     lead = mech.spec.lead
-    start = mech.settle(roll, pitch, phase).state
-    end = 360.0 * turns
-    states = [start]
+    states = [turn.start]
     events: list[SearchEvent] = []
     legs: list[Leg] = []
     outcome, decided, reason = "riding", None, ""
@@ -239,7 +239,7 @@ def screw(
             break
         # Descending at the lead over the last piece, in phase at its end: engaged.
         descent = _descent(states)
-        if states[-1].classification == "in-phase" and abs(descent - lead) <= LEAD_TOLERANCE * lead:
+        if states[-1].classification == IN_PHASE and abs(descent - lead) <= LEAD_TOLERANCE * lead:
             # Where it entered the thread: the last rest state off the helices before.
             entered = len(states) - 1
             while entered > 0 and states[entered - 1].classification not in OFF_HELIX:
@@ -273,5 +273,5 @@ def screw(
         walk.torque_limit,
         descent,
         lead,
-        mech.engine.queries - q0,
+        mech.engine.queries - turn.queries,
     )

@@ -38,6 +38,7 @@ from ..._angles import Z_AXIS, axis_angle
 from ..._errors import InputError
 from ..._units import MJ_PER_J
 from ...geometry import ThreadSpec
+from ..scene import IN_PHASE, QUASI_STABLE, STABLE, UNSTABLE
 from ._compliance import Compliance
 from ._rest_state import (
     LEAD_TOLERANCE,
@@ -55,6 +56,8 @@ __all__ = [
     "Continuation",
     "Leg",
     "SENSES",
+    "Turn",
+    "begin_turn",
     "default_torque_limit",
     "engagement",
     "search",
@@ -141,7 +144,7 @@ def sensor_click(ride: Sequence[MechanicalState], landing: MechanicalState, lead
     """
     rest: list[MechanicalState] = []
     for s in ride:
-        if s.classification == "unstable":
+        if s.classification == UNSTABLE:
             continue
         if rest and rest[-1].phase == s.phase:
             rest[-1] = s  # a state met twice (a bisection's last and the branch's)
@@ -289,9 +292,9 @@ def wedged(legs: list[Leg], events: list[SearchEvent]) -> tuple[SearchEvent, Leg
 
 def _label(states: list[MechanicalState]) -> str:
     classes = {s.classification for s in states}
-    if "unstable" in classes:
-        return "unstable"
-    return "quasi-stable" if "quasi-stable" in classes else "stable"
+    if UNSTABLE in classes:
+        return UNSTABLE
+    return QUASI_STABLE if QUASI_STABLE in classes else STABLE
 
 
 class Continuation:
@@ -391,7 +394,7 @@ class Continuation:
                     pitch=before.pitch + size * math.sin(a),
                 )
                 found = self._settle(phase, start, probe=False)
-                if found.classification != "unstable" and self._continuous(before, found):
+                if found.classification != UNSTABLE and self._continuous(before, found):
                     return found
         return None
 
@@ -399,13 +402,13 @@ class Continuation:
         """How far the compliance centre of ``a`` falls along the helix when turned by
         ``turn`` degrees in this continuation's sense: the lead's share when ``a`` is in
         phase (down tightening, up unscrewing), else nothing."""
-        if a.classification != "in-phase":
+        if a.classification != IN_PHASE:
             return 0.0
         fall = self.mech.spec.lead * turn / 360.0
         return fall if self.tightening else -fall
 
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
-        if b.classification == "in-phase" and a.classification != "in-phase":
+        if b.classification == IN_PHASE and a.classification != IN_PHASE:
             return False
         # Either way: a rest state that climbs out of the thread within a step (turned at
         # a tilt where the thread pinches the bolt, the lowering leaves it) is no more
@@ -465,7 +468,7 @@ class Continuation:
         branch = [
             s
             for s in states
-            if s.classification in ("stable", "quasi-stable")
+            if s.classification in (STABLE, QUASI_STABLE)
             and 0.0 < self.sign * (end - s.phase) <= WINDOW
         ]
         for s in branch:
@@ -473,10 +476,7 @@ class Continuation:
             if self.sign * (end - at) <= 0:
                 break
             probe = self._settle(at, s, probe=False)
-            if (
-                probe.classification == "in-phase"
-                and s.centre[2] - probe.centre[2] > self.drop_limit
-            ):
+            if probe.classification == IN_PHASE and s.centre[2] - probe.centre[2] > self.drop_limit:
                 return (min(at, end), max(at, end))
         return (end, end)
 
@@ -649,16 +649,14 @@ class Continuation:
                 continue
             close_branch(lo)
             proof, note = None, ""
-            if s_hi.classification == "in-phase" and not self.tightening:
+            if s_hi.classification == IN_PHASE and not self.tightening:
                 proof = self.prove(s_hi, phase + sign * hi)
                 note = "" if proof.engaged else f"not a snap: {proof.reason}"
                 s_hi = replace(s_hi, engagement=proof)
             kind = "snap" if proof is not None and proof.engaged else "jump"
             passed = sorted([state, *states, *ride], key=lambda s: sign * s.phase)
             click = sensor_click(passed, s_hi, self.mech.spec.lead)
-            legs.append(
-                Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, "unstable", proof, click)
-            )
+            legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, UNSTABLE, proof, click))
             events.append(
                 SearchEvent(
                     phase + sign * hi,
@@ -679,6 +677,67 @@ class Continuation:
             branch, branch_start, work = [s_hi], hi, [0.0, 0.0]
         close_branch(at)
         return legs, _without_flicker(events), states
+
+
+@dataclass(frozen=True)
+class Turn:
+    """A turn from a start, set up by :func:`begin_turn`.
+
+    Attributes
+    ----------
+    mech : Mechanics
+        The thread pair and compliance.
+    walk : Continuation
+        The continuation that turns the bolt.
+    start : MechanicalState
+        The start's rest state (settled from first contact).
+    end : float
+        The turn asked for (degrees).
+    queries : int
+        The mechanics' collision queries before the start was settled.
+    """
+
+    mech: Mechanics
+    walk: Continuation
+    start: MechanicalState
+    end: float
+    queries: int
+
+
+def begin_turn(
+    target: Mechanics | ThreadSpec,
+    roll: float,
+    pitch: float,
+    phase: float,
+    *,
+    compliance: Compliance | None,
+    turns: float,
+    step: float,
+    phase_tolerance: float,
+    chord: float | None,
+    torque_limit: float | None,
+    sense: str = "unscrew",
+    screw_in: float = SCREW_IN,
+) -> Turn:
+    """The set-up that :func:`search` and :func:`threadmate.contact.screw` share: their
+    settings checked, the mechanics built (or taken), the continuation in ``sense`` and
+    the start's rest state. The parameters are theirs."""
+    check_continuation(turns=turns, step=step, phase_tolerance=phase_tolerance)
+    check_screw(screw_in=screw_in, torque_limit=torque_limit)
+    mech = mechanics(target, compliance, chord)
+    queries = mech.engine.queries
+    walk = Continuation(
+        mech,
+        roll,
+        pitch,
+        step=step,
+        phase_tolerance=phase_tolerance,
+        sense=sense,
+        screw_in=screw_in,
+        torque_limit=torque_limit,
+    )
+    start = mech.settle(roll, pitch, phase).state
+    return Turn(mech, walk, start, 360.0 * turns, queries)
 
 
 def search(
@@ -732,24 +791,23 @@ def search(
     SearchResult
         ``snap`` is None when no snap came within ``turns``.
     """
-    check_continuation(turns=turns, step=step, phase_tolerance=phase_tolerance)
-    check_screw(screw_in=screw_in, torque_limit=torque_limit)
-    mech = mechanics(target, compliance, chord)
-    q0 = mech.engine.queries
-    start = mech.settle(roll, pitch, phase).state
-    end = 360.0 * turns  # turn from the start, degrees
-    legs: list[Leg] = []
-    events: list[SearchEvent] = []
-    walk = Continuation(
-        mech,
+    turn = begin_turn(
+        target,
         roll,
         pitch,
+        phase,
+        compliance=compliance,
+        turns=turns,
         step=step,
         phase_tolerance=phase_tolerance,
-        screw_in=screw_in,
+        chord=chord,
         torque_limit=torque_limit,
+        screw_in=screw_in,
     )
-    proof = walk.prove(start, float(phase)) if start.classification == "in-phase" else None
+    mech, walk, start, end = turn.mech, turn.walk, turn.start, turn.end
+    legs: list[Leg] = []
+    events: list[SearchEvent] = []
+    proof = walk.prove(start, float(phase)) if start.classification == IN_PHASE else None
     if proof is not None:
         start = replace(start, engagement=proof)
     states = [start]
@@ -791,6 +849,6 @@ def search(
         float(turns),
         sum(leg.work_friction for leg in legs),
         sum(leg.work_potential for leg in legs),
-        mech.engine.queries - q0,
+        mech.engine.queries - turn.queries,
         window,
     )

@@ -172,13 +172,13 @@ def _t_of(body: ThreadBody, theta: float, z: float) -> float:
     """:meth:`ThreadBody.t_of` of one point, in plain floats (the same operations: the
     contact code asks one point at a time, where numpy's overhead is most of the cost)."""
     t = z - body.hand * body.lead * theta / TWO_PI
-    pitch = body.profile.pitch
-    return t - pitch * math.floor(t / pitch + 0.5)
+    thread_pitch = body.profile.pitch
+    return t - thread_pitch * math.floor(t / thread_pitch + 0.5)
 
 
-def _wrap(t: NDArray[np.float64], pitch: float) -> NDArray[np.float64]:
+def _wrap(t: NDArray[np.float64], thread_pitch: float) -> NDArray[np.float64]:
     """``geometry``'s ``wrap_t``: an axial coordinate wrapped into ``[-p/2, p/2)``."""
-    return t - pitch * np.floor(t / pitch + 0.5)
+    return t - thread_pitch * np.floor(t / thread_pitch + 0.5)
 
 
 def _radius(body: ThreadBody, t: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -579,14 +579,14 @@ def _kink_height(body: ThreadBody, theta: float, z: float) -> float:
     env = body.envelope
     assert env is not None
     prof = body.profile
-    pitch = prof.pitch
+    thread_pitch = prof.pitch
     rise = body.hand * body.lead / TWO_PI
     z0 = min(max(z, env.z_lo), env.z_hi)
 
     def gap(h: float) -> float:
         return float(prof.radius(h - rise * theta)) - float(env.radius(h))
 
-    step = pitch / 64.0
+    step = thread_pitch / 64.0
     values: dict[int, tuple[float, float]] = {}
 
     def node(k: int) -> tuple[float, float]:
@@ -602,7 +602,7 @@ def _kink_height(body: ThreadBody, theta: float, z: float) -> float:
             if h_hi > h_lo and math.copysign(1.0, f_lo) != math.copysign(1.0, f_hi):
                 if f_lo == 0.0:
                     return h_lo
-                return float(brentq(gap, h_lo, h_hi, xtol=1e-12 * pitch))
+                return float(brentq(gap, h_lo, h_hi, xtol=1e-12 * thread_pitch))
     return z0
 
 

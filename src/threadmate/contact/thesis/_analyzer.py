@@ -27,6 +27,8 @@ from ...geometry import (
     bolt_rotation,
 )
 from ..scene import (
+    IN_PHASE,
+    NO_CONTACT,
     ContactScene,
     as_vec,
     contact_normal,
@@ -199,7 +201,7 @@ class ContactAnalyzer:
         self.search = Search(
             travel=scene.travel,
             separation=spec.pitch / 4,
-            pitch=spec.pitch,
+            thread_pitch=spec.pitch,
             min_radius=0.5 * min(spec.nut.minor, spec.bolt.minor),
             max_turn=float(max_turn),
         )
@@ -360,7 +362,7 @@ class ContactAnalyzer:
 
         s1 = first_contact(eng, rotation, self.search, floor)
         if s1 is None or not s1.clusters:
-            return done("no-contact")
+            return done(NO_CONTACT)
         clusters = s1.clusters
         c1 = tuple(self._contacts(s1.contact, clusters))
         centre = self._centre(s1.contact)
@@ -386,7 +388,7 @@ class ContactAnalyzer:
         if s1.free.origin[2] + float((self._engagement @ rotation[2]).max()) < (
             self._nut_engagement - tol
         ):
-            return done("in-phase", first=first)
+            return done(IN_PHASE, first=first)
 
         # Second contact: turn about the nut's tangent at the first contact.
         if len(c1) >= 2:
@@ -400,7 +402,7 @@ class ContactAnalyzer:
             axis = lowering_direction(pivot, tangent, centre)
             turned = self._turn("second", s1.contact, held, pivot, axis)
             if turned is None:
-                return done("no-contact", first=first)
+                return done(NO_CONTACT, first=first)
             second, pose2, held, _ = turned
 
         # Third contact: turn about the pivot axis through the two contacts.

@@ -57,6 +57,7 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from ...geometry import Pose, ThreadBody
+from ..scene import IN_PHASE, NO_CONTACT, QUASI_STABLE, STABLE, UNSTABLE
 
 __all__ = ["interference_depth", "classify", "pivot_offset", "is_rolling"]
 
@@ -144,15 +145,15 @@ def classify(
 ) -> str:
     """The classification rules of the module docstring, in order."""
     if not first_found:
-        return "no-contact"
+        return NO_CONTACT
     if in_phase:
-        return "in-phase"
+        return IN_PHASE
     if not second_found:
-        return "no-contact"
+        return NO_CONTACT
     if offset <= quasi_tolerance:
-        return "quasi-stable"
+        return QUASI_STABLE
     if not third_found:
-        return "no-contact"
+        return NO_CONTACT
     if interference > max(origin_drop, interference_tolerance):
-        return "unstable"
-    return "stable"
+        return UNSTABLE
+    return STABLE

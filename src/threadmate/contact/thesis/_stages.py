@@ -82,7 +82,7 @@ class Search:
 
     travel: float
     separation: float
-    pitch: float
+    thread_pitch: float
     min_radius: float
     max_turn: float = 30.0
 
@@ -144,7 +144,7 @@ def first_contact(
     hit = engine.colliding_sectors(pose(lo))
     if not hit:
         hi = lo
-        step = search.pitch / 16
+        step = search.thread_pitch / 16
         while True:
             lo = h0 - step
             hit = engine.colliding_sectors(pose(lo))
