@@ -2,7 +2,7 @@
 
 Two models live here.
 
-**The mechanics** (docs/mechanics.md; :mod:`._settle`, :mod:`._search`). The bolt is
+**The mechanics** (docs/mechanics.md; :mod:`.mechanics`). The bolt is
 held through a compliance (:class:`Compliance`: axial force, rotational stiffness about
 the compliance centre, optional lateral stiffness, friction). A *rest state* is a local
 minimum of the potential ``F z_C + k/2 |tilt - held tilt|^2`` over the poses where bolt
@@ -17,14 +17,15 @@ load-carrying contact lies on the helices). A snap is a jump into the in-phase s
 proved by screwing in: from it a clockwise continuation descends at the lead
 (:class:`Engagement`). :func:`screw` turns a start clockwise directly: ``engaged``,
 ``riding`` or ``jammed`` (the thesis's clockwise question). A continuation's settings have
-their defaults, ranges and checks in :mod:`._settings` (:data:`CONTINUATION_STEP`,
+their defaults, ranges and checks in :mod:`.mechanics` (:data:`CONTINUATION_STEP`,
 :func:`check_continuation`, :func:`check_screw`); :func:`plot_search` and
 :func:`plot_screw` draw a turn's signature (height, tilt and torque against phase).
 
-**The thesis's fixed-pivot procedure** (:class:`ContactAnalyzer`, :func:`analyze`; its
-chapter 3 and section 4.2). The bolt, at a fixed tilt, comes down until it first touches
-(*first*), turns about the nut's tangent there until a second contact (*second*), then
-about the pivot axis through the two until a third (*third*); the compliance is ignored.
+**The thesis's fixed-pivot procedure** (:mod:`.thesis`: :class:`ContactAnalyzer`,
+:func:`analyze`; its chapter 3 and section 4.2). The bolt, at a fixed tilt, comes down
+until it first touches (*first*), turns about the nut's tangent there until a second
+contact (*second*), then about the pivot axis through the two until a third (*third*);
+the compliance is ignored.
 Classified by the thesis's own criteria: ``quasi-stable`` when the pivot axis passes
 within pitch/10 of the compliance centre, ``unstable`` when the third contact needed an
 embedding deeper than the origin's drop (and than the mesh noise), ``stable`` otherwise;
@@ -35,9 +36,9 @@ that leave this package: a *state record* of the mechanics (a contact state and 
 passive transition that leaves it: settling, turning, jump or snap) and the thesis's
 configuration record.
 
-Both stand on python-fcl queries of the meshes (:mod:`._collision`), contact location
-from triangle pairs (:mod:`._triangles`, :mod:`._vertical`) and the exact bodies for
-regions, normals and edge contact points (:mod:`._exact`). Lengths are in the spec's
+Both stand on one :class:`ContactScene` (:mod:`.scene`): python-fcl queries of the
+meshes, contact location from triangle pairs and exact vertical touches, and the exact
+bodies for regions, normals and edge contact points. Lengths are in the spec's
 units, angles in degrees, forces in N, torques in N m, energies in mJ.
 
 Example

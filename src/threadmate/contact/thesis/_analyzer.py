@@ -213,13 +213,7 @@ class ContactAnalyzer:
 
     @property
     def mesh_info(self) -> dict[str, Any]:
-        """The meshes used: per body either ``{"generated": True, "chord", "deviation"}``
-        or, for a mesh from CAD, ``{"file", "path", "sha256", "units", "scale",
-        "deviation", "off_spec_share", "zone_off_spec_share", "warning"}`` (``file``,
-        ``path`` and ``sha256`` None for a mesh given as an object; the shares by area,
-        of the whole mesh and of its contact zone, farther than the off-spec tolerance
-        from the exact surface); and ``off_spec_tolerance`` (None without CAD meshes).
-        Lengths in the spec's units."""
+        """The meshes used: the scene's :attr:`ContactScene.mesh_info`."""
         return self.scene.mesh_info
 
     @property
