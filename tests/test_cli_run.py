@@ -122,10 +122,10 @@ def test_report_says_what_to_set_and_with_what(job):
         "**quasi-stable**",
         "**in-phase**",
         "Work: turning: max(0, work_friction + work_potential)",
-        # The click is the whole fall from the smooth ride to the landing (mechanics.md).
+        # The click is the fall a sensor sees within a degree of turn (mechanics.md).
         "The click to listen for: a fall of",
-        "*click*, the fall of the compliance centre at the snap, from the last state of the "
-        "smooth ride to the landing",
+        "*click*, the fall of the compliance centre a sensor sees at the snap, from the "
+        "highest the bolt stands within the last degree of turn to the landing",
     ):
         assert text in report, text
     paragraphs = [p.strip() for p in report.split("\n\n") if p.strip()]

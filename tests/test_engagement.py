@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from _cli import run_cli
-from threadmate.contact import Compliance, Continuation, Mechanics, screw, search
+from threadmate.contact import CLICK_SPAN, Compliance, Continuation, Mechanics, screw, search
 from threadmate.geometry import spec_from_designation
 from threadmate.library import sweep
 
@@ -330,30 +330,33 @@ def test_the_library_records_the_snaps_window():
     assert rows.loc[rows["transition"] != "snap", "snap_window"].isna().all()
 
 
-def test_the_click_is_the_whole_fall_from_the_smooth_ride(flat, mech):
+def test_the_click_is_the_whole_fall_a_sensor_sees(flat, mech):
     """Held (2, -1.5) from 200 degrees, frictionless: the bolt rides the nut's top face
     flat until about 348.7 degrees, then the branch falls steeply (many leads per
     degree) for a few hundredths of a degree before it ends in the snap. A sensor sees
-    the whole fall, as a dynamic simulation does: the click is the height of the ride
-    before the steep stretch less the landing's. The ride is found independently here by
-    following the branch in fine steps to 348.6 degrees from the search's state at 345;
-    the click is larger than the jump's own drop."""
+    the whole fall, as a dynamic simulation does: the click is the highest the branch
+    stands within the last degree of turn (``CLICK_SPAN``) less the landing. The branch
+    is followed independently here in steps of 0.05 degree from the search's state at
+    345 to a hundredth of a degree before the snap; the click is larger than the jump's
+    own drop."""
     run = search(mech, 2.0, -1.5, 200.0)
     assert run.snap is not None and run.snap.engagement is not None
     assert run.snap.engagement.engaged
     landing = run.states[-1]
-    walk = Continuation(mech, 2.0, -1.5)
+    walk = Continuation(mech, 2.0, -1.5, step=0.05)
     state = next(s for s in run.states if s.phase == pytest.approx(345.0))
-    _, events, states = walk.advance(state, 345.0, 3.6)
+    end = run.snap.phase - 0.01
+    _, events, states = walk.advance(state, 345.0, end - 345.0)
     assert not [e for e in events if e.kind in ("jump", "snap")]
-    ride = states[-1].centre[2]
-    assert run.snap.click == pytest.approx(ride - landing.centre[2], rel=0.01)
+    top = max(s.centre[2] for s in states if s.phase >= run.snap.phase - CLICK_SPAN)
+    assert run.snap.click == pytest.approx(top - landing.centre[2], rel=0.01)
     assert run.snap.click > run.snap.drop * 1.1
 
 
 def test_a_smooth_snap_clicks_its_drop(upright_search):
-    """Upright, the bolt rests on the top face, its branch flat up to the window's edge:
-    the click is the jump's own drop."""
+    """Upright, the bolt rides the top face and climbs a little onto the edge where the
+    nut's thread starts, up to the window's edge: the highest it stands before the snap
+    is where it jumps, and the click is the jump's own drop."""
     snap = upright_search.snap
     assert snap is not None
     assert snap.click == pytest.approx(snap.drop, rel=1e-9)

@@ -45,14 +45,13 @@ start (and its search, to compare with):
   screws in: turned back (clockwise) 180 degrees from the landing, C descends at the
   lead (within 10 %) over the last third, without the driver stalling; otherwise the
   turn goes on from the landing. Falls under 0.002 pitch are slips (a contact passing a
-  seam of the pieces), not jumps. Jumps within half a degree before the snap are a
-  cascade: the fall a sensor sees (the click) runs from where the first started, or
-  from the start of the steep stretch before it (falling faster than ``STEEP`` leads per
-  degree, threadmate's definition), to the last landing.
+  seam of the pieces), not jumps. The fall a sensor sees (the click) is measured as
+  threadmate measures it (``SearchEvent.click``): from the highest the simulated trace
+  stands within ``CLICK_SPAN`` (one degree) of turn before the snap's fall started to
+  the landing, a cascade of smaller jumps and a steep stretch before it included.
 - **Compared** with ``threadmate search`` (frictionless, same compliance): the snap's
-  phase and click (threadmate's ``SearchEvent.click``: the whole fall from the smooth
-  ride, its steep last stretch included), the landing (height at the same phase, tilt),
-  and whether each calls the landing in phase. The simulated landing and screw-in are
+  phase and click, the landing (height at the same phase, tilt), and whether each calls
+  the landing in phase. The simulated landing and screw-in are
   checked on the exact bodies (:func:`exact_interference`).
 
 Prints a table and, on request, writes the rows as JSON (with threadmate's events and
@@ -79,7 +78,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull
 
-from threadmate.contact import Compliance, Mechanics, search
+from threadmate.contact import CLICK_SPAN, Compliance, Mechanics, search
 from threadmate.geometry import ThreadSpec, bolt_body, nut_body, spec_from_designation
 from threadmate.geometry._body import ThreadBody
 
@@ -106,10 +105,6 @@ METRES = {"in": 0.0254, "mm": 0.001}
 SECTOR = 2.0
 #: Section polygons per piece (the piece's edges included: SUBDIVIDE + 1).
 SUBDIVIDE = 4
-#: A stretch falling faster than this many leads per degree of turn is part of the fall a
-#: sensor sees, not the ride before it: the definition of threadmate's click
-#: (``SearchEvent.click``), applied here to the simulated trace.
-STEEP = 10.0
 
 
 @dataclass(frozen=True)
@@ -999,21 +994,14 @@ def run_case(
     row["sim_jump_drop"] = None if sim_jump is None else sim_jump.drop
     row["sim_jump_in_phase"] = None if sim_jump is None else sim_jump.in_phase
     if sim_jump is not None:
-        # the jumps within half a degree before it are a cascade: a sensor sees their
-        # whole fall, from where the first started to the last landing (threadmate's
-        # click is that fall too: ``SearchEvent.click``)
-        cascade = [j for j in sim.jumps if sim_jump.phase - 0.5 <= j.phase <= sim_jump.phase]
-        # and the steep stretch before the first (falling faster than STEEP leads per
-        # degree) is part of it
-        ride = [(q[3], q[0]) for q in sim.trace if q[3] < cascade[0].phase]
-        ride.append((cascade[0].phase, cascade[0].z_before))
-        i = len(ride) - 1
-        while i > 0 and ride[i - 1][1] - ride[i][1] > (
-            STEEP * spec.lead * (ride[i][0] - ride[i - 1][0]) / 360.0
-        ):
-            i -= 1
-        row["sim_fall_start"] = ride[i][0]
-        row["sim_click"] = ride[i][1] - sim_jump.z_after
+        # the fall a sensor sees, as threadmate measures it: from the highest the trace
+        # stands within CLICK_SPAN before the fall started (a cascade of smaller jumps and
+        # a steep stretch before it included) to the landing
+        at = sim_jump.phase - CLICK_SPAN
+        span = [(q[3], q[0]) for q in sim.trace if at <= q[3] < sim_jump.phase]
+        top = max([*span, (sim_jump.phase, sim_jump.z_before)], key=lambda q: q[1])
+        row["sim_fall_start"] = top[0]
+        row["sim_click"] = top[1] - sim_jump.z_after
         row["sim_landing"] = sim.final_pose if sim.snap is not None else None
     if row.get("sim_landing") and tm_landing:
         # the landings compared at the same phase: the in-phase bolt rises at the lead
@@ -1083,9 +1071,9 @@ def format_table(rows: list[dict[str, Any]]) -> str:
 
     "threadmate" is its snap, or (marked ``no snap``) the jump it located with the
     largest drop; "simulated" is the simulation's snap, or its largest jump (marked
-    ``not in phase``). Each click is the whole fall a sensor sees (threadmate's
-    ``SearchEvent.click``; the simulation's cascade of jumps within half a degree and
-    the steep stretch before them, to the last landing); "drop" is the last jump's own drop;
+    ``not in phase``). Each click is the fall a sensor sees, measured the same way in
+    both (threadmate's ``SearchEvent.click``: from the highest within ``CLICK_SPAN``
+    before the fall to the landing); "drop" is the last jump's own drop;
     "landing dz" is the simulated landing's height less threadmate's at the same phase.
     """
     head = (
@@ -1125,6 +1113,19 @@ def main(argv: list[str] | None = None) -> int:
         default=",".join(CASES),
         help=f"comma-separated, of {', '.join(CASES)} (default all)",
     )
+    parser.add_argument(
+        "--spec",
+        default=None,
+        help="a designation, simulated with flat ends (default: the thesis's 1/4-20 pair)",
+    )
+    parser.add_argument(
+        "--start",
+        action="append",
+        default=[],
+        metavar="ROLL,PITCH,PHASE[,K]",
+        help="a start of your own (held tilt and start phase in degrees, stiffness in "
+        "N m/rad, default 1); repeatable; given alone, only these are run",
+    )
     parser.add_argument("--json", metavar="FILE", help="write the rows as JSON")
     parser.add_argument(
         "--turn-period", type=float, default=80.0, help="seconds per simulated turn (80)"
@@ -1141,7 +1142,27 @@ def main(argv: list[str] | None = None) -> int:
     unknown = [n for n in names if n not in CASES]
     if unknown:
         parser.error(f"unknown case(s) {', '.join(unknown)}: choose from {', '.join(CASES)}")
-    spec = thesis_spec()
+    cases = {n: CASES[n] for n in names}
+    if args.start:
+        given = "--cases" in " ".join(argv if argv is not None else sys.argv)
+        cases = cases if given else {}
+        for text in args.start:
+            try:
+                values = [float(v) for v in text.split(",")]
+            except ValueError:
+                values = []
+            if len(values) not in (3, 4):
+                parser.error(f"--start takes ROLL,PITCH,PHASE[,K], got {text!r}")
+            roll, pitch, phase = values[:3]
+            stiffness = values[3] if len(values) == 4 else 1.0
+            name = f"({roll:g},{pitch:g}) from {phase:g}" + (
+                f" k{stiffness:g}" if stiffness != 1.0 else ""
+            )
+            cases[name] = Case(name, roll, pitch, phase, stiffness)
+    if args.spec:
+        spec = spec_from_designation(args.spec, point="flat", countersink=False)
+    else:
+        spec = thesis_spec()
     dyn = Dynamics(timestep=args.timestep, turn_period=args.turn_period)
     t0 = time.time()
     bolt, nut = bolt_body(spec), nut_body(spec)
@@ -1158,8 +1179,7 @@ def main(argv: list[str] | None = None) -> int:
         flush=True,
     )
     rows = []
-    for name in names:
-        case = CASES[name]
+    for case in cases.values():
         if args.lead_in is not None:
             case = Case(**{**asdict(case), "lead_in": args.lead_in})
         rows.append(run_case(case, spec, dyn=dyn, deviation=deviation, parts=parts))

@@ -254,7 +254,7 @@ def _search_text(spec: ThreadSpec, run: SearchResult, step: float) -> str:
         lines.append(
             f"Snap: at phase {shown_phase(run.snap.phase):.4f} deg after a turn of "
             f"{turn_words(run.snap_turn or 0.0)}; click {run.snap.click:.6f} {u} (the fall "
-            f"from the smooth ride; across the jump itself {run.snap.drop:.6f} {u})"
+            f"within a degree of turn; across the jump itself {run.snap.drop:.6f} {u})"
         )
         lo, hi = run.snap_window or (run.snap.phase, run.snap.phase)
         if hi > lo:

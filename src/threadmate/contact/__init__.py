@@ -71,6 +71,7 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
     )
     from .mechanics import (
         BALANCE,
+        CLICK_SPAN,
         COMPLIANCE_LIMITS,
         CONTINUATION_STEP,
         LEAD_TOLERANCE,
@@ -81,7 +82,6 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
         PHASE_TOLERANCE,
         SCREW_IN,
         SCREW_OUTCOMES,
-        STEEP,
         Compliance,
         Continuation,
         Engagement,
@@ -158,7 +158,7 @@ __all__ = [
     "SearchResult",
     "search",
     "sensor_click",
-    "STEEP",
+    "CLICK_SPAN",
     "settle",
     "screw",
     "ScrewResult",
@@ -254,7 +254,7 @@ _SOURCES = {
         "screw",
         "plot_screw",
         "plot_search",
-        "STEEP",
+        "CLICK_SPAN",
         "Continuation",
         "Leg",
         "default_torque_limit",

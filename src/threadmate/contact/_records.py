@@ -112,8 +112,8 @@ STATE_COLUMNS: tuple[Column, ...] = (
         "click",
         _F,
         "length",
-        "at a jump or a snap: the fall a sensor sees, from the smooth ride before it (its "
-        "steep last stretch included) to the landing (NaN: neither)",
+        "at a jump or a snap: the fall a sensor sees, from the highest the bolt stands "
+        "within the last degree of turn to the landing (NaN: neither)",
     ),
     Column("tilt_change", _F, "deg", "angle between the bolt axes at its ends"),
     Column(

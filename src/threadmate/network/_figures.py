@@ -60,7 +60,7 @@ def plot_click_signature(
 
 
 def plot_click_vs_tilt(outcomes: pd.DataFrame, path: str | os.PathLike[str], units: str) -> Path:
-    """The click (the fall at the snap, from the smooth ride to the landing) and the turn
+    """The click (the fall a sensor sees at the snap, within a degree of turn) and the turn
     to it against the held tilt's size, one point per start that snaps within a turn
     (starts already in phase left out), with the mean per size, and each snap's window
     (where the snap may come earlier)."""

@@ -70,7 +70,7 @@ class PathResult:
         Phase turned along the path (degrees).
     snap : dict
         ``phase``, ``turn``, ``drop`` (the fall across the jump) and ``click`` (the fall
-        a sensor sees, the steep stretch before the jump included; spec units) of the snap.
+        a sensor sees within the last degree of turn; spec units) of the snap.
     active : bool
         Whether active moves were allowed.
     """

@@ -11,9 +11,9 @@ others, from :func:`start_outcomes` (the passive search):
 - ``share_snap``: share that snap within one turn;
 - ``turn_mean``, ``turn_worst``: degrees turned to the snap (over those that snap);
 - ``work_mean``, ``work_worst``: the driver's work to the snap (mJ, same starts);
-- ``click_mean``: the click, the fall of the compliance centre at the snap from the last
-  state of the smooth ride to the landing (spec units; starts that drop straight in phase
-  have no click and are left out);
+- ``click_mean``: the click, the fall of the compliance centre a sensor sees at the snap,
+  from the highest the bolt stands within the last degree of turn to the landing (spec
+  units; starts that drop straight in phase have no click and are left out);
 - ``torque_peak``: the largest driver torque met (N m);
 - ``share_unstable``: share whose path passes a jump or an unstable transition before
   the snap.

@@ -470,7 +470,7 @@ def _report(
         f"{_num(best['work_mean'], '.3g')} mJ of driver work on average (worst "
         f"{_num(best['work_worst'], '.3g')} mJ) and a peak torque of "
         f"{_num(best['torque_peak'], '.3g')} N m. The click to listen for: a fall of "
-        f"{_num(best['click_mean'], '.4g')} {u} from the smooth ride to the landing.",
+        f"{_num(best['click_mean'], '.4g')} {u} within a degree of turn.",
     ]
     snaps = outcomes[outcomes["snapped"] & (outcomes["turn"] > 0)]
     windows = snaps[snaps["snap_window"] > 0]
@@ -548,8 +548,8 @@ def _report(
         "(every snap is a jump).",
         "- Columns of the table: *share snap*, the share of starts that snap within one "
         "turn; *turn* and *work*, to the snap, over those that snap; *click*, the fall of "
-        "the compliance centre at the snap, from the last state of the smooth ride to the "
-        "landing; *torque peak*, the largest driver torque; "
+        "the compliance centre a sensor sees at the snap, from the highest the bolt stands "
+        "within the last degree of turn to the landing; *torque peak*, the largest driver torque; "
         "*share unstable*, starts whose search jumps or passes an unstable state before "
         "the snap. The starts of a held tilt share their search once their continuations "
         "join, so this share moves by many starts at once: one continuation step that "

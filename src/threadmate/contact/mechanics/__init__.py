@@ -45,8 +45,8 @@ if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ import
     )
     from ._screw import OUTCOMES as SCREW_OUTCOMES
     from ._search import (
+        CLICK_SPAN,
         SENSES,
-        STEEP,
         Continuation,
         Leg,
         default_torque_limit,
@@ -97,7 +97,7 @@ __all__ = [
     "search",
     "SENSES",
     "sensor_click",
-    "STEEP",
+    "CLICK_SPAN",
     "wedged",
     "check_continuation",
     "check_screw",
@@ -150,7 +150,7 @@ _SOURCES = {
         "search",
         "SENSES",
         "sensor_click",
-        "STEEP",
+        "CLICK_SPAN",
         "wedged",
     ),
     "._settings": (

@@ -329,10 +329,11 @@ class SearchEvent:
     engagement : Engagement or None
         The screw-in proof of a landing in phase (None for other events).
     click : float
-        At a jump or the snap, the fall a sensor sees: from the last state of the smooth
-        ride to the landing, a steep stretch of the branch just before the jump included
-        (``sensor_click`` in :mod:`threadmate.contact`; spec units). At least the drop
-        where the branch falls into the jump; 0 for a contact change.
+        At a jump or the snap, the fall a sensor sees: from the highest the branch stands
+        within the last degree of turn (``CLICK_SPAN``) before the jump to the landing, a
+        steep last stretch of the branch and earlier jumps within that turn included
+        (``sensor_click`` in :mod:`threadmate.contact`; spec units); 0 for a contact
+        change.
     """
 
     phase: float

@@ -11,9 +11,9 @@ jumped (tipped, rolled or dropped) to another one. Jumps, and changes of the tou
 contacts along a continuous branch, are located by bisection in phase to
 ``phase_tolerance`` (0.01 degree): each half is settled from the state on the side before
 it. A jump that lands in-phase is the snap. Its click is the fall of the compliance
-centre a sensor sees: from the last state of the smooth ride to the landing, a steep
-stretch of the branch just before the jump (falling faster than :data:`STEEP` leads per
-degree) and jumps down within it included (:func:`sensor_click`).
+centre a sensor sees: from the highest the branch stands within the last
+:data:`CLICK_SPAN` degree of turn before the jump to the landing, a steep last stretch
+of the branch and jumps down within that turn included (:func:`sensor_click`).
 
 The driver's torque at each rest state (:meth:`Mechanics.driver_torque`) is integrated
 over phase by the trapezoidal rule along continuous branches; during a jump the phase
@@ -52,7 +52,7 @@ from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE, SCREW_IN, check_conti
 from ._settle import Mechanics, mechanics
 
 __all__ = [
-    "STEEP",
+    "CLICK_SPAN",
     "Continuation",
     "Leg",
     "SENSES",
@@ -91,12 +91,15 @@ TORQUE_LIMIT = 1.0
 #: flickering across the border of two regions (a chamfer on a nut flank's edge with its
 #: crest): neither is told (:func:`_without_flicker`).
 FLICKER = 1.0
-#: A stretch of a rest-state branch that falls faster than this many leads per degree of
-#: turn belongs to the fall of the jump that ends it, not to the ride before: a driver
-#: turning at any practical speed passes it in a fraction of a degree, so a sensor sees it
-#: with the jump (and a dynamic simulation passes it dynamically). The ride itself, a
-#: flank or a face on the nut's helix or top, falls at most about the lead per degree.
-STEEP = 10.0
+#: The turn (degrees) before a jump over which a sensor sees the fall as one click. A
+#: branch can fall steeply for its last hundredths of a degree before it ends (a tilted
+#: bolt tipping off the bore's edge or a crest), and a driver turning at any practical
+#: speed passes such a stretch, and the cascade of small jumps a real bolt makes down it,
+#: within milliseconds: the sensor sees one fall, from the highest the bolt stood within
+#: that turn. Measured over a fixed turn, the click does not depend on where a slope
+#: threshold would split the branch from the fall, and an independent dynamic simulation
+#: measures it the same way.
+CLICK_SPAN = 1.0
 #: A probe's descent stops once it has gone this many times the jump's thresholds (the
 #: fall ``pitch / 40``, the tilt ``JUMP_TILT``) from the state it leaves: far enough that
 #: the rest state it would reach is not near that state either.
@@ -121,44 +124,36 @@ def _without_flicker(events: list[SearchEvent]) -> list[SearchEvent]:
     return out
 
 
-def sensor_click(ride: Sequence[MechanicalState], landing: MechanicalState, lead: float) -> float:
-    """The click a sensor sees at a jump: the fall of the compliance centre from the last
-    state of the smooth ride to ``landing``.
+def sensor_click(ride: Sequence[MechanicalState], landing: MechanicalState, at: float) -> float:
+    """The click a sensor sees at a jump: the fall of the compliance centre from the
+    highest the branch stands within the turn from phase ``at`` (:data:`CLICK_SPAN`
+    before the jump) to the jump, to ``landing``.
 
     Parameters
     ----------
     ride : sequence of MechanicalState
-        The states before the jump along the turn, ending with the last one on the branch
-        (states that are not rest states are passed over; of states at one phase, the
-        last counts).
+        The states the turn passed before the jump (states that are not rest states are
+        passed over).
     landing : MechanicalState
-        Where the jump lands.
-    lead : float
-        The thread's lead (spec units).
+        Where the jump lands, at the jump's phase.
+    at : float
+        Phase (degrees) where the span a sensor sees as one fall begins.
 
-    Walking back from the end of ``ride``, each pair of consecutive rest states that falls
-    faster than :data:`STEEP` leads per degree of turn between them (a steep stretch of
-    the branch, or an earlier jump down) belongs to the fall; the first pair that falls
-    slower, or rises, ends it. Where the branch runs smoothly to the jump this is the
-    jump's own drop.
+    The branch's height at ``at`` itself is interpolated linearly in phase between the
+    rest states either side of it (the nearest one's where it lies outside them):
+    :class:`Continuation` settles a state there, so that the interpolation is exact. A
+    ride that climbs into the jump (a flank riding onto an edge) clicks the fall from
+    its top, a branch that falls steeply before the jump the fall from where it began.
     """
-    rest: list[MechanicalState] = []
-    for s in ride:
-        if s.classification == UNSTABLE:
-            continue
-        if rest and rest[-1].phase == s.phase:
-            rest[-1] = s  # a state met twice (a bisection's last and the branch's)
-        else:
-            rest.append(s)
+    rest = sorted((s.phase, s.centre[2]) for s in ride if s.classification != UNSTABLE)
     if not rest:
         return 0.0
-    i = len(rest) - 1
-    while i > 0:
-        a, b = rest[i - 1], rest[i]
-        if a.centre[2] - b.centre[2] <= STEEP * lead * abs(b.phase - a.phase) / 360.0:
-            break
-        i -= 1
-    return float(rest[i].centre[2] - landing.centre[2])
+    phases = [p for p, _ in rest]
+    heights = [z for _, z in rest]
+    lo, hi = sorted((at, landing.phase))
+    inside = [z for p, z in rest if lo <= p <= hi]
+    top = max([float(np.interp(at, phases, heights)), *inside])
+    return top - float(landing.centre[2])
 
 
 def _tilt_between(a: MechanicalState, b: MechanicalState) -> float:
@@ -504,6 +499,21 @@ class Continuation:
         legs, events, states = walk.advance(state, phase, self.screw_in)
         return engagement(walk, state, legs, events, states, self.screw_in)
 
+    def _click(self, passed: list[MechanicalState], jump: float, landing: MechanicalState) -> float:
+        """The click of the jump at phase ``jump`` onto ``landing`` (:func:`sensor_click`),
+        from the rest state at :data:`CLICK_SPAN` before it: settled from the last rest
+        state ``passed`` before that phase (or the first, where none lies before it),
+        unless one lies within the phase tolerance of it already."""
+        at = jump - self.sign * CLICK_SPAN
+        rest = [s for s in passed if s.classification != UNSTABLE]
+        if rest and all(abs(s.phase - at) > self.phase_tolerance for s in rest):
+            before = [s for s in rest if self.sign * (at - s.phase) > 0]
+            start = max(before, key=lambda s: self.sign * s.phase) if before else rest[0]
+            there = self._settle(at, start, probe=False)
+            if there.classification != UNSTABLE and self._continuous(start, there):
+                rest.append(there)
+        return sensor_click(rest, landing, at)
+
     def advance(
         self,
         state: MechanicalState,
@@ -654,8 +664,7 @@ class Continuation:
                 note = "" if proof.engaged else f"not a snap: {proof.reason}"
                 s_hi = replace(s_hi, engagement=proof)
             kind = "snap" if proof is not None and proof.engaged else "jump"
-            passed = sorted([state, *states, *ride], key=lambda s: sign * s.phase)
-            click = sensor_click(passed, s_hi, self.mech.spec.lead)
+            click = self._click([state, *states, *ride], phase + sign * hi, s_hi)
             legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, UNSTABLE, proof, click))
             events.append(
                 SearchEvent(
