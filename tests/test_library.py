@@ -15,6 +15,7 @@ import math
 import os
 import sys
 from collections import Counter
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -796,3 +797,14 @@ def test_write_library_refuses_rows_missing_a_column(mech_library, quarter_20, t
     with pytest.raises(InputError, match="model"):
         write_library(load(mech_library), out, quarter_20, M_ROLL, M_PITCH, M_PHASE, model="fixed")
     assert not out.exists()
+
+
+def test_the_architecture_page_lists_the_state_record_as_stored():
+    """docs/architecture.md's state-record table names every column of a library's rows,
+    in order, with its unit: a reader finds each column's meaning there."""
+    page = Path(__file__).resolve().parents[1] / "docs" / "architecture.md"
+    text = page.read_text(encoding="utf-8")
+    section = text.split("## The state record", 1)[1].split("\n## ", 1)[0]
+    rows = [line.split("|") for line in section.splitlines() if line.startswith("| `")]
+    assert [r[1].strip().strip("`") for r in rows] == [c.name for c in STATE_COLUMNS]
+    assert [r[3].strip() for r in rows] == [c.unit or "-" for c in STATE_COLUMNS]
