@@ -453,6 +453,27 @@ class Continuation:
             return s.driver_torque, s.friction_torque
         return tightening_torque(s)
 
+    def friction_work(self, a: MechanicalState, b: MechanicalState) -> float:
+        """The driver's work against friction over the step from ``a`` to ``b``, states
+        the walk settled one after the other on a continuous branch (mJ): the trapezoid
+        rule on their friction torques (:meth:`torque`).
+
+        A state that is not a rest state (its descent stopped short of the balance: class
+        ``unstable``) has contact forces that do not balance the load and the spring, so
+        no driver's torque of its own: where the other end of the step is a rest state,
+        that state's friction torque stands for the whole step; where neither is, their
+        own torques (the forces that best balance the load) are the only estimate there
+        is. The rule looks at the step alone, so that a walk split into legs anywhere
+        (the library's, at its grid phases) gives the same sum.
+        """
+        fa, fb = self.torque(a)[1], self.torque(b)[1]
+        rest_a, rest_b = a.classification != UNSTABLE, b.classification != UNSTABLE
+        if rest_a != rest_b:
+            fa = fb = fa if rest_a else fb
+        if not (math.isfinite(fa) and math.isfinite(fb)):
+            return 0.0
+        return MJ_PER_J * 0.5 * (fa + fb) * math.radians(abs(b.phase - a.phase))
+
     def snap_window(self, states: list[MechanicalState], snap: SearchEvent) -> tuple[float, float]:
         """The phases within which the bolt may drop into the thread: from the first rest
         state of the branch before ``snap`` (within :data:`WINDOW` of it) whose settle
@@ -537,12 +558,8 @@ class Continuation:
         work = [0.0, 0.0]  # friction, potential (mJ) along the current turning leg
 
         def integrate(a: MechanicalState, b: MechanicalState) -> None:
-            dphi = math.radians(abs(b.phase - a.phase))
-            (ta, fa), (tb, fb) = self.torque(a), self.torque(b)
-            if not (math.isfinite(ta) and math.isfinite(tb)):
-                return
-            work[0] += MJ_PER_J * 0.5 * (fa + fb) * dphi
-            work[1] += MJ_PER_J * 0.5 * ((ta - fa) + (tb - fb)) * dphi
+            work[0] += self.friction_work(a, b)
+            work[1] += b.potential - a.potential
 
         def close_branch(at: float) -> None:
             if at > branch_start or len(branch) > 1:
@@ -594,12 +611,11 @@ class Continuation:
                         _tilt_between(s_lo, s_hi),
                     )
                 )
-                for x, y in ((a, s_lo), (s_lo, s_hi), (s_hi, b)):
-                    integrate(x, y)
                 states.extend([s_lo, s_hi])
                 branch.extend([s_lo, s_hi])
-            else:
-                integrate(a, b)
+            # The work over the step the walk took, whatever was located within it: the
+            # library's walk, which locates no contact changes, has the same nodes.
+            integrate(a, b)
             states.append(b)
             branch.append(b)
 
