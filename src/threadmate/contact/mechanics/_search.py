@@ -15,11 +15,15 @@ centre a sensor sees: from the last state of the smooth ride to the landing, a s
 stretch of the branch just before the jump (falling faster than :data:`STEEP` leads per
 degree) and jumps down within it included (:func:`sensor_click`).
 
-The driver's torque at each rest state (:meth:`Mechanics.driver_torque`) is integrated
-over phase by the trapezoidal rule along continuous branches; during a jump the phase
-stands still and the driver does no work. The work splits into friction and the part
-that raises the potential; without friction and away from jumps the latter equals the
-change of the potential (a check the tests make, not an assumption).
+The driver's work along a continuous branch splits into friction and the part that raises
+the potential; during a jump the phase stands still and the driver does no work. The
+potential part is the change of U between the branch's ends (without friction and away
+from jumps the integral of the driver's torque equals it: a check the tests make on the
+torques); the friction part is the trapezoidal rule on the friction torque
+(:meth:`Mechanics.driver_torque`) over the states the walk steps to, a state not at rest
+taking its step's rest state's torque (:meth:`Continuation.friction_work`). A contact
+change located within a step adds no node, so that the library's walk, which locates
+none, integrates over the same states.
 
 :class:`Continuation` does the walking, in *legs* (a continuous branch, a jump, the snap);
 :func:`search` and the library's sweep (:mod:`threadmate.library`) both walk with it, so a
@@ -313,9 +317,10 @@ class Continuation:
     contact_changes : bool
         Locate the contact changes along continuous branches too (True, the search's
         events), or only the folds (False: the library's sweep, which keeps the legs
-        between jumps and not the contact changes within them). The branch followed is the
-        same either way: a located contact change only adds the states either side of it
-        to the work's trapezoid rule.
+        between jumps and not the contact changes within them). The branch followed, and
+        the driver's work along it, are the same either way: a located contact change
+        adds the states either side of it to :meth:`advance`'s states, not to the
+        work's nodes.
     """
 
     def __init__(
