@@ -58,9 +58,10 @@ EDGE_KINDS = (*TRANSITIONS, "tilt-step")
 #: The weight of each kind of edge (mJ).
 WEIGHT_FORMULA = (
     "turning: max(0, work_friction + work_potential), the driver's work along the branch "
-    "(trapezoid of its torque over the phase turned: friction, and the rise of the "
-    "potential F z_C + k/2 |tilt - held|^2 it supplies; clipped at 0 where the potential "
-    "falls faster than friction takes, since the driver is not paid back); "
+    "(friction: the trapezoid of its friction torque over the phase turned; potential: the "
+    "rise of the potential F z_C + k/2 |tilt - held|^2 from the branch's start to its end; "
+    "clipped at 0 where the potential falls faster than friction takes, since the driver "
+    "is not paid back); "
     "settling: 0 (the driver holds the phase; the load does the work); "
     "jump: jump_penalty (default 0: a jump releases energy); snap: 0; "
     "tilt-step (active): F * max(0, z_C at the new tilt's first contact - z_C now) + "

@@ -15,11 +15,15 @@ centre a sensor sees: from the highest the branch stands within the last
 :data:`CLICK_SPAN` degree of turn before the jump to the landing, a steep last stretch
 of the branch and jumps down within that turn included (:func:`sensor_click`).
 
-The driver's torque at each rest state (:meth:`Mechanics.driver_torque`) is integrated
-over phase by the trapezoidal rule along continuous branches; during a jump the phase
-stands still and the driver does no work. The work splits into friction and the part
-that raises the potential; without friction and away from jumps the latter equals the
-change of the potential (a check the tests make, not an assumption).
+The driver's work along a continuous branch splits into friction and the part that raises
+the potential; during a jump the phase stands still and the driver does no work. The
+potential part is the change of U between the branch's ends (without friction and away
+from jumps the integral of the driver's torque equals it: a check the tests make on the
+torques); the friction part is the trapezoidal rule on the friction torque
+(:meth:`Mechanics.driver_torque`) over the states the walk steps to, a state not at rest
+taking its step's rest state's torque (:meth:`Continuation.friction_work`). A contact
+change located within a step adds no node, so that the library's walk, which locates
+none, integrates over the same states.
 
 :class:`Continuation` does the walking, in *legs* (a continuous branch, a jump, the snap);
 :func:`search` and the library's sweep (:mod:`threadmate.library`) both walk with it, so a
@@ -308,9 +312,10 @@ class Continuation:
     contact_changes : bool
         Locate the contact changes along continuous branches too (True, the search's
         events), or only the folds (False: the library's sweep, which keeps the legs
-        between jumps and not the contact changes within them). The branch followed is the
-        same either way: a located contact change only adds the states either side of it
-        to the work's trapezoid rule.
+        between jumps and not the contact changes within them). The branch followed, and
+        the driver's work along it, are the same either way: a located contact change
+        adds the states either side of it to :meth:`advance`'s states, not to the
+        work's nodes.
     """
 
     def __init__(
@@ -448,6 +453,27 @@ class Continuation:
             return s.driver_torque, s.friction_torque
         return tightening_torque(s)
 
+    def friction_work(self, a: MechanicalState, b: MechanicalState) -> float:
+        """The driver's work against friction over the step from ``a`` to ``b``, states
+        the walk settled one after the other on a continuous branch (mJ): the trapezoid
+        rule on their friction torques (:meth:`torque`).
+
+        A state that is not a rest state (its descent stopped short of the balance: class
+        ``unstable``) has contact forces that do not balance the load and the spring, so
+        no driver's torque of its own: where the other end of the step is a rest state,
+        that state's friction torque stands for the whole step; where neither is, their
+        own torques (the forces that best balance the load) are the only estimate there
+        is. The rule looks at the step alone, so that a walk split into legs anywhere
+        (the library's, at its grid phases) gives the same sum.
+        """
+        fa, fb = self.torque(a)[1], self.torque(b)[1]
+        rest_a, rest_b = a.classification != UNSTABLE, b.classification != UNSTABLE
+        if rest_a != rest_b:
+            fa = fb = fa if rest_a else fb
+        if not (math.isfinite(fa) and math.isfinite(fb)):
+            return 0.0
+        return MJ_PER_J * 0.5 * (fa + fb) * math.radians(abs(b.phase - a.phase))
+
     def snap_window(self, states: list[MechanicalState], snap: SearchEvent) -> tuple[float, float]:
         """The phases within which the bolt may drop into the thread: from the first rest
         state of the branch before ``snap`` (within :data:`WINDOW` of it) whose settle
@@ -547,12 +573,8 @@ class Continuation:
         work = [0.0, 0.0]  # friction, potential (mJ) along the current turning leg
 
         def integrate(a: MechanicalState, b: MechanicalState) -> None:
-            dphi = math.radians(abs(b.phase - a.phase))
-            (ta, fa), (tb, fb) = self.torque(a), self.torque(b)
-            if not (math.isfinite(ta) and math.isfinite(tb)):
-                return
-            work[0] += MJ_PER_J * 0.5 * (fa + fb) * dphi
-            work[1] += MJ_PER_J * 0.5 * ((ta - fa) + (tb - fb)) * dphi
+            work[0] += self.friction_work(a, b)
+            work[1] += b.potential - a.potential
 
         def close_branch(at: float) -> None:
             if at > branch_start or len(branch) > 1:
@@ -604,12 +626,11 @@ class Continuation:
                         _tilt_between(s_lo, s_hi),
                     )
                 )
-                for x, y in ((a, s_lo), (s_lo, s_hi), (s_hi, b)):
-                    integrate(x, y)
                 states.extend([s_lo, s_hi])
                 branch.extend([s_lo, s_hi])
-            else:
-                integrate(a, b)
+            # The work over the step the walk took, whatever was located within it: the
+            # library's walk, which locates no contact changes, has the same nodes.
+            integrate(a, b)
             states.append(b)
             branch.append(b)
 
