@@ -195,6 +195,12 @@ def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
             f"Balance residuals (relative to the load): force {b['force']:.2g}, "
             f"moment {b['moment']:.2g}"
         )
+    if "touching_gap" in b:
+        lines.append(
+            f"The balance counts the contacts within {b['touching_gap']:.2g} {u} of touching "
+            "(the meshes' accuracy); their gaps:  "
+            + "  ".join(f"{c.regions} {c.gap:.2g}" for c in touching)
+        )
     if rest.path:
         lines.append(f"Path from first contact ({len(rest.path)} unstable state(s)):")
         lines.append(f"  {'kind':<14} {'turn deg':>9}  regions")

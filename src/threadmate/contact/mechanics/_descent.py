@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.optimize import nnls
 
 from ..._angles import axis_angle
 from ..._errors import InputError
@@ -46,6 +47,18 @@ __all__ = ["BALANCE", "MAX_STEPS"]
 BALANCE = 1e-6
 #: Descent steps before a rest state is given up as not converged.
 MAX_STEPS = 60
+#: Tilts (degrees) by which a rest state found within the meshes' accuracy is perturbed,
+#: each in :data:`PROBE_DIRECTIONS` directions, to check it is a minimum
+#: (:meth:`_Descent.is_minimum`).
+PROBE_TILTS = (0.01, 0.05, 0.2)
+PROBE_DIRECTIONS = 8
+#: Passed poses tried as a rest state within the meshes' accuracy
+#: (:meth:`_Descent.within_mesh`).
+WITHIN_MESH_TRIES = 3
+#: Times a passed pose is tilted to where its contacts balance, at most, and the largest
+#: such tilt (degrees) (:meth:`_Descent.polished`).
+POLISH_STEPS = 3
+POLISH_REACH = 1e-3
 
 
 @dataclass
@@ -99,6 +112,12 @@ class _Descent:
         self.converged = False
         #: The rest state already known that the descent reached (see ``arrive``).
         self.arrival: RestState | None = None
+        #: The poses passed (U, pose, contacts, tilt), for a descent that ends unbalanced
+        #: (:meth:`within_mesh`).
+        self.passed: list[tuple[float, _Drop, list[_Near], NDArray[np.float64]]] = []
+        #: The gap below which the end's balance counts a contact (None: the touching
+        #: gap; the meshes' deviation for a rest state found within their accuracy).
+        self.touching_gap: float | None = None
         self.first_touch()
         comp = mech.compliance
         self.f = f = comp.force
@@ -219,6 +238,8 @@ class _Descent:
         tips into one, then the contact QP's step, lowered onto the nut and kept or not.
         """
         mech = self.mech
+        if self.start is None:  # (only a descent from first contact looks back)
+            self.passed.append((self.u, self.d, self.near, self.tilt))
         centre = np.array([self.d.xy[0], self.d.xy[1], self.d.zc])
         G, gap = mech._rows(self.near + self.ahead, centre, self.tilt)
         grad = mech._gradient(self.tilt, self.d.xy, self.held)
@@ -565,19 +586,35 @@ class _Descent:
         """The rest state where the descent ended, classed, with its forces, residuals and
         the contacts' curvature (for a continuation to start from); or the pose it
         departed at (kind ``departed``, unbalanced)."""
-        mech, d = self.mech, self.d
-        centre = np.array([d.xy[0], d.xy[1], d.zc])
+        mech = self.mech
         if self.departed:
             return self.result(
-                mech.state("departed", UNSTABLE, d, [], self.phase, self.held, self.tilt),
+                mech.state("departed", UNSTABLE, self.d, [], self.phase, self.held, self.tilt),
                 {"force": math.nan, "moment": math.nan, "converged": 0.0},
             )
-        forces, f_res, m_res = mech.forces(self.near, centre, self.tilt, d.xy, self.held)
+        if not self.converged:
+            self.within_mesh()
+        d, wide = self.d, self.touching_gap
+        centre = np.array([d.xy[0], d.xy[1], d.zc])
+        forces, f_res, m_res = mech.forces(
+            self.near, centre, self.tilt, d.xy, self.held, touching_gap=wide
+        )
         turn = axis_angle(d.rotation[:, 2], self.last_axis)
         cls, kind = self.classify(forces, centre)
         curvature = self.curvature
         final = replace(
-            mech.state(kind, cls, d, self.near, self.phase, self.held, self.tilt, forces, turn),
+            mech.state(
+                kind,
+                cls,
+                d,
+                self.near,
+                self.phase,
+                self.held,
+                self.tilt,
+                forces,
+                turn,
+                touching_gap=wide,
+            ),
             contact_curvature=(
                 (float(curvature[0, 0]), float(curvature[0, 1])),
                 (float(curvature[1, 0]), float(curvature[1, 1])),
@@ -586,9 +623,131 @@ class _Descent:
         # The first state is a rest state already when the descent did not move.
         if self.path and self.path[0].kind == "first-contact" and self.steps == 0:
             self.path.clear()
-        return self.result(
-            final, {"force": f_res, "moment": m_res, "converged": float(self.converged)}
-        )
+        balance = {"force": f_res, "moment": m_res, "converged": float(self.converged)}
+        if wide is not None:
+            balance["touching_gap"] = wide
+        return self.result(final, balance)
+
+    def within_mesh(self) -> None:
+        """A descent from first contact that ended unbalanced: the rest state near the
+        poses it passed whose contacts within the meshes' deviation of touching balance the
+        load and the spring (mechanics.md, "Stop"). The meshes cannot tell such a gap from
+        a touch.
+
+        The passed poses are ranked: those whose non-negative forces on the contacts open
+        by no more than the meshes' deviation balance within :data:`BALANCE` first, least
+        in U first, then the others by their residual. The first
+        :data:`WITHIN_MESH_TRIES` are tried: one that does not balance is tilted to where
+        its contacts, as they are, would balance (:meth:`polished`) and lowered again, up
+        to :data:`POLISH_STEPS` times; the first that balances and is a minimum
+        (:meth:`is_minimum`) becomes the descent's end, converged, with its contacts
+        counted touching to that gap (``touching_gap``). Only from first contact (a
+        continued descent's end feeds the continuation's decisions, which stand as its
+        descents leave them), not in phase, nor with the nut's material over the bolt
+        within that gap (the probes lower the bolt from above), nor with the bolt free
+        laterally (the probes tilt it only).
+        """
+        mech = self.mech
+        if self.start is not None or not mech.compliance.held_laterally:
+            return
+        wide = max(mech.scene.deviation, mech.touching)
+        ranked = []
+        for u, d, near, tilt in [*self.passed, (self.u, self.d, self.near, self.tilt)]:
+            residual = self.wide_residual(d, near, tilt, wide)
+            if residual is not None:
+                rank = (residual > BALANCE, u if residual <= BALANCE else residual)
+                ranked.append((rank, u, d, near, tilt))
+        ranked.sort(key=lambda item: item[0])
+        seen: set[float] = set()
+        for _, u, d, near, tilt in ranked:
+            if u in seen:
+                continue
+            seen.add(u)
+            if len(seen) > WITHIN_MESH_TRIES:
+                break
+            for _ in range(POLISH_STEPS + 1):
+                residual = self.wide_residual(d, near, tilt, wide)
+                if residual is None:
+                    break
+                if residual <= BALANCE:
+                    if self.is_minimum(u, d, tilt):
+                        self.d, self.near, self.tilt, self.u = d, near, tilt, u
+                        self.touching_gap = wide
+                        self.converged = True
+                        return
+                    break
+                polished = self.polished(d, near, tilt, wide)
+                if polished is None:
+                    break
+                u, d, near, tilt = polished
+
+    def wide_residual(
+        self, d: _Drop, near: list[_Near], tilt: NDArray[np.float64], wide: float
+    ) -> float | None:
+        """The larger residual (force, moment) of the balance on the contacts of the pose
+        ``d`` open by no more than ``wide``; None where the look back does not judge the
+        pose (in phase, or the nut's material over the bolt within ``wide``)."""
+        mech = self.mech
+        if any(c.upper and c.gap <= wide for c in near):
+            return None
+        centre = np.array([d.xy[0], d.xy[1], d.zc])
+        forces, f_res, m_res = mech.forces(near, centre, tilt, d.xy, self.held, touching_gap=wide)
+        if mech.engaged(near, forces):
+            return None
+        return max(f_res, m_res)
+
+    def polished(
+        self, d: _Drop, near: list[_Near], tilt: NDArray[np.float64], wide: float
+    ) -> tuple[float, _Drop, list[_Near], NDArray[np.float64]] | None:
+        """The pose tilted to where the contacts of ``d`` open by no more than ``wide``,
+        with their points and normals as they are, balance the spring: the moment they can
+        give with the load in height (the nearest, by non-negative least squares) over the
+        springs' stiffness. Lowered onto the nut from above, with its contacts and U; None
+        when that tilt is more than :data:`POLISH_REACH` away or the bolt passes the nut."""
+        mech = self.mech
+        on = [c for c in near if c.gap <= wide]
+        stiffness = self.k[1:3]
+        if not on or np.any(stiffness <= 0):
+            return None
+        centre = np.array([d.xy[0], d.xy[1], d.zc])
+        G, _ = mech._rows(on, centre, tilt)
+        grad = mech._gradient(tilt, d.xy, self.held)
+        # The height's balance held (weighted), the moments as near as the contacts reach.
+        weight = mech._balance_scale(len(grad))
+        weight[0] *= 1e4
+        lam, _ = nnls((G * weight).T, grad * weight)
+        dtilt = (G[:, 1:3].T @ lam - grad[1:3]) / stiffness
+        if float(np.abs(dtilt).max()) > math.radians(POLISH_REACH):
+            return None
+        new_tilt = tilt + dtilt
+        lowered = mech.drop(mech._rotation(new_tilt, self.phase), d.xy, None)
+        if lowered is None:
+            return None
+        u = mech.potential(lowered.zc, new_tilt, lowered.xy, self.held)
+        return u, lowered, mech.contacts(lowered), new_tilt
+
+    def is_minimum(self, u: float, d: _Drop, tilt: NDArray[np.float64]) -> bool:
+        """Whether the pose ``d`` at ``tilt`` (potential ``u``) is a minimum: lowered onto
+        the nut from above at its own tilt, the bolt comes to rest within the meshes'
+        deviation of it (else the pose lies under material the probes from above cannot
+        reach), and no tilt of :data:`PROBE_TILTS` away from it, in
+        :data:`PROBE_DIRECTIONS` directions, lowered from above, lowers U below ``u`` by
+        more than the load times the meshes' deviation (what they cannot tell)."""
+        mech = self.mech
+        slack = self.f * mech.scene.deviation * mech.metres
+        itself = mech.drop(d.rotation, d.xy, None)
+        if itself is None or abs(mech.potential(itself.zc, tilt, d.xy, self.held) - u) > slack:
+            return False
+        for size in PROBE_TILTS:
+            for j in range(PROBE_DIRECTIONS):
+                a = 2.0 * math.pi * j / PROBE_DIRECTIONS
+                probe = tilt + math.radians(size) * np.array([math.cos(a), math.sin(a)])
+                lowered = mech.drop(mech._rotation(probe, self.phase), d.xy, None)
+                if lowered is None:
+                    continue
+                if mech.potential(lowered.zc, probe, d.xy, self.held) < u - slack:
+                    return False
+        return True
 
     def classify(self, forces: NDArray[np.float64], centre: NDArray[np.float64]) -> tuple[str, str]:
         """The class and kind of the end state (mechanics.md), from what carries it: in
@@ -597,7 +756,9 @@ class _Descent:
         mech = self.mech
         if mech.engaged(self.near, forces):
             cls, kind = IN_PHASE, IN_PHASE
-        elif mech.holds_without_compliance(self.near, centre, self.tilt):
+        elif mech.holds_without_compliance(
+            self.near, centre, self.tilt, touching_gap=self.touching_gap
+        ):
             cls, kind = STABLE, "rest"
         else:
             cls, kind = QUASI_STABLE, "rest"

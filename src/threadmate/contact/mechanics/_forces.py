@@ -128,10 +128,14 @@ class _Forces(_HeldBolt):
         tilt: NDArray[np.float64],
         xy: NDArray[np.float64],
         held: NDArray[np.float64],
+        touching_gap: float | None = None,
     ) -> tuple[NDArray[np.float64], float, float]:
         """Non-negative normal forces (N) of the touching contacts that best balance the
-        load and the spring, and the force and moment residuals relative to the load."""
-        touching = [c for c in near if c.gap <= self.touching]
+        load and the spring, and the force and moment residuals relative to the load.
+        ``touching_gap``: the gap below which a contact counts as touching (default the
+        touching gap; :meth:`_Descent.within_mesh` widens it to the meshes' deviation)."""
+        reach = self.touching if touching_gap is None else touching_gap
+        touching = [c for c in near if c.gap <= reach]
         grad = self._gradient(tilt, xy, held)
         f = self.compliance.force
         scale = self._balance_scale(len(grad))
@@ -141,7 +145,7 @@ class _Forces(_HeldBolt):
         lam, _ = nnls((G * scale).T, grad * scale)
         resid = (G.T @ lam - grad) * scale / f
         forces = np.zeros(len(near))
-        forces[[i for i, c in enumerate(near) if c.gap <= self.touching]] = lam
+        forces[[i for i, c in enumerate(near) if c.gap <= reach]] = lam
         moment = float(np.abs(resid[1:]).max()) if len(resid) > 1 else 0.0
         return forces, float(abs(resid[0])), moment
 
@@ -161,6 +165,7 @@ class _Forces(_HeldBolt):
         tilt: NDArray[np.float64],
         xy: NDArray[np.float64],
         held: NDArray[np.float64],
+        touching_gap: float | None = None,
     ) -> tuple[NDArray[np.float64], bool]:
         """``forces`` of a rest state, and whether its rigid balance is near-singular.
 
@@ -171,11 +176,13 @@ class _Forces(_HeldBolt):
         at most :meth:`force_bound`, the balance met as closely as the bound lets it
         (bounded least squares), and the state marked near-singular. Reported forces,
         the driver's torque and its work then come from the bounded forces.
+        ``touching_gap`` as in :meth:`forces`.
         """
         bound = self.force_bound(tilt, held)
         if not len(forces) or float(np.max(forces)) <= bound:
             return forces, False
-        on = [i for i, c in enumerate(near) if c.gap <= self.touching]
+        reach = self.touching if touching_gap is None else touching_gap
+        on = [i for i, c in enumerate(near) if c.gap <= reach]
         G, _ = self._rows([near[i] for i in on], centre, tilt)
         grad = self._gradient(tilt, xy, held)
         scale = self._balance_scale(len(grad))
@@ -185,10 +192,16 @@ class _Forces(_HeldBolt):
         return out, True
 
     def holds_without_compliance(
-        self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64]
+        self,
+        near: list[_Near],
+        centre: NDArray[np.float64],
+        tilt: NDArray[np.float64],
+        touching_gap: float | None = None,
     ) -> bool:
-        """Whether the touching contacts alone hold the load with a margin (``stable``)."""
-        touching = [c for c in near if c.gap <= self.touching]
+        """Whether the touching contacts alone hold the load with a margin (``stable``);
+        ``touching_gap`` as in :meth:`forces`."""
+        reach = self.touching if touching_gap is None else touching_gap
+        touching = [c for c in near if c.gap <= reach]
         if len(touching) == 0:
             return False
         G, _ = self._rows(touching, centre, tilt)

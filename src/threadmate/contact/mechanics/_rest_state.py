@@ -109,7 +109,9 @@ class LoadedContact(RegionPair):
         Normal force the nut exerts on the bolt there (N; 0 for a contact that touches
         without load, NaN in a state that is not at rest).
     gap : float
-        Vertical gap (spec units) at the state's pose; 0 when touching.
+        Vertical gap (spec units) at the state's pose; 0 when touching. A contact of a
+        rest state found within the meshes' accuracy (mechanics.md, "Stop") may carry
+        force open by up to the meshes' deviation: it keeps its gap.
     bolt_region, nut_region : str
         Regions of the exact profiles (conventions.md names).
     bolt_feature, nut_feature : str
@@ -153,7 +155,8 @@ class MechanicalState:
     centre : (x, y, z)
         Compliance centre in F.
     contacts : tuple of LoadedContact
-        Touching contacts (gap 0) first, then near ones.
+        The contacts within the descent's depth ``near`` of the pose: touching (gap 0)
+        and near ones.
     potential : float
         ``F z_C + k/2 |tilt - held|^2 (+ k_t/2 |xy|^2)`` in mJ (``z_C`` from the nut's top).
     driver_torque : float
@@ -203,8 +206,9 @@ class MechanicalState:
 
     @property
     def touching(self) -> tuple[LoadedContact, ...]:
-        """The contacts with no gap."""
-        return tuple(c for c in self.contacts if c.gap == 0.0)
+        """The contacts with no gap, and those open by less than the meshes' accuracy
+        that carry force in a rest state found within it (mechanics.md, "Stop")."""
+        return tuple(c for c in self.contacts if c.gap == 0.0 or c.force > 0.0)
 
     @property
     def region_combination(self) -> str:
@@ -252,7 +256,9 @@ class RestState:
         The unstable states passed through from first contact, in order.
     balance : dict
         ``force`` and ``moment`` residuals of the equilibrium, relative to the load
-        (``F`` and ``F`` times the bolt's major radius).
+        (``F`` and ``F`` times the bolt's major radius); ``converged``; ``touching_gap``
+        (spec units) for a rest state found within the meshes' accuracy: the gap below
+        which its balance counts a contact (mechanics.md, "Stop").
     iterations, queries : int
         Descent steps and python-fcl queries spent.
     """

@@ -194,8 +194,13 @@ class Mechanics(_Seat):
         tilt: NDArray[np.float64],
         forces: NDArray[np.float64] | None = None,
         turn: float = 0.0,
+        touching_gap: float | None = None,
     ) -> MechanicalState:
-        """A :class:`MechanicalState` of the pose ``d`` (forces None: not at rest)."""
+        """A :class:`MechanicalState` of the pose ``d`` (forces None: not at rest).
+        ``touching_gap``: the gap below which the balance counted a contact (default the
+        touching gap; the meshes' deviation for a rest state found within their accuracy,
+        :meth:`._descent._Descent.within_mesh`). Contacts open by more than the touching
+        gap keep their gap in the state, with the force the balance gave them."""
         pose = self._pose(d.rotation, d.xy, d.zc)
         centre = np.array([d.xy[0], d.xy[1], d.zc])
         torque = friction = math.nan
@@ -203,7 +208,9 @@ class Mechanics(_Seat):
         if forces is None:
             forces = np.full(len(near), math.nan)
         else:
-            forces, singular = self.bounded(near, forces, centre, tilt, d.xy, held)
+            forces, singular = self.bounded(
+                near, forces, centre, tilt, d.xy, held, touching_gap=touching_gap
+            )
             torque, friction = self.driver_torque(near, forces, d.rotation, centre)
         # A support given twice (the tip rim at the bore edge, as face and as edge) is
         # reported once: the one that carries the force.
