@@ -40,7 +40,6 @@ from ._common import (
     turn_words,
     writable_output,
 )
-from ._library import _progress_bar
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
@@ -54,6 +53,7 @@ from ._options import (
     mesh_summary,
     parts_option,
 )
+from ._progress import progress_bar
 
 # The mechanics (scipy, trimesh, fcl) and the figures (matplotlib) are imported where they
 # are used, so that --help and a refused option answer at once.
@@ -514,7 +514,7 @@ def search_command(
     mech = _mechanics(spec, compliance, chord, meshes)
     from ..contact import search
 
-    with _progress_bar("search (deg)") as callback:
+    with progress_bar("search (deg)") as callback:
         run = search(
             mech,
             roll,
@@ -657,7 +657,7 @@ def screw_command(
     mech = _mechanics(spec, compliance, chord, meshes)
     from ..contact import screw
 
-    with _progress_bar("screw (deg)") as callback:
+    with progress_bar("screw (deg)") as callback:
         run = screw(
             mech,
             roll,

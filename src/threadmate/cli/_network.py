@@ -20,8 +20,8 @@ from ._common import (
     writable_output,
     write_failed,
 )
-from ._library import progress_words
 from ._main import cli
+from ._progress import progress_words
 
 # The graph stage (networkx, pandas, matplotlib) is imported where it is used, so that
 # --help and a refused option answer at once.

@@ -37,6 +37,7 @@ __all__ = [
     "max_starts_option",
     "parse_stiffness",
     "parts_option",
+    "RANGE_HELP",
     "MeshFiles",
     "mesh_files_option",
     "echo_mesh_notes",
@@ -127,6 +128,11 @@ def flag_words(message: str) -> str:
 
 
 # -- the compliance --------------------------------------------------------------------------
+#: How a grid option is written (sweep's and run's --roll, --pitch and --phase).
+RANGE_HELP = (
+    "START:STOP:STEP (STOP included when on the grid), a value, or a comma list, in degrees"
+)
+
 #: The defaults of the options are those of :class:`Compliance`.
 _D = Compliance()
 
