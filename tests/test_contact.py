@@ -21,8 +21,7 @@ import numpy as np
 import pyarrow as pa
 import pytest
 
-from _exact_geometry import exact_first_height
-from _exact_geometry import rot as _rot
+from _exact_geometry import exact_first_height, rot as _rot
 from threadmate._errors import InputError
 from threadmate.contact import (
     CLASSIFICATIONS,
