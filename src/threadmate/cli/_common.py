@@ -13,6 +13,7 @@ from typing import Any
 
 import click
 
+from .._angles import FULL_TURN, wrap_phase
 from .._errors import InputError
 from .._json import json_text, to_jsonable
 from ..geometry import SpecParts, ThreadSpec, with_parts
@@ -89,13 +90,13 @@ def shown_phase(phase: float) -> float:
     """A phase as every command prints it: wrapped into [0, 360) degrees. (A search's
     phases run on past 360 as it turns; how far it turned is said as the turn,
     :func:`turn_words`.)"""
-    wrapped = phase % 360.0
-    return 0.0 if wrapped >= 360.0 - 1e-9 else wrapped + 0.0  # no 360.0000, no -0
+    wrapped = wrap_phase(phase)
+    return 0.0 if wrapped >= FULL_TURN - 1e-9 else wrapped + 0.0  # no 360.0000, no -0
 
 
 def turn_words(turn: float, fmt: str = ".4f") -> str:
     """A turn in degrees and in turns: ``372.5400 deg (1.03 turns)``."""
-    return f"{turn:{fmt}} deg ({abs(turn) / 360.0:.2f} turns)"
+    return f"{turn:{fmt}} deg ({abs(turn) / FULL_TURN:.2f} turns)"
 
 
 # -- output paths ------------------------------------------------------------------------

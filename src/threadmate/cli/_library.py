@@ -14,6 +14,7 @@ from typing import Any
 
 import click
 
+from .._angles import phase_difference
 from .._errors import InputError
 from .._validate import check_workers
 from ..contact import CONTINUATION_STEP, MAX_STEP, PHASE_TOLERANCE
@@ -348,7 +349,7 @@ def info_command(library: Path, as_json: bool) -> None:
 def _check_grid_phase(phase: float, taken: float, library: Path) -> None:
     """Refuse a ``--phase`` that is not one of the library's grid phases (modulo 360),
     naming them: the stability map and the counts exist at grid phases only."""
-    if abs((taken - phase + 180.0) % 360.0 - 180.0) <= 1e-6:
+    if abs(phase_difference(taken, phase)) <= 1e-6:
         return
     from ..library import info
 

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from .._errors import InputError, NoPathError
+from .._text import number_text
 from .._validate import FIGURE_FORMATS, MAX_TILT, check_configuration
 from ..contact import (
     CONTINUATION_STEP,
@@ -150,10 +151,6 @@ def _name(spec: ThreadSpec) -> str:
     return spec.designation or f"spec (pitch {spec.pitch:g} {spec.units})"
 
 
-def _num(v: float | None, fmt: str = ".6f") -> str:
-    return "-" if v is None or not math.isfinite(v) else format(v, fmt)
-
-
 def _parameters(p: dict[str, Any], units: str) -> list[str]:
     return [f"Parameters: {Compliance.from_dict(p).describe(units)}"]
 
@@ -183,11 +180,11 @@ def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
         for c in touching:
             p = " ".join(f"{v:10.6f}" for v in c.point)
             n = " ".join(f"{v:8.5f}" for v in c.normal)
-            lines.append(f"  {p}  {n} {_num(c.force, '9.4f'):>9}  {c.regions}")
+            lines.append(f"  {p}  {n} {number_text(c.force, '9.4f'):>9}  {c.regions}")
     lines.append(
-        f"Potential: {_num(s.potential, '.6g')} mJ   driver torque: "
-        f"{_num(s.driver_torque, '.6g')} N m (friction part "
-        f"{_num(s.friction_torque, '.6g')} N m)"
+        f"Potential: {number_text(s.potential, '.6g')} mJ   driver torque: "
+        f"{number_text(s.driver_torque, '.6g')} N m (friction part "
+        f"{number_text(s.friction_torque, '.6g')} N m)"
     )
     b = rest.balance
     if "force" in b and "moment" in b:
@@ -214,8 +211,9 @@ def _unsettled(rest: RestState) -> str | None:
     force = float(rest.parameters.get("force", math.nan))
     res = b.get("force", math.nan)
     return (
-        f"the descent did not converge: force residual {_num(res * force, '.3g')} N "
-        f"({_num(res, '.2g')} of the load), moment residual {_num(b.get('moment'), '.2g')} of "
+        f"the descent did not converge: force residual {number_text(res * force, '.3g')} N "
+        f"({number_text(res, '.2g')} of the load), moment residual "
+        f"{number_text(b.get('moment'), '.2g')} of "
         f"the load times the major radius, after {rest.iterations} steps"
     )
 
@@ -559,11 +557,11 @@ def _screw_text(spec: ThreadSpec, run: ScrewResult, step: float) -> str:
             f"{turn_words(abs(run.decided_phase - run.start_phase))}"
         ),
         f"  {run.reason}",
-        f"Descent over the last 90 deg turned: {_num(run.descent, '.6g')} {u} per turn "
+        f"Descent over the last 90 deg turned: {number_text(run.descent, '.6g')} {u} per turn "
         f"(lead {run.lead:g} {u})",
         f"Work: total {run.work:.6g} mJ (friction {run.work_friction:.6g} mJ, potential "
         f"{run.work_potential:.6g} mJ)",
-        f"Peak tightening torque: {_num(run.torque_peak, '.6g')} N m "
+        f"Peak tightening torque: {number_text(run.torque_peak, '.6g')} N m "
         f"(limit {run.torque_limit:.6g} N m)",
         f"Events ({len(run.events)}):",
     ]

@@ -276,7 +276,7 @@ def path_command(
     if as_json:
         emit_json(best.to_dict())
         return
-    if best.moved:
+    if best.moved_to_grid:
         echo_err(
             f"threadmate: note: roll {roll:g}, pitch {pitch:g}, phase {phase:g} is off "
             f"the grid; starting from the nearest start, {best.start}"
