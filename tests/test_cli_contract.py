@@ -220,9 +220,11 @@ def test_the_options_defaults_are_the_apis_own():
     """The options take their defaults and choices from the API's names (light modules,
     so that the help imports no stage), restating none."""
     from threadmate import contact, geometry, library, network, pipeline
-    from threadmate._validate import MAX_TILT
-    from threadmate.cli import _options
-    from threadmate.cli._main import _register, cli
+
+    # The options module and the commands' registration: CLI internals with no public form.
+    from threadmate.cli import _options, cli
+    from threadmate.cli._main import _register
+    from threadmate.contact import MAX_TILT
 
     _register()
 

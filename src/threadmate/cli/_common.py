@@ -15,7 +15,7 @@ import click
 
 from .._angles import FULL_TURN, wrap_phase
 from .._errors import InputError
-from .._json import json_text, to_jsonable
+from .._json import json_text
 from ..geometry import SpecParts, ThreadSpec, with_parts
 
 __all__ = [
@@ -23,7 +23,6 @@ __all__ = [
     "resolve_spec",
     "is_spec_path",
     "emit_json",
-    "to_jsonable",
     "SPEC_HELP",
     "writable_output",
     "writable_directory",
