@@ -2,12 +2,13 @@
 
 :class:`ContactScene` holds one thread pair's exact bodies, its meshes (generated or from
 CAD, with their fit to the spec), the python-fcl collision pair on them and the tolerances
-that follow; :func:`contact_scene` builds it once per process. Around it, the queries both
-models ask: collisions and triangle pairs (:mod:`._collision`, :mod:`._triangles`), the
-vertical touch of a lowering (:mod:`._vertical`), and the exact contact geometry on the
-exact bodies -- features, regions, normals, edge contact points (:mod:`._exact`), where a
-CAD mesh leaves the spec (:mod:`._cad`) -- with the record types both share
-(:mod:`._regions`) and the names of the contact states' classes (:mod:`._classes`).
+that follow; :func:`contact_scene` builds it once per process, and :func:`scene_for` gives
+a model the scene it was handed or that one. Around it, the queries both models ask:
+collisions and triangle pairs (:mod:`._collision`, :mod:`._triangles`), the vertical
+touch of a lowering (:mod:`._vertical`), and the exact contact geometry on the exact
+bodies -- features, regions, normals, edge contact points (:mod:`._exact`), where a CAD
+mesh leaves the spec (:mod:`._cad`) -- with the record types both share (:mod:`._regions`)
+and the names of the contact states' classes (:mod:`._classes`).
 """
 
 from typing import TYPE_CHECKING
@@ -68,6 +69,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         ContactScene as ContactScene,
         check_mesh_file as check_mesh_file,
         contact_scene as contact_scene,
+        scene_for as scene_for,
     )
     from ._triangles import (
         IntersectionSegments as IntersectionSegments,
@@ -135,6 +137,7 @@ _SOURCES = {
     "._scene": (
         "check_mesh_file",
         "contact_scene",
+        "scene_for",
         "ContactScene",
         "OFF_SPEC_FACTOR",
         "TRAVEL_TOLERANCE",
