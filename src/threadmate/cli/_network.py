@@ -10,7 +10,7 @@ from typing import Any
 import click
 
 from .._errors import InputError, NoPathError
-from .._validate import FIGURE_FORMATS, MAX_K, MAX_TILT, check_configuration, check_roll_spread
+from .._validate import FIGURE_FORMATS, MAX_K, check_configuration, check_roll_spread
 from ..contact import UNSTABLE
 from ._common import (
     echo_err,
@@ -21,6 +21,7 @@ from ._common import (
     write_failed,
 )
 from ._main import cli
+from ._options import roll_spread_option
 from ._progress import progress_words
 
 # The graph stage (networkx, pandas, matplotlib) is imported where it is used, so that
@@ -301,13 +302,7 @@ def path_command(
 
 @cli.command("recommend")
 @click.argument("libraries", nargs=-1, required=True, type=click.Path())
-@click.option(
-    "--roll-spread",
-    type=float,
-    default=None,
-    help=f"Largest roll error expected, degrees from 0 to {MAX_TILT:g}: starts have |held "
-    "roll| <= spread (default: every roll of the grid).",
-)
+@roll_spread_option
 @click.option(
     "--plot",
     "plot",

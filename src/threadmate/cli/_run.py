@@ -9,7 +9,7 @@ from pathlib import Path
 import click
 
 from .._errors import InputError
-from .._validate import MAX_TILT, check_roll_spread, check_workers
+from .._validate import check_roll_spread, check_workers
 from ..contact import CONTINUATION_STEP, UNSTABLE
 from ..geometry import SpecParts
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID
@@ -27,6 +27,7 @@ from ._options import (
     max_starts_option,
     mesh_files_option,
     parts_option,
+    roll_spread_option,
 )
 from ._progress import progress_bar
 
@@ -105,13 +106,7 @@ on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["pha
 @click.option("--workers", type=int, default=None, help="Worker processes (default: all cores).")
 @click.option("--scheduler", default=None, help="Dask scheduler address, or 'local'.")
 @chord_option
-@click.option(
-    "--roll-spread",
-    type=float,
-    default=None,
-    help=f"Largest roll error expected, degrees from 0 to {MAX_TILT:g}: starts have |held "
-    "roll| <= spread (default: every roll of the grid).",
-)
+@roll_spread_option
 @max_starts_option
 @condition_option
 @parts_option
