@@ -117,9 +117,11 @@ def _setup(
     compliance_z: float,
     chord: float | None,
     condition: str,
-    parts: SpecParts | None = None,
-) -> tuple[ThreadSpec, Compliance]:
-    """Check the options (cheapest first) and build the spec and the compliance.
+    parts: SpecParts,
+    meshes: MeshFiles,
+) -> tuple[ThreadSpec, Mechanics]:
+    """Check the options (cheapest first), then build the spec, the compliance and the
+    mechanics on them.
 
     Every check runs before the meshes are built and before anything is written.
     """
@@ -131,7 +133,7 @@ def _setup(
     spec = resolve_spec(spec_text, condition, parts)
     check_chord(spec, chord)  # the meshes' own range, before any mesh is built
     compliance.check_for(spec.pitch)
-    return spec, compliance
+    return spec, _mechanics(spec, compliance, chord, meshes)
 
 
 def _mechanics(
@@ -387,7 +389,7 @@ def settle_command(
     meshes: MeshFiles,
 ) -> None:
     """One rest state (see the command's help)."""
-    spec, compliance = _setup(
+    spec, mech = _setup(
         spec_text,
         roll,
         pitch,
@@ -400,8 +402,8 @@ def settle_command(
         chord,
         condition,
         parts,
+        meshes,
     )
-    mech = _mechanics(spec, compliance, chord, meshes)
     from ..contact import settle
 
     rest = settle(mech, roll, pitch, phase)
@@ -495,7 +497,7 @@ def search_command(
     check_continuation(turns=turns, step=step, phase_tolerance=_phase_tolerance(step))
     check_screw(screw_in=screw_in, torque_limit=torque_limit)
     figure = _figure_path(plot)
-    spec, compliance = _setup(
+    spec, mech = _setup(
         spec_text,
         roll,
         pitch,
@@ -508,8 +510,8 @@ def search_command(
         chord,
         condition,
         parts,
+        meshes,
     )
-    mech = _mechanics(spec, compliance, chord, meshes)
     from ..contact import search
 
     with progress_bar("search (deg)") as callback:
@@ -638,7 +640,7 @@ def screw_command(
     check_continuation(turns=turns, step=step, phase_tolerance=_phase_tolerance(step))
     check_screw(torque_limit=torque_limit)
     figure = _figure_path(plot)
-    spec, compliance = _setup(
+    spec, mech = _setup(
         spec_text,
         roll,
         pitch,
@@ -651,8 +653,8 @@ def screw_command(
         chord,
         condition,
         parts,
+        meshes,
     )
-    mech = _mechanics(spec, compliance, chord, meshes)
     from ..contact import screw
 
     with progress_bar("screw (deg)") as callback:
