@@ -185,13 +185,9 @@ def writable_directory(path: str | os.PathLike[str], option: str = "-o") -> Path
     """
     path = Path(path)
     with _named(option, path):
-        if path.exists():
-            if not path.is_dir():
-                raise InputError(f"{path} exists and is not a directory")
-            _probe(path, "file")
-        else:
-            _probe(_existing_ancestor(path), "dir")
-            _note_new(path)
+        if path.exists() and not path.is_dir():
+            raise InputError(f"{path} exists and is not a directory")
+        _check_folder(path)
     return path
 
 
@@ -209,14 +205,21 @@ def writable_output(path: str | os.PathLike[str], option: str = "-o") -> Path:
         if path.exists() and not path.is_file():
             raise InputError(f"{path} exists and is not a regular file")
         parent = path.parent
-        if parent.exists():
-            if not parent.is_dir():
-                raise InputError(f"cannot create {path}: {parent} is not a directory")
-            _probe(parent, "file")
-        else:
-            _probe(_existing_ancestor(parent), "dir")
-            _note_new(parent)
+        if parent.exists() and not parent.is_dir():
+            raise InputError(f"cannot create {path}: {parent} is not a directory")
+        _check_folder(parent)
     return path
+
+
+def _check_folder(folder: Path) -> None:
+    """A folder to write into: an existing one must accept a new file; a missing one (noted,
+    to be removed again if the command fails) needs its nearest existing ancestor to
+    accept a new folder."""
+    if folder.exists():
+        _probe(folder, "file")
+    else:
+        _probe(_existing_ancestor(folder), "dir")
+        _note_new(folder)
 
 
 @contextlib.contextmanager
