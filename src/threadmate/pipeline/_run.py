@@ -27,7 +27,7 @@ from .._io import atomic_write_text, remove_stale_temporaries
 from .._text import number_text
 from .._validate import check_roll_spread
 from .._version import __version__
-from ..contact import CONTINUATION_STEP, UNSTABLE, Compliance
+from ..contact import CONTINUATION_STEP, PHASE_TOLERANCE, UNSTABLE, Compliance
 from ..geometry import ThreadSpec
 from ..library import Grid, info, load, sweep, write_figures
 from ..network import (
@@ -526,7 +526,7 @@ def _report(
         f"- Grid: {grid.describe()}. Every configuration is a start: the bolt is dropped "
         "there, settles to a rest state, and is turned counter-clockwise (the unscrewing "
         f"sense) in quasi-static continuation (steps of {step:g} deg, events located to "
-        "0.01 deg) until it snaps into the thread.",
+        f"{PHASE_TOLERANCE:g} deg) until it snaps into the thread.",
         f"- Work: {WEIGHT_FORMULA}.",
         "",
         "## Reading the results",
