@@ -237,6 +237,10 @@ def test_the_options_defaults_are_the_apis_own():
     assert param("sweep", "phase_tolerance").default is contact.PHASE_TOLERANCE
     assert tuple(param("sweep", "model").type.choices) == library.MODELS
     assert param("run", "spec_text").default is pipeline.DEFAULT_DESIGNATION
+    # The sweep's default grid as the help quotes it: the thesis's (chapter 4).
+    for axis, text in (("roll", "-4:4:1"), ("pitch", "-4:4:1"), ("phase", "0:355:5")):
+        assert library.DEFAULT_RANGES[axis] == text
+        assert param("sweep", axis).help.endswith(f"(default {text}).")
     owners = {
         "CONTINUATION_STEP": contact,
         "SCREW_IN": contact,

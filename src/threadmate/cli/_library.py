@@ -19,7 +19,7 @@ from .._errors import InputError
 from .._validate import check_workers
 from ..contact import CONTINUATION_STEP, MAX_STEP, PHASE_TOLERANCE
 from ..geometry import SpecParts
-from ..library import MODELS
+from ..library import DEFAULT_RANGES, MODELS
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
 from ._main import cli
 from ._options import (
@@ -126,21 +126,21 @@ N/m, lengths in the spec's units, angles in degrees.
     "roll",
     default=None,
     metavar="RANGE",
-    help=f"Held roll values: {RANGE_HELP} (default -4:4:1).",
+    help=f"Held roll values: {RANGE_HELP} (default {DEFAULT_RANGES['roll']}).",
 )
 @click.option(
     "--pitch",
     "pitch",
     default=None,
     metavar="RANGE",
-    help=f"Held pitch values: {RANGE_HELP} (default -4:4:1).",
+    help=f"Held pitch values: {RANGE_HELP} (default {DEFAULT_RANGES['pitch']}).",
 )
 @click.option(
     "--phase",
     "phase",
     default=None,
     metavar="RANGE",
-    help=f"Phase values, modulo 360: {RANGE_HELP} (default 0:355:5).",
+    help=f"Phase values, modulo 360: {RANGE_HELP} (default {DEFAULT_RANGES['phase']}).",
 )
 @click.option(
     "-o",

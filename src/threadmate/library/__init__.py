@@ -33,6 +33,7 @@ from .._lazy import lazy_exports
 if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
     from ._grid import (
         DEFAULT_GRID as DEFAULT_GRID,
+        DEFAULT_RANGES as DEFAULT_RANGES,
         MAX_TILT as MAX_TILT,
         Grid as Grid,
         parse_range as parse_range,
@@ -71,7 +72,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
 #: imports them; __all__ is made from it. tests/test_cli_contract.py checks it against
 #: the re-exports above.
 _SOURCES = {
-    "._grid": ("DEFAULT_GRID", "MAX_TILT", "Grid", "parse_range"),
+    "._grid": ("DEFAULT_GRID", "DEFAULT_RANGES", "MAX_TILT", "Grid", "parse_range"),
     # The models, light to import: the commands offer them before the stage loads.
     "._models": ("MODELS",),
     "._store": (

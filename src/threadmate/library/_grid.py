@@ -24,7 +24,7 @@ from .._errors import InputError
 from .._validate import MAX_AXIS_VALUES, check_number, check_phase
 from ..contact import MAX_TILT as _CONTACT_MAX_TILT
 
-__all__ = ["Grid", "parse_range", "DEFAULT_GRID", "MAX_TILT"]
+__all__ = ["Grid", "parse_range", "DEFAULT_GRID", "DEFAULT_RANGES", "MAX_TILT"]
 
 #: Largest roll or pitch a grid may hold (degrees): the contact package's limit.
 MAX_TILT = _CONTACT_MAX_TILT
