@@ -169,28 +169,35 @@ def test_help_and_thread_answer_quickly():
 
 @pytest.mark.parametrize("package", PACKAGES)
 def test_lazy_package_exports_every_name_it_lists(package):
-    """Each public package names in ``__all__`` exactly the names its loader knows, each
-    is the object of the submodule that holds it, the type checkers' imports name the same
-    ones, and importing the package alone loads none of its submodules."""
+    """Each public package names in ``__all__`` exactly the names its ``_SOURCES`` table
+    lists, each is the object of the submodule that holds it, the type checkers' block
+    re-exports the same names from the same submodules (explicitly, ``name as name``, so
+    that a strict type checker sees them exported), and importing the package alone loads
+    none of its submodules."""
     mod = importlib.import_module(f"threadmate.{package}")
-    where = mod._WHERE
-    assert sorted(mod.__all__) == sorted(where)
-    assert len(set(mod.__all__)) == len(mod.__all__)
+    where = {name: source for source, names in mod._SOURCES.items() for name in names}
+    assert sum(len(names) for names in mod._SOURCES.values()) == len(where)  # none twice
+    assert mod.__all__ == list(where)
     for name, source in where.items():
         owner = importlib.import_module(source, mod.__name__)
-        assert getattr(mod, name) is getattr(owner, mod._ALIASES.get(name, name)), name
+        assert getattr(mod, name) is getattr(owner, name), name
     assert set(mod.__all__) <= set(dir(mod))
     with pytest.raises(AttributeError, match="no attribute 'nothing_here'"):
         _ = mod.nothing_here
-    # The TYPE_CHECKING block imports the same names from the same submodules.
+    # The TYPE_CHECKING block imports the same names from the same submodules, each as an
+    # explicit re-export.
     tree = ast.parse(Path(mod.__file__).read_text())
     block = next(n for n in tree.body if isinstance(n, ast.If) and "TYPE_CHECKING" in ast.dump(n))
+    assert all(isinstance(n, ast.ImportFrom) for n in block.body)
+    aliases = [a for n in block.body for a in n.names]
+    assert [a.name for a in aliases if a.asname != a.name] == []
     typed = {
-        (a.asname or a.name): "." * n.level + (n.module or "")
+        a.name: "." * n.level + (n.module or "")
         for n in block.body
         if isinstance(n, ast.ImportFrom)
         for a in n.names
     }
+    assert len(typed) == len(aliases)
     assert typed == where
     code = (
         f"import sys, threadmate.{package}; "
@@ -201,13 +208,23 @@ def test_lazy_package_exports_every_name_it_lists(package):
     assert proc.stdout.strip() == "[]"
 
 
+def test_lazy_exports_refuses_a_name_under_two_submodules():
+    # threadmate._lazy is the public faces' internal loader; it has no public form.
+    from threadmate._lazy import lazy_exports
+
+    with pytest.raises(ValueError, match="'name' is listed under .a and .b"):
+        lazy_exports("pkg", {}, {".a": ("name",), ".b": ("other", "name")})
+
+
 def test_the_options_defaults_are_the_apis_own():
     """The options take their defaults and choices from the API's names (light modules,
     so that the help imports no stage), restating none."""
     from threadmate import contact, geometry, library, network, pipeline
-    from threadmate._validate import MAX_TILT
-    from threadmate.cli import _options
-    from threadmate.cli._main import _register, cli
+
+    # The options module and the commands' registration: CLI internals with no public form.
+    from threadmate.cli import _options, cli
+    from threadmate.cli._main import _register
+    from threadmate.contact import MAX_TILT
 
     _register()
 
@@ -220,6 +237,10 @@ def test_the_options_defaults_are_the_apis_own():
     assert param("sweep", "phase_tolerance").default is contact.PHASE_TOLERANCE
     assert tuple(param("sweep", "model").type.choices) == library.MODELS
     assert param("run", "spec_text").default is pipeline.DEFAULT_DESIGNATION
+    # The sweep's default grid as the help quotes it: the thesis's (chapter 4).
+    for axis, text in (("roll", "-4:4:1"), ("pitch", "-4:4:1"), ("phase", "0:355:5")):
+        assert library.DEFAULT_RANGES[axis] == text
+        assert param("sweep", axis).help.endswith(f"(default {text}).")
     owners = {
         "CONTINUATION_STEP": contact,
         "SCREW_IN": contact,

@@ -190,7 +190,7 @@ def test_path_json_is_the_walk_over_the_rows(real_lib, capsys, start):
     assert {"units", "start", "path", "labels", "cost", "snap"} <= set(doc)
     assert set(doc["snap"]) >= {"phase", "turn", "drop", "click"}
     assert doc["units"]["cost"] == "mJ" and doc["units"]["length"] == "in"
-    assert doc["start"]["node"] == node and doc["start"]["moved"] is False
+    assert doc["start"]["node"] == node and doc["start"]["moved_to_grid"] is False
     assert doc["path"] == w["path"]
     assert doc["labels"] == list(by_id.loc[w["path"][:-1], "transition_label"])
     assert doc["cost"] == pytest.approx(
@@ -242,7 +242,7 @@ def test_path_off_the_grid_needs_nearest(synth_lib, capsys):
         "roll": 0.3,
         "pitch": -1.0,
         "phase": 85.0,
-        "moved": True,
+        "moved_to_grid": True,
     }
     assert doc["snap"]["turn"] == pytest.approx(200.01)
 
@@ -259,7 +259,7 @@ def test_no_path_exits_3(synth_lib, capsys):
     doc = json.loads(out)
     assert doc["snap"] is None and doc["path"] is None and doc["cost"] is None
     assert doc["units"]["cost"] == "mJ" and doc["units"]["length"] == "in"
-    assert doc["start"]["roll"] == 0 and doc["start"]["moved"] is False
+    assert doc["start"]["roll"] == 0 and doc["start"]["moved_to_grid"] is False
     assert doc["start"]["node"] in message and doc["reason"] in message
     assert doc["within_one_turn"] is False and doc["active"] is False
     rc, out, err = run_cli(

@@ -178,3 +178,18 @@ def test_empty_designation_and_directory(tmp_path, capsys):
     assert rc == 2 and out == "" and "empty thread designation" in err
     rc, out, err = run_cli(capsys, "planar", str(tmp_path))
     assert rc == 2 and out == "" and "is a directory, not a spec file" in err
+
+
+def test_figure_under_a_file_exits_2_and_a_missing_folder_is_made(spec_file, tmp_path, capsys):
+    """A figure's folder that is a file is refused by name; a missing one is created."""
+    blocker = tmp_path / "blocker"
+    blocker.write_text("a file")
+    target = blocker / "d.png"
+    rc, out, err = run_cli(capsys, "planar", str(spec_file), "--plot", str(target))
+    assert rc == 2 and out == ""
+    assert f"cannot create {target}: {blocker} is not a directory" in err
+    assert blocker.read_text() == "a file"
+    made = tmp_path / "new" / "deeper" / "d.png"
+    rc, out, err = run_cli(capsys, "planar", str(spec_file), "--plot", str(made))
+    assert rc == 0, err
+    assert made.is_file() and made.stat().st_size > 0

@@ -274,6 +274,7 @@ def test_report_torque_is_in_newton_metres(job, monkeypatch, tmp_path):
     """The click signature's torque axis is in N m, as the report and the library: the
     values drawn are the states' driver torques as stored."""
     # The figure is caught where its module saves it (an internal with no public form).
+    # The module whose figure saving is patched: an internal, the place the figure is saved.
     import threadmate.network._figures as figures
     from threadmate.network import from_library, least_resistance_path, plot_click_signature
 

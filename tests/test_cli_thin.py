@@ -18,11 +18,12 @@ from _libraries import DESIGNATION, synthetic_library
 from threadmate import InputError, MeshError
 
 # The limits: internals with no public form (threadmate._validate owns them).
-from threadmate._validate import MAX_FACES, MAX_K, MAX_PHASE, MAX_TILT, check_roll_spread
-from threadmate.contact import MAX_SCREW_IN, MAX_STEP, ContactAnalyzer
+# The shared limits without a public form (threadmate._validate owns them): internals.
+from threadmate._validate import MAX_FACES, MAX_PHASE, check_roll_spread
+from threadmate.contact import MAX_SCREW_IN, MAX_STEP, MAX_TILT, ContactAnalyzer
 from threadmate.geometry import load_mesh, spec_from_designation, write_stl
 from threadmate.library import Grid, parse_range, sweep
-from threadmate.network import from_library, recommend
+from threadmate.network import MAX_K, from_library, recommend
 from threadmate.pipeline import RUN_GRID, run_pipeline
 from threadmate.planar import planar_state
 
@@ -235,7 +236,10 @@ def test_the_mesh_face_limit_is_the_apis(quarter_20, box_stl, tmp_path, capsys):
 def test_every_mapped_flag_is_an_option_of_a_command():
     """The one map from the API's names to the flags names real options only (an internal
     of the command line, checked against its commands)."""
-    from threadmate.cli._main import _register, cli
+    from threadmate.cli import cli
+
+    # The commands' registration and the flag map: CLI internals with no public form.
+    from threadmate.cli._main import _register
     from threadmate.cli._options import FLAGS
 
     _register()

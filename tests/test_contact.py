@@ -21,9 +21,8 @@ import numpy as np
 import pyarrow as pa
 import pytest
 
-from _exact_geometry import exact_first_height
-from _exact_geometry import rot as _rot
-from threadmate._errors import InputError
+from _exact_geometry import exact_first_height, rot as _rot
+from threadmate import InputError
 from threadmate.contact import (
     CLASSIFICATIONS,
     ContactAnalyzer,
@@ -497,7 +496,8 @@ def test_in_phase_result_record_fills_missing_values(analyzer):
 def test_json_document_layout(results):
     import json
 
-    from threadmate.cli._common import to_jsonable
+    # The JSON rule: an internal with no public form.
+    from threadmate._json import to_jsonable
 
     doc = json.loads(json.dumps(to_jsonable(results[(4, 4, 235)].to_dict())))
     assert {

@@ -15,7 +15,7 @@ from scipy.optimize import minimize
 from threadmate._figures import EventLabel, label_events, new_figure, spread
 from threadmate.geometry import spec_from_designation
 from threadmate.planar import phase_sweep
-from threadmate.planar._plots import pivot_axes_figure
+from threadmate.planar._plots import pivot_axes_figure  # an internal with no public form
 
 
 def overlapping(texts, fig):
@@ -203,6 +203,7 @@ def _search_run():
 
 
 def test_search_figure_labels_do_not_overlap(monkeypatch, tmp_path):
+    # The module whose figure saving is patched: an internal, the place the figure is saved.
     import threadmate.contact.mechanics._figures
     from threadmate.contact import plot_search
 
@@ -229,6 +230,7 @@ def test_search_figure_labels_do_not_overlap(monkeypatch, tmp_path):
 
 
 def test_search_text_wraps_the_phase_and_says_the_turn():
+    # The search's text as the command prints it: a CLI internal with no public form.
     from threadmate.cli._mechanics import _search_text
 
     text = _search_text(spec_from_designation("M10x1.5-6g/6H"), _search_run(), 5.0)

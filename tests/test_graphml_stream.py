@@ -27,7 +27,7 @@ import pandas as pd
 import pytest
 
 from _libraries import library_rows, mechanics_library, synthetic_library
-from threadmate._errors import InputError
+from threadmate import InputError
 from threadmate.network import (
     GEOMETRY_ATTRIBUTES,
     from_library,

@@ -179,7 +179,10 @@ def _all_commands(group, prefix=()):
 
 def test_every_command_takes_the_same_condition_spellings(capsys):
     # The command tree, registered in full (an internal of the command line).
-    from threadmate.cli._main import _register, cli
+    from threadmate.cli import cli
+
+    # The commands' registration: a CLI internal with no public form.
+    from threadmate.cli._main import _register
 
     _register()
 

@@ -979,3 +979,20 @@ def test_left_hand_thread_mirrors_the_right_hand_one(mech_left, q20_rests, cfg):
         np.testing.assert_allclose(d.normal, np.array(c.normal) * mirror, atol=1e-3)
         assert d.regions == c.regions
         assert d.force == pytest.approx(c.force, abs=1e-3 * DEFAULT.force)
+
+
+def test_both_models_stand_on_the_scene_given_and_refuse_one_of_another_spec(quarter_20):
+    """A scene handed to either model is the one it uses, and a scene of another thread
+    pair is refused by both."""
+    from threadmate import InputError
+    from threadmate.contact import ContactAnalyzer, contact_scene
+    from threadmate.geometry import spec_from_designation
+
+    scene = contact_scene(quarter_20, chord=1e-4)
+    assert Mechanics(quarter_20, DEFAULT, scene=scene).scene is scene
+    assert ContactAnalyzer(quarter_20, scene=scene).scene is scene
+    other = spec_from_designation("M6")
+    with pytest.raises(InputError, match="the scene's spec differs from the spec given"):
+        Mechanics(other, DEFAULT, scene=scene)
+    with pytest.raises(InputError, match="the scene's spec differs from the spec given"):
+        ContactAnalyzer(other, scene=scene)

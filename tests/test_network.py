@@ -217,7 +217,7 @@ def test_every_passive_path_keeps_its_tilt_snaps_and_costs_its_weights(case):
                 least_resistance_path(graph, r, p, ph)
             continue
         res = least_resistance_path(graph, r, p, ph)
-        assert res.start == sid and res.path == w["path"] and not res.moved
+        assert res.start == sid and res.path == w["path"] and not res.moved_to_grid
         held = {(graph.nodes[n]["held_roll"], graph.nodes[n]["held_pitch"]) for n in res.path}
         assert held == {(r, p)}
         assert by_id.loc[res.path[-1], "classification"] == "in-phase"
@@ -566,7 +566,7 @@ def test_start_node_on_and_off_the_grid(synth_graph):
         start_node(synth_graph, 0.2, -1, 80)
     assert start_node(synth_graph, 0.2, -1, 80, nearest=True) == ("r+0_p-1_ph090.000_s3", True)
     res = least_resistance_path(synth_graph, 0.2, -1, 80, nearest=True)
-    assert res.moved and res.requested == {"roll": 0.2, "pitch": -1.0, "phase": 80.0}
+    assert res.moved_to_grid and res.requested == {"roll": 0.2, "pitch": -1.0, "phase": 80.0}
     for bad in (math.nan, math.inf, True):
         with pytest.raises(InputError):
             start_node(synth_graph, bad, 0, 0)

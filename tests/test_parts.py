@@ -479,7 +479,10 @@ def test_spec_file_without_a_designation_needs_values(capsys, tmp_path):
 
 
 def test_every_command_that_expands_a_designation_takes_the_parts():
-    from threadmate.cli._main import _register, cli
+    from threadmate.cli import cli
+
+    # The commands' registration: a CLI internal with no public form.
+    from threadmate.cli._main import _register
 
     _register()
     names = {

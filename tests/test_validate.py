@@ -94,3 +94,20 @@ def test_to_jsonable_converts_numpy_and_friends():
     assert type(plain["b"][0]) is bool and type(plain["b"][1]) is int
     assert json.loads(json_text(doc)) == plain
     assert json_text({"x": 1}, indent=None) == '{"x": 1}\n'
+
+
+@pytest.mark.parametrize(
+    ("array", "text"),
+    [
+        (np.array([1.5, -2.0]), "[1.5, -2.0]"),
+        (np.array([[1, 2], [3, 4]], dtype=np.int32), "[[1, 2], [3, 4]]"),
+        (np.array([True, False]), "[true, false]"),
+        (np.array(["+F", "root"]), '["+F", "root"]'),
+        (np.array([1.0, np.nan, -np.inf]), "[1.0, null, null]"),
+        (np.array([np.float64(0.25), "a"], dtype=object), '[0.25, "a"]'),
+    ],
+)
+def test_json_text_of_an_array(array, text):
+    """An array's JSON text, written out by hand: numbers, booleans and strings as JSON
+    has them, a NaN or an infinity as null, whatever the dtype."""
+    assert json_text(array, None, end="") == text

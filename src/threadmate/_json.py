@@ -51,6 +51,11 @@ def json_text(obj: Any, indent: int | None = 2, *, sort_keys: bool = False, end:
     """``obj`` as one strict JSON document (via :func:`to_jsonable`), ending in ``end`` (a
     newline; ``""`` for JSON kept inside another format: a GraphML attribute, a Parquet
     schema's metadata)."""
+    if isinstance(obj, np.ndarray) and obj.dtype.kind in "biufU":
+        try:  # plain finite numbers or strings: to_jsonable would give the same list
+            return json.dumps(obj.tolist(), indent=indent, allow_nan=False) + end
+        except ValueError:  # a NaN or an infinity: null, by to_jsonable
+            pass
     return json.dumps(to_jsonable(obj), indent=indent, sort_keys=sort_keys, allow_nan=False) + end
 
 

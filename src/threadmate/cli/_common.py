@@ -13,8 +13,9 @@ from typing import Any
 
 import click
 
+from .._angles import FULL_TURN, wrap_phase
 from .._errors import InputError
-from .._json import json_text, to_jsonable
+from .._json import json_text
 from ..geometry import SpecParts, ThreadSpec, with_parts
 
 __all__ = [
@@ -22,7 +23,6 @@ __all__ = [
     "resolve_spec",
     "is_spec_path",
     "emit_json",
-    "to_jsonable",
     "SPEC_HELP",
     "writable_output",
     "writable_directory",
@@ -89,13 +89,13 @@ def shown_phase(phase: float) -> float:
     """A phase as every command prints it: wrapped into [0, 360) degrees. (A search's
     phases run on past 360 as it turns; how far it turned is said as the turn,
     :func:`turn_words`.)"""
-    wrapped = phase % 360.0
-    return 0.0 if wrapped >= 360.0 - 1e-9 else wrapped + 0.0  # no 360.0000, no -0
+    wrapped = wrap_phase(phase)
+    return 0.0 if wrapped >= FULL_TURN - 1e-9 else wrapped + 0.0  # no 360.0000, no -0
 
 
 def turn_words(turn: float, fmt: str = ".4f") -> str:
     """A turn in degrees and in turns: ``372.5400 deg (1.03 turns)``."""
-    return f"{turn:{fmt}} deg ({abs(turn) / 360.0:.2f} turns)"
+    return f"{turn:{fmt}} deg ({abs(turn) / FULL_TURN:.2f} turns)"
 
 
 # -- output paths ------------------------------------------------------------------------
@@ -185,13 +185,9 @@ def writable_directory(path: str | os.PathLike[str], option: str = "-o") -> Path
     """
     path = Path(path)
     with _named(option, path):
-        if path.exists():
-            if not path.is_dir():
-                raise InputError(f"{path} exists and is not a directory")
-            _probe(path, "file")
-        else:
-            _probe(_existing_ancestor(path), "dir")
-            _note_new(path)
+        if path.exists() and not path.is_dir():
+            raise InputError(f"{path} exists and is not a directory")
+        _check_folder(path)
     return path
 
 
@@ -209,14 +205,21 @@ def writable_output(path: str | os.PathLike[str], option: str = "-o") -> Path:
         if path.exists() and not path.is_file():
             raise InputError(f"{path} exists and is not a regular file")
         parent = path.parent
-        if parent.exists():
-            if not parent.is_dir():
-                raise InputError(f"cannot create {path}: {parent} is not a directory")
-            _probe(parent, "file")
-        else:
-            _probe(_existing_ancestor(parent), "dir")
-            _note_new(parent)
+        if parent.exists() and not parent.is_dir():
+            raise InputError(f"cannot create {path}: {parent} is not a directory")
+        _check_folder(parent)
     return path
+
+
+def _check_folder(folder: Path) -> None:
+    """A folder to write into: an existing one must accept a new file; a missing one (noted,
+    to be removed again if the command fails) needs its nearest existing ancestor to
+    accept a new folder."""
+    if folder.exists():
+        _probe(folder, "file")
+    else:
+        _probe(_existing_ancestor(folder), "dir")
+        _note_new(folder)
 
 
 @contextlib.contextmanager

@@ -6,11 +6,11 @@ The thesis's fixed-pivot procedure, classified by its criteria of section 4.2 (s
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import click
 
+from .._text import number_text
 from .._validate import MAX_LENGTH, MAX_TILT, check_configuration
 from ..geometry import SpecParts, check_chord
 from ._common import SPEC_HELP, emit_json, resolve_spec
@@ -32,7 +32,7 @@ __all__ = ["contact"]
 
 
 def _fmt(v: float, width: int = 11) -> str:
-    return f"{v:{width}.6f}" if math.isfinite(v) else f"{'-':>{width}}"
+    return f"{number_text(v):>{width}}"
 
 
 def _text(result: ContactResult) -> str:

@@ -14,15 +14,17 @@ from typing import Any
 
 import click
 
+from .._angles import phase_difference
 from .._errors import InputError
 from .._validate import check_workers
 from ..contact import CONTINUATION_STEP, MAX_STEP, PHASE_TOLERANCE
 from ..geometry import SpecParts
-from ..library import MODELS
+from ..library import DEFAULT_RANGES, MODELS
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
+    RANGE_HELP,
     MeshFiles,
     chord_option,
     compliance_from_options,
@@ -33,11 +35,7 @@ from ._options import (
     mesh_files_option,
     parts_option,
 )
-
-# Also the names other commands import from here: _progress_bar (cli._mechanics, cli._run)
-# and progress_words (cli._network).
-from ._progress import progress_bar as _progress_bar
-from ._progress import progress_words as progress_words
+from ._progress import progress_bar
 from ._render_library import (
     echo_info,
     echo_query,
@@ -51,10 +49,6 @@ from ._render_library import (
 # The library stage (pandas, pyarrow, the mechanics) is imported where it is used, so that
 # --help and a refused option answer at once.
 __all__ = ["sweep_command", "library_group"]
-
-_RANGE_HELP = (
-    "START:STOP:STEP (STOP included when on the grid), a value, or a comma list, in degrees"
-)
 
 
 #: The mechanics-only options (the command's parameter names).
@@ -132,21 +126,21 @@ N/m, lengths in the spec's units, angles in degrees.
     "roll",
     default=None,
     metavar="RANGE",
-    help=f"Held roll values: {_RANGE_HELP} (default -4:4:1).",
+    help=f"Held roll values: {RANGE_HELP} (default {DEFAULT_RANGES['roll']}).",
 )
 @click.option(
     "--pitch",
     "pitch",
     default=None,
     metavar="RANGE",
-    help=f"Held pitch values: {_RANGE_HELP} (default -4:4:1).",
+    help=f"Held pitch values: {RANGE_HELP} (default {DEFAULT_RANGES['pitch']}).",
 )
 @click.option(
     "--phase",
     "phase",
     default=None,
     metavar="RANGE",
-    help=f"Phase values, modulo 360: {_RANGE_HELP} (default 0:355:5).",
+    help=f"Phase values, modulo 360: {RANGE_HELP} (default {DEFAULT_RANGES['phase']}).",
 )
 @click.option(
     "-o",
@@ -261,7 +255,7 @@ def sweep_command(
     resumed: dict[str, int] = {}
     start = time.perf_counter()
     try:
-        with _progress_bar("sweep") as bar:
+        with progress_bar("sweep") as bar:
 
             def callback(done: int, total: int) -> None:
                 if not resumed:
@@ -355,7 +349,7 @@ def info_command(library: Path, as_json: bool) -> None:
 def _check_grid_phase(phase: float, taken: float, library: Path) -> None:
     """Refuse a ``--phase`` that is not one of the library's grid phases (modulo 360),
     naming them: the stability map and the counts exist at grid phases only."""
-    if abs((taken - phase + 180.0) % 360.0 - 180.0) <= 1e-6:
+    if abs(phase_difference(taken, phase)) <= 1e-6:
         return
     from ..library import info
 

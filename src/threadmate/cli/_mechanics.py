@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from .._errors import InputError, NoPathError
+from .._text import number_text
 from .._validate import FIGURE_FORMATS, MAX_TILT, check_configuration
 from ..contact import (
     CONTINUATION_STEP,
@@ -40,7 +41,6 @@ from ._common import (
     turn_words,
     writable_output,
 )
-from ._library import _progress_bar
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
@@ -54,6 +54,7 @@ from ._options import (
     mesh_summary,
     parts_option,
 )
+from ._progress import progress_bar
 
 # The mechanics (scipy, trimesh, fcl) and the figures (matplotlib) are imported where they
 # are used, so that --help and a refused option answer at once.
@@ -116,9 +117,11 @@ def _setup(
     compliance_z: float,
     chord: float | None,
     condition: str,
-    parts: SpecParts | None = None,
-) -> tuple[ThreadSpec, Compliance]:
-    """Check the options (cheapest first) and build the spec and the compliance.
+    parts: SpecParts,
+    meshes: MeshFiles,
+) -> tuple[ThreadSpec, Mechanics]:
+    """Check the options (cheapest first), then build the spec, the compliance and the
+    mechanics on them.
 
     Every check runs before the meshes are built and before anything is written.
     """
@@ -130,7 +133,7 @@ def _setup(
     spec = resolve_spec(spec_text, condition, parts)
     check_chord(spec, chord)  # the meshes' own range, before any mesh is built
     compliance.check_for(spec.pitch)
-    return spec, compliance
+    return spec, _mechanics(spec, compliance, chord, meshes)
 
 
 def _mechanics(
@@ -148,10 +151,6 @@ def _mechanics(
 # -- text ------------------------------------------------------------------------------------
 def _name(spec: ThreadSpec) -> str:
     return spec.designation or f"spec (pitch {spec.pitch:g} {spec.units})"
-
-
-def _num(v: float | None, fmt: str = ".6f") -> str:
-    return "-" if v is None or not math.isfinite(v) else format(v, fmt)
 
 
 def _parameters(p: dict[str, Any], units: str) -> list[str]:
@@ -183,11 +182,11 @@ def _settle_text(spec: ThreadSpec, rest: RestState) -> str:
         for c in touching:
             p = " ".join(f"{v:10.6f}" for v in c.point)
             n = " ".join(f"{v:8.5f}" for v in c.normal)
-            lines.append(f"  {p}  {n} {_num(c.force, '9.4f'):>9}  {c.regions}")
+            lines.append(f"  {p}  {n} {number_text(c.force, '9.4f'):>9}  {c.regions}")
     lines.append(
-        f"Potential: {_num(s.potential, '.6g')} mJ   driver torque: "
-        f"{_num(s.driver_torque, '.6g')} N m (friction part "
-        f"{_num(s.friction_torque, '.6g')} N m)"
+        f"Potential: {number_text(s.potential, '.6g')} mJ   driver torque: "
+        f"{number_text(s.driver_torque, '.6g')} N m (friction part "
+        f"{number_text(s.friction_torque, '.6g')} N m)"
     )
     b = rest.balance
     if "force" in b and "moment" in b:
@@ -220,8 +219,9 @@ def _unsettled(rest: RestState) -> str | None:
     force = float(rest.parameters.get("force", math.nan))
     res = b.get("force", math.nan)
     return (
-        f"the descent did not converge: force residual {_num(res * force, '.3g')} N "
-        f"({_num(res, '.2g')} of the load), moment residual {_num(b.get('moment'), '.2g')} of "
+        f"the descent did not converge: force residual {number_text(res * force, '.3g')} N "
+        f"({number_text(res, '.2g')} of the load), moment residual "
+        f"{number_text(b.get('moment'), '.2g')} of "
         f"the load times the major radius, after {rest.iterations} steps"
     )
 
@@ -395,7 +395,7 @@ def settle_command(
     meshes: MeshFiles,
 ) -> None:
     """One rest state (see the command's help)."""
-    spec, compliance = _setup(
+    spec, mech = _setup(
         spec_text,
         roll,
         pitch,
@@ -408,8 +408,8 @@ def settle_command(
         chord,
         condition,
         parts,
+        meshes,
     )
-    mech = _mechanics(spec, compliance, chord, meshes)
     from ..contact import settle
 
     rest = settle(mech, roll, pitch, phase)
@@ -503,7 +503,7 @@ def search_command(
     check_continuation(turns=turns, step=step, phase_tolerance=_phase_tolerance(step))
     check_screw(screw_in=screw_in, torque_limit=torque_limit)
     figure = _figure_path(plot)
-    spec, compliance = _setup(
+    spec, mech = _setup(
         spec_text,
         roll,
         pitch,
@@ -516,11 +516,11 @@ def search_command(
         chord,
         condition,
         parts,
+        meshes,
     )
-    mech = _mechanics(spec, compliance, chord, meshes)
     from ..contact import search
 
-    with _progress_bar("search (deg)") as callback:
+    with progress_bar("search (deg)") as callback:
         run = search(
             mech,
             roll,
@@ -565,11 +565,11 @@ def _screw_text(spec: ThreadSpec, run: ScrewResult, step: float) -> str:
             f"{turn_words(abs(run.decided_phase - run.start_phase))}"
         ),
         f"  {run.reason}",
-        f"Descent over the last 90 deg turned: {_num(run.descent, '.6g')} {u} per turn "
+        f"Descent over the last 90 deg turned: {number_text(run.descent, '.6g')} {u} per turn "
         f"(lead {run.lead:g} {u})",
         f"Work: total {run.work:.6g} mJ (friction {run.work_friction:.6g} mJ, potential "
         f"{run.work_potential:.6g} mJ)",
-        f"Peak tightening torque: {_num(run.torque_peak, '.6g')} N m "
+        f"Peak tightening torque: {number_text(run.torque_peak, '.6g')} N m "
         f"(limit {run.torque_limit:.6g} N m)",
         f"Events ({len(run.events)}):",
     ]
@@ -646,7 +646,7 @@ def screw_command(
     check_continuation(turns=turns, step=step, phase_tolerance=_phase_tolerance(step))
     check_screw(torque_limit=torque_limit)
     figure = _figure_path(plot)
-    spec, compliance = _setup(
+    spec, mech = _setup(
         spec_text,
         roll,
         pitch,
@@ -659,11 +659,11 @@ def screw_command(
         chord,
         condition,
         parts,
+        meshes,
     )
-    mech = _mechanics(spec, compliance, chord, meshes)
     from ..contact import screw
 
-    with _progress_bar("screw (deg)") as callback:
+    with progress_bar("screw (deg)") as callback:
         run = screw(
             mech,
             roll,

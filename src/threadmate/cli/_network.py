@@ -10,7 +10,7 @@ from typing import Any
 import click
 
 from .._errors import InputError, NoPathError
-from .._validate import FIGURE_FORMATS, MAX_K, MAX_TILT, check_configuration, check_roll_spread
+from .._validate import FIGURE_FORMATS, MAX_K, check_configuration, check_roll_spread
 from ..contact import UNSTABLE
 from ._common import (
     echo_err,
@@ -20,8 +20,9 @@ from ._common import (
     writable_output,
     write_failed,
 )
-from ._library import progress_words
 from ._main import cli
+from ._options import roll_spread_option
+from ._progress import progress_words
 
 # The graph stage (networkx, pandas, matplotlib) is imported where it is used, so that
 # --help and a refused option answer at once.
@@ -276,7 +277,7 @@ def path_command(
     if as_json:
         emit_json(best.to_dict())
         return
-    if best.moved:
+    if best.moved_to_grid:
         echo_err(
             f"threadmate: note: roll {roll:g}, pitch {pitch:g}, phase {phase:g} is off "
             f"the grid; starting from the nearest start, {best.start}"
@@ -301,13 +302,7 @@ def path_command(
 
 @cli.command("recommend")
 @click.argument("libraries", nargs=-1, required=True, type=click.Path())
-@click.option(
-    "--roll-spread",
-    type=float,
-    default=None,
-    help=f"Largest roll error expected, degrees from 0 to {MAX_TILT:g}: starts have |held "
-    "roll| <= spread (default: every roll of the grid).",
-)
+@roll_spread_option
 @click.option(
     "--plot",
     "plot",

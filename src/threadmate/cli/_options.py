@@ -20,7 +20,7 @@ import click
 
 from .._errors import InputError
 from .._units import unit_scale
-from .._validate import MAX_FACES, MAX_STARTS, MAX_STARTS_CEILING, WARN_FACES
+from .._validate import MAX_FACES, MAX_STARTS, MAX_STARTS_CEILING, MAX_TILT, WARN_FACES
 from ..contact import Compliance
 from ..geometry import DEFAULT_CHORD, POINT_FORMS, SpecParts, material_condition
 
@@ -37,6 +37,8 @@ __all__ = [
     "max_starts_option",
     "parse_stiffness",
     "parts_option",
+    "roll_spread_option",
+    "RANGE_HELP",
     "MeshFiles",
     "mesh_files_option",
     "echo_mesh_notes",
@@ -127,6 +129,11 @@ def flag_words(message: str) -> str:
 
 
 # -- the compliance --------------------------------------------------------------------------
+#: How a grid option is written (sweep's and run's --roll, --pitch and --phase).
+RANGE_HELP = (
+    "START:STOP:STEP (STOP included when on the grid), a value, or a comma list, in degrees"
+)
+
 #: The defaults of the options are those of :class:`Compliance`.
 _D = Compliance()
 
@@ -278,6 +285,19 @@ def max_starts_option(func: Callable[..., Any]) -> Callable[..., Any]:
         help=f"Most configurations the grid may hold (default {MAX_STARTS:,}; at most "
         f"{MAX_STARTS_CEILING:,}): a larger grid is refused at once, with its count and the "
         "time it would take.",
+    )(func)
+
+
+def roll_spread_option(func: Callable[..., Any]) -> Callable[..., Any]:
+    """``--roll-spread DEG``: the largest roll error the recommendation must hold for, the
+    same option and range for ``recommend`` and ``run`` (the API checks it,
+    :func:`threadmate._validate.check_roll_spread`)."""
+    return click.option(
+        "--roll-spread",
+        type=float,
+        default=None,
+        help=f"Largest roll error expected, degrees from 0 to {MAX_TILT:g}: starts have |held "
+        "roll| <= spread (default: every roll of the grid).",
     )(func)
 
 

@@ -4,12 +4,12 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any
 
 import click
 
+from .._text import number_text
 from ..contact import Compliance
 from ._progress import progress_words
 
@@ -59,10 +59,6 @@ def with_units(doc: dict[str, Any]) -> dict[str, Any]:
 
 def _compliance_line(c: dict[str, Any], units: str) -> str:
     return Compliance.from_dict(c).describe(units)
-
-
-def _fmt(v: Any) -> str:
-    return f"{v:.6f}" if isinstance(v, float) and math.isfinite(v) else "-"
 
 
 def sweep_report(
@@ -182,13 +178,13 @@ def _echo_state(rec: dict[str, Any], u: str) -> None:
         return
     click.echo(
         f"Bolt tilt: roll {rec['roll']:.4f}  pitch {rec['pitch']:.4f} deg;  "
-        f"compliance centre height {_fmt(rec['centre_z'])} {u}"
+        f"compliance centre height {number_text(rec['centre_z'])} {u}"
     )
     points, normals = rec["contact_points"] or [], rec["contact_normals"] or []
     for i, (regions, force) in enumerate(
         zip(rec["contact_regions"] or [], rec["contact_forces"] or [], strict=False)
     ):
-        p = " ".join(_fmt(v) for v in points[3 * i : 3 * i + 3])
+        p = " ".join(number_text(v) for v in points[3 * i : 3 * i + 3])
         n = " ".join(f"{v:8.5f}" for v in normals[3 * i : 3 * i + 3])
         click.echo(f"  contact {i + 1}: {p}  normal {n}  force {force:.4f} N  {regions}")
     click.echo(
@@ -200,7 +196,7 @@ def _echo_state(rec: dict[str, Any], u: str) -> None:
         click.echo(
             f"Next: {rec['transition']} ({rec['transition_label']}) to "
             f"{rec['next_id']} after {rec['transition_turn']:.4f} deg, work "
-            f"{work:.6g} mJ, drop {_fmt(rec['drop'])} {u}"
+            f"{work:.6g} mJ, drop {number_text(rec['drop'])} {u}"
         )
     else:
         click.echo("Next: none (the search ends here)")
@@ -218,18 +214,19 @@ def _echo_thesis(rec: dict[str, Any], u: str) -> None:
         if not rec[f"{s}_found"]:
             click.echo(f"{s}: none found")
             continue
-        origin = " ".join(_fmt(rec[f"{s}_origin_{a}"]) for a in "xyz")
+        origin = " ".join(number_text(rec[f"{s}_origin_{a}"]) for a in "xyz")
         click.echo(f"{s}: turn {rec[f'{s}_angle']:.4f} deg, bolt origin {origin} {u}")
         for i in (1, 2, 3):
             if rec[f"{s}_c{i}_pairs"]:
-                p = " ".join(_fmt(rec[f"{s}_c{i}_{a}"]) for a in "xyz")
+                p = " ".join(number_text(rec[f"{s}_c{i}_{a}"]) for a in "xyz")
                 click.echo(
                     f"  contact {i}: {p}  pairs {rec[f'{s}_c{i}_pairs']}  "
                     f"{rec[f'{s}_c{i}_bolt_region']}/{rec[f'{s}_c{i}_nut_region']}"
                 )
     click.echo(
-        f"interference {_fmt(rec['interference'])} {u}, origin drop "
-        f"{_fmt(rec['origin_drop'])} {u}, pivot offset {_fmt(rec['pivot_offset'])} {u}"
+        f"interference {number_text(rec['interference'])} {u}, origin drop "
+        f"{number_text(rec['origin_drop'])} {u}, pivot offset "
+        f"{number_text(rec['pivot_offset'])} {u}"
     )
 
 

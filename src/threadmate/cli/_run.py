@@ -9,15 +9,15 @@ from pathlib import Path
 import click
 
 from .._errors import InputError
-from .._validate import MAX_TILT, check_roll_spread, check_workers
+from .._validate import check_roll_spread, check_workers
 from ..contact import CONTINUATION_STEP, UNSTABLE
 from ..geometry import SpecParts
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID
 from ._common import SPEC_HELP, echo_err, emit_json, resolve_spec, writable_directory
-from ._library import _RANGE_HELP, _progress_bar
 from ._main import cli
 from ._options import (
     DEFAULTS_NOTE,
+    RANGE_HELP,
     MeshFiles,
     chord_option,
     compliance_from_options,
@@ -27,7 +27,9 @@ from ._options import (
     max_starts_option,
     mesh_files_option,
     parts_option,
+    roll_spread_option,
 )
+from ._progress import progress_bar
 
 
 def _values(text: str | None, option: str) -> list[float]:
@@ -66,13 +68,13 @@ on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["pha
     help="Output folder.",
 )
 @click.option(
-    "--roll", default=None, help=f"Held roll grid: {_RANGE_HELP} (default {RUN_GRID['roll']})."
+    "--roll", default=None, help=f"Held roll grid: {RANGE_HELP} (default {RUN_GRID['roll']})."
 )
 @click.option(
-    "--pitch", default=None, help=f"Held pitch grid: {_RANGE_HELP} (default {RUN_GRID['pitch']})."
+    "--pitch", default=None, help=f"Held pitch grid: {RANGE_HELP} (default {RUN_GRID['pitch']})."
 )
 @click.option(
-    "--phase", default=None, help=f"Start phase grid: {_RANGE_HELP} (default {RUN_GRID['phase']})."
+    "--phase", default=None, help=f"Start phase grid: {RANGE_HELP} (default {RUN_GRID['phase']})."
 )
 @compliance_options
 @click.option(
@@ -104,13 +106,7 @@ on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["pha
 @click.option("--workers", type=int, default=None, help="Worker processes (default: all cores).")
 @click.option("--scheduler", default=None, help="Dask scheduler address, or 'local'.")
 @chord_option
-@click.option(
-    "--roll-spread",
-    type=float,
-    default=None,
-    help=f"Largest roll error expected, degrees from 0 to {MAX_TILT:g}: starts have |held "
-    "roll| <= spread (default: every roll of the grid).",
-)
+@roll_spread_option
 @max_starts_option
 @condition_option
 @parts_option
@@ -173,7 +169,7 @@ def run_command(
         raise InputError(f"-o {exc}") from None
 
     try:
-        with _progress_bar("sweep") as callback:
+        with progress_bar("sweep") as callback:
             result = run_pipeline(
                 spec,
                 out,

@@ -6,8 +6,7 @@ from typing import Any
 
 import click
 
-from ..geometry import SpecParts, ThreadSpec
-from ..geometry import thread_limits as _thread_limits
+from ..geometry import SpecParts, ThreadSpec, thread_limits as _thread_limits
 from ._common import SPEC_HELP, emit_json, is_spec_path, parts_document, resolve_spec
 from ._main import cli
 from ._options import condition_option, parts_option

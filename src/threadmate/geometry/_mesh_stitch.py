@@ -18,7 +18,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from .._angles import TWO_PI
+from .._angles import TWO_PI, wrap_phase
 from ._body import ThreadBody
 from ._mesh_plan import NUT_GRID_TURN, SAGITTA_SHARE, meridians, prime
 from ._mesh_trim import KINK_TOL, Trim, meridian_kinks, trimmed_chain
@@ -226,7 +226,7 @@ def _annulus(
 ) -> NDArray[np.int64]:
     """Triangles of a flat ring between two closed chains, wound to face +z."""
     start = inner_angle[0]
-    o_ang = start + np.mod(outer_angle - start, TWO_PI)
+    o_ang = start + wrap_phase(outer_angle - start, TWO_PI)
     order = np.argsort(o_ang)
     o_idx, o_ang = outer[order], o_ang[order]
     # Close both chains by repeating their first vertex one revolution on.

@@ -30,63 +30,49 @@ from typing import TYPE_CHECKING
 
 from .._lazy import lazy_exports
 
-if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
-    from ._grid import DEFAULT_GRID, MAX_TILT, Grid, parse_range
-    from ._models import MODELS
+if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
+    from ._grid import (
+        DEFAULT_GRID as DEFAULT_GRID,
+        DEFAULT_RANGES as DEFAULT_RANGES,
+        MAX_TILT as MAX_TILT,
+        Grid as Grid,
+        parse_range as parse_range,
+    )
+    from ._models import MODELS as MODELS
     from ._store import (
-        METADATA_FILE,
-        compare_metadata,
-        configurations,
-        info,
-        library_schema,
-        load,
-        lock_holder,
-        progress,
-        query,
+        METADATA_FILE as METADATA_FILE,
+        compare_metadata as compare_metadata,
+        configurations as configurations,
+        info as info,
+        library_schema as library_schema,
+        load as load,
+        lock_holder as lock_holder,
+        progress as progress,
+        query as query,
     )
     from ._summary import (
-        CLASS_ORDER,
-        plot_phase_strips,
-        plot_region_combinations,
-        plot_stability_map,
-        summary,
-        write_figures,
+        CLASS_ORDER as CLASS_ORDER,
+        plot_phase_strips as plot_phase_strips,
+        plot_region_combinations as plot_region_combinations,
+        plot_stability_map as plot_stability_map,
+        summary as summary,
+        write_figures as write_figures,
     )
-    from ._sweep import ProgressCallback, SweepInterrupted, sweep, write_library
+    from ._sweep import (
+        ProgressCallback as ProgressCallback,
+        SweepInterrupted as SweepInterrupted,
+        sweep as sweep,
+        write_library as write_library,
+    )
 
-__all__ = [
-    "CLASS_ORDER",
-    "DEFAULT_GRID",
-    "MAX_TILT",
-    "METADATA_FILE",
-    "MODELS",
-    "Grid",
-    "ProgressCallback",
-    "SweepInterrupted",
-    "compare_metadata",
-    "configurations",
-    "info",
-    "library_schema",
-    "load",
-    "lock_holder",
-    "parse_range",
-    "plot_phase_strips",
-    "plot_region_combinations",
-    "plot_stability_map",
-    "progress",
-    "query",
-    "summary",
-    "sweep",
-    "write_figures",
-    "write_library",
-]
 
 #: The submodule of each public name, imported when the name is first used (PEP 562):
 #: importing the package loads none of them, so that a command that does not need
 #: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
-#: imports them. tests/test_cli_contract.py checks it against the imports above.
+#: imports them; __all__ is made from it. tests/test_cli_contract.py checks it against
+#: the re-exports above.
 _SOURCES = {
-    "._grid": ("DEFAULT_GRID", "MAX_TILT", "Grid", "parse_range"),
+    "._grid": ("DEFAULT_GRID", "DEFAULT_RANGES", "MAX_TILT", "Grid", "parse_range"),
     # The models, light to import: the commands offer them before the stage loads.
     "._models": ("MODELS",),
     "._store": (
@@ -110,9 +96,6 @@ _SOURCES = {
     ),
     "._sweep": ("ProgressCallback", "SweepInterrupted", "sweep", "write_library"),
 }
-#: Public names that differ from their submodule's.
-_ALIASES: dict[str, str] = {}
-_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 
 
-__getattr__, __dir__ = lazy_exports(__name__, globals(), _WHERE, _ALIASES)
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals(), _SOURCES)

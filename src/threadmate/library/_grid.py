@@ -24,7 +24,7 @@ from .._errors import InputError
 from .._validate import MAX_AXIS_VALUES, check_number, check_phase
 from ..contact import MAX_TILT as _CONTACT_MAX_TILT
 
-__all__ = ["Grid", "parse_range", "DEFAULT_GRID", "MAX_TILT"]
+__all__ = ["Grid", "parse_range", "DEFAULT_GRID", "DEFAULT_RANGES", "MAX_TILT"]
 
 #: Largest roll or pitch a grid may hold (degrees): the contact package's limit.
 MAX_TILT = _CONTACT_MAX_TILT
@@ -238,11 +238,11 @@ class Grid:
     def locate(
         self, roll: float, pitch: float, phase: float, *, nearest: bool = False
     ) -> tuple[int, tuple[float, float, float], bool]:
-        """The grid configuration of a request: ``(config_id, grid values, moved)``.
+        """The grid configuration of a request: ``(config_id, grid values, moved_to_grid)``.
 
         A request on the grid (phase modulo 360) is itself. One off the grid is refused
         with the nearest configuration named, unless ``nearest`` is True: then the nearest
-        is taken and ``moved`` is True. The one rule of ``library query`` and ``path``.
+        is taken and ``moved_to_grid`` is True. The one rule of ``library query`` and ``path``.
         """
         cid, on_grid = self.nearest(roll, pitch, phase)
         moved = not (

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from .._angles import axis_angle, phase_difference, wrap_phase
+from .._angles import FULL_TURN, axis_angle, phase_difference, wrap_phase
 from ..contact import (
     ERROR_CLASS,
     IN_PHASE,
@@ -300,7 +300,7 @@ def _continue(
     n = len(grid)
     phase = grid[j]  # unwrapped: the continuation's phases keep growing
     turned = 0.0
-    while not engaged(tilt.states[sid]) and turned < 360.0 * MAX_FOLLOW_TURNS:
+    while not engaged(tilt.states[sid]) and turned < FULL_TURN * MAX_FOLLOW_TURNS:
         k = (j + 1) % n
         try:
             legs, events, states = walk.advance(

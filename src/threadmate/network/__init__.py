@@ -32,80 +32,53 @@ from typing import TYPE_CHECKING
 
 from .._lazy import lazy_exports
 
-if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
-    from .._validate import MAX_K
+if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
+    from .._validate import MAX_K as MAX_K
     from ._build import (
-        COST_UNITS,
-        EDGE_KINDS,
-        NODE_ATTRIBUTES,
-        WEIGHT_FORMULA,
-        build_network,
-        from_library,
-        start_node,
-        starts,
+        COST_UNITS as COST_UNITS,
+        EDGE_KINDS as EDGE_KINDS,
+        NODE_ATTRIBUTES as NODE_ATTRIBUTES,
+        WEIGHT_FORMULA as WEIGHT_FORMULA,
+        build_network as build_network,
+        from_library as from_library,
+        start_node as start_node,
+        starts as starts,
     )
-    from ._figures import plot_click_signature, plot_click_vs_tilt
+    from ._figures import (
+        plot_click_signature as plot_click_signature,
+        plot_click_vs_tilt as plot_click_vs_tilt,
+    )
     from ._paths import (
-        PathResult,
-        k_best_paths,
-        least_resistance_path,
-        no_path_document,
-        snap_targets,
-        start_outcomes,
+        PathResult as PathResult,
+        k_best_paths as k_best_paths,
+        least_resistance_path as least_resistance_path,
+        no_path_document as no_path_document,
+        snap_targets as snap_targets,
+        start_outcomes as start_outcomes,
     )
     from ._readwrite import (
-        GEOMETRY_ATTRIBUTES,
-        START_COLUMN_UNITS,
-        read_graphml,
-        start_outcomes_csv,
-        write_graphml,
-        write_node_link,
+        GEOMETRY_ATTRIBUTES as GEOMETRY_ATTRIBUTES,
+        START_COLUMN_UNITS as START_COLUMN_UNITS,
+        read_graphml as read_graphml,
+        start_outcomes_csv as start_outcomes_csv,
+        write_graphml as write_graphml,
+        write_node_link as write_node_link,
     )
     from ._recommend import (
-        METRICS,
-        Recommendation,
-        format_recommendation,
-        plot_recommendation,
-        recommend,
-        write_recommendation,
+        METRICS as METRICS,
+        Recommendation as Recommendation,
+        format_recommendation as format_recommendation,
+        plot_recommendation as plot_recommendation,
+        recommend as recommend,
+        write_recommendation as write_recommendation,
     )
 
-__all__ = [
-    "COST_UNITS",
-    "EDGE_KINDS",
-    "GEOMETRY_ATTRIBUTES",
-    "MAX_K",
-    "METRICS",
-    "NODE_ATTRIBUTES",
-    "START_COLUMN_UNITS",
-    "WEIGHT_FORMULA",
-    "PathResult",
-    "Recommendation",
-    "build_network",
-    "format_recommendation",
-    "from_library",
-    "k_best_paths",
-    "least_resistance_path",
-    "no_path_document",
-    "plot_click_signature",
-    "plot_click_vs_tilt",
-    "plot_recommendation",
-    "read_graphml",
-    "recommend",
-    "snap_targets",
-    "start_node",
-    "start_outcomes",
-    "start_outcomes_csv",
-    "starts",
-    "write_graphml",
-    "write_node_link",
-    "write_recommendation",
-]
 
 #: The submodule of each public name, imported when the name is first used (PEP 562):
 #: importing the package loads none of them, so that a command that does not need
 #: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
-#: imports them. tests/test_cli_contract.py checks it against the imports above.
+#: imports them; __all__ is made from it. tests/test_cli_contract.py checks it against
+#: the re-exports above.
 _SOURCES = {
     # The limit of k, a validation rule (threadmate._validate), light to import: the
     # command quotes it before the stage loads.
@@ -146,9 +119,6 @@ _SOURCES = {
         "write_recommendation",
     ),
 }
-#: Public names that differ from their submodule's.
-_ALIASES: dict[str, str] = {}
-_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 
 
-__getattr__, __dir__ = lazy_exports(__name__, globals(), _WHERE, _ALIASES)
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals(), _SOURCES)

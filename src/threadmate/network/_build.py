@@ -301,14 +301,14 @@ def starts(graph: nx.DiGraph) -> dict[tuple[float, float, float], str]:
 def start_node(
     graph: nx.DiGraph, roll: float, pitch: float, phase: float, *, nearest: bool = False
 ) -> tuple[str, bool]:
-    """The start state of a configuration: ``(node id, moved)``.
+    """The start state of a configuration: ``(node id, moved_to_grid)``.
 
     Without ``nearest`` a configuration that is not on the library's grid is refused with
-    the nearest grid configurations named; with it, the nearest is taken and ``moved`` is
+    the nearest grid configurations named; with it, the nearest is taken and ``moved_to_grid`` is
     True.
     """
     grid = Grid.from_dict(json.loads(graph.graph["grid"]))
-    _, on_grid, moved = grid.locate(roll, pitch, phase, nearest=nearest)
+    _, on_grid, moved_to_grid = grid.locate(roll, pitch, phase, nearest=nearest)
     node = starts(graph).get(on_grid)
     if node is None:
         raise InputError(
@@ -316,4 +316,4 @@ def start_node(
             f"{on_grid[1]:g}, phase {on_grid[2]:g}: its sweep is unfinished or "
             "that configuration failed"
         )
-    return node, moved
+    return node, moved_to_grid

@@ -19,6 +19,7 @@ from typing import Any
 import networkx as nx
 import pandas as pd
 
+from .._angles import FULL_TURN
 from .._errors import InputError, NoPathError
 from .._validate import MAX_K, check_whole
 from ..contact import ERROR_CLASS, IN_PHASE, UNSTABLE
@@ -33,8 +34,6 @@ __all__ = [
     "start_outcomes",
 ]
 
-#: A turn of this many degrees is "within one turn".
-ONE_TURN = 360.0
 _SINK = ("threadmate", "snap")  # a node no string id can equal
 
 
@@ -57,7 +56,7 @@ class PathResult:
         Node id of the start (the rest state the drop at the configuration reaches).
     requested : dict
         The configuration asked for (``roll``, ``pitch``, ``phase``, degrees).
-    moved : bool
+    moved_to_grid : bool
         True when the request was off the grid and the nearest start was taken.
     path : list of str
         Node ids, start to the in-phase state.
@@ -77,7 +76,7 @@ class PathResult:
 
     start: str
     requested: dict[str, float]
-    moved: bool
+    moved_to_grid: bool
     path: list[str]
     kinds: list[str]
     labels: list[str]
@@ -109,14 +108,14 @@ class PathResult:
         """The JSON document of ``threadmate path --json``."""
         return {
             "units": _units(self.units),
-            "start": _start(self.start, self.requested, self.moved),
+            "start": _start(self.start, self.requested, self.moved_to_grid),
             "path": list(self.path),
             "kinds": list(self.kinds),
             "labels": list(self.labels),
             "weights": list(self.weights),
             "cost": self.cost,
             "turn": self.turn,
-            "within_one_turn": self.turn <= ONE_TURN + 1e-9,
+            "within_one_turn": self.turn <= FULL_TURN + 1e-9,
             "passes_unstable": self.passes_unstable,
             "active": self.active,
             "active_moves": self.moves,
@@ -129,8 +128,8 @@ def _units(length: str) -> dict[str, str]:
     return {"length": length, "angle": "deg", "cost": "mJ", "work": "mJ"}
 
 
-def _start(node: str, requested: dict[str, float], moved: bool) -> dict[str, Any]:
-    return {"node": node, **requested, "moved": moved}
+def _start(node: str, requested: dict[str, float], moved_to_grid: bool) -> dict[str, Any]:
+    return {"node": node, **requested, "moved_to_grid": moved_to_grid}
 
 
 def no_path_document(
@@ -146,11 +145,13 @@ def no_path_document(
     """The JSON document of ``threadmate path --json`` for a start from which no path
     reaches the snap (``error``, as :func:`least_resistance_path` raised it): the keys of
     :meth:`PathResult.to_dict`, with no path, cost, turn or snap, and the ``reason``."""
-    start, moved = start_node(graph, roll, pitch, phase, nearest=nearest)
+    start, moved_to_grid = start_node(graph, roll, pitch, phase, nearest=nearest)
     return {
         "units": _units(graph.graph.get("units", "in")),
         "start": _start(
-            start, {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)}, moved
+            start,
+            {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)},
+            moved_to_grid,
         ),
         "path": None,
         "kinds": [],
@@ -190,7 +191,7 @@ def _result(
     path: list[str],
     start: str,
     requested: dict[str, float],
-    moved: bool,
+    moved_to_grid: bool,
     active: bool,
 ) -> PathResult:
     edges = [graph.edges[u, v] for u, v in itertools.pairwise(path)]
@@ -202,7 +203,7 @@ def _result(
     return PathResult(
         start,
         requested,
-        moved,
+        moved_to_grid,
         path,
         [e["kind"] for e in edges],
         [e["label"] for e in edges],
@@ -257,10 +258,10 @@ def least_resistance_path(
             "active=True asks for active moves, but the network was built without "
             "them (build it with active=True)"
         )
-    start, moved = start_node(graph, roll, pitch, phase, nearest=nearest)
+    start, moved_to_grid = start_node(graph, roll, pitch, phase, nearest=nearest)
     requested = {"roll": float(roll), "pitch": float(pitch), "phase": float(phase)}
     if is_snapped(graph.nodes[start]):
-        return _result(graph, [start], start, requested, moved, active)
+        return _result(graph, [start], start, requested, moved_to_grid, active)
     weight = _any if active else _passive
     targets = snap_targets(graph)
     graph.add_node(_SINK)
@@ -272,7 +273,7 @@ def least_resistance_path(
             raise _no_path(graph, start, active) from None
     finally:
         graph.remove_node(_SINK)
-    return _result(graph, path[:-1], start, requested, moved, active)
+    return _result(graph, path[:-1], start, requested, moved_to_grid, active)
 
 
 def k_best_paths(
@@ -314,7 +315,7 @@ def k_best_paths(
     others = (p for p in paths if p[:-1] != best.path)
     for path in itertools.islice(others, k - 1):
         best.alternatives.append(
-            _result(graph, path[:-1], best.start, best.requested, best.moved, active)
+            _result(graph, path[:-1], best.start, best.requested, best.moved_to_grid, active)
         )
     return best
 
@@ -421,7 +422,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
                 "held_pitch": pitch,
                 "phase": phase,
                 "classification": d["classification"],
-                "snapped": bool(reaches and turn <= ONE_TURN + 1e-9),
+                "snapped": bool(reaches and turn <= FULL_TURN + 1e-9),
                 "reaches": bool(reaches),
                 "turn": turn,
                 "work": work,

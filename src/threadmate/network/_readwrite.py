@@ -83,12 +83,7 @@ def _scalar(value: Any) -> Any:
     values); lists become their JSON text."""
     if type(value) is str:  # the common case first: this runs once per attribute
         return value
-    if isinstance(value, np.ndarray):
-        try:  # plain finite numbers or strings: their JSON text at once, the same text
-            return json.dumps(value.tolist(), allow_nan=False)
-        except (TypeError, ValueError):  # numpy scalars in an object array, NaN
-            return json_text(value, None, end="")
-    if isinstance(value, list | tuple):
+    if isinstance(value, np.ndarray | list | tuple):
         return json_text(value, None, end="")
     if value is None or isinstance(value, _SCALARS):
         return to_jsonable(value)

@@ -50,6 +50,7 @@ from .._errors import InputError
 from .._figures import new_figure, save_figure
 from .._io import atomic_write_text
 from .._json import json_text
+from .._text import number_text
 from .._validate import check_roll_spread
 from ..contact import UNSTABLE
 from ._paths import start_outcomes
@@ -393,10 +394,6 @@ def _azimuth_proof(out: pd.DataFrame, spread: float, comp: dict[str, Any]) -> li
     return found
 
 
-def _fmt(v: Any, spec: str) -> str:
-    return "-" if v is None else format(v, spec)
-
-
 def format_recommendation(rec: Recommendation) -> str:
     """The ranking as a Markdown table, then the pick in words (the notes are
     ``rec.notes``)."""
@@ -412,9 +409,9 @@ def format_recommendation(rec: Recommendation) -> str:
         comp = f"{s['force']:g} | {s['stiffness'][0]:g}/{s['stiffness'][1]:g} | " if many else ""
         lines.append(
             f"| {comp}{s['held_pitch']:+g} | {s['share_snap']:.0%} | "
-            f"{_fmt(s['turn_mean'], '.0f')} | {_fmt(s['turn_worst'], '.0f')} | "
-            f"{_fmt(s['work_mean'], '.3g')} | {_fmt(s['work_worst'], '.3g')} | "
-            f"{_fmt(s['click_mean'], '.2e')} | {_fmt(s['torque_peak'], '.3g')} | "
+            f"{number_text(s['turn_mean'], '.0f')} | {number_text(s['turn_worst'], '.0f')} | "
+            f"{number_text(s['work_mean'], '.3g')} | {number_text(s['work_worst'], '.3g')} | "
+            f"{number_text(s['click_mean'], '.2e')} | {number_text(s['torque_peak'], '.3g')} | "
             f"{s['share_unstable']:.0%} |"
         )
     return "\n".join([*lines, "", *_pick_lines(rec)]) + "\n"
@@ -426,8 +423,9 @@ def _pick_lines(rec: Recommendation) -> list[str]:
     best = rec.best
     lines = [
         f"Recommended: {_setting_words(best, many)}: {best['share_snap']:.0%} of "
-        f"{best['starts']} starts snap within one turn, after {_fmt(best['turn_mean'], '.0f')} "
-        f"deg and {_fmt(best['work_mean'], '.3g')} mJ on average."
+        f"{best['starts']} starts snap within one turn, after "
+        f"{number_text(best['turn_mean'], '.0f')} "
+        f"deg and {number_text(best['work_mean'], '.3g')} mJ on average."
     ]
     if rec.azimuth_proof:
         p = rec.azimuth_proof[0]

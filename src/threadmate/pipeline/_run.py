@@ -24,9 +24,10 @@ from pathlib import Path
 from typing import Any
 
 from .._io import atomic_write_text, remove_stale_temporaries
+from .._text import number_text
 from .._validate import check_roll_spread
 from .._version import __version__
-from ..contact import CONTINUATION_STEP, UNSTABLE, Compliance
+from ..contact import CONTINUATION_STEP, PHASE_TOLERANCE, UNSTABLE, Compliance
 from ..geometry import ThreadSpec
 from ..library import Grid, info, load, sweep, write_figures
 from ..network import (
@@ -403,10 +404,6 @@ def _lead(value: float | None, scale: float, ahead: str, behind: str) -> str:
     return f"{abs(value):.3g} {ahead if value >= 0 else behind}"
 
 
-def _num(v: float | None, fmt: str) -> str:
-    return "-" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, fmt)
-
-
 def _meshes_line(meshes: dict[str, Any], u: str) -> str:
     """Which meshes the library was swept on: generated (chord), or files from CAD."""
     chord = meshes.get("chord")
@@ -465,12 +462,12 @@ def _report(
         f"{_lean(best['held_pitch'])}.",
         f"- With it, {best['share_snap']:.0%} of the starts with a roll error within "
         f"+/-{rec.roll_spread:g} deg (every start phase) snap within one counter-clockwise "
-        f"turn, after {_num(best['turn_mean'], '.0f')} deg on average "
-        f"(worst {_num(best['turn_worst'], '.0f')} deg), for "
-        f"{_num(best['work_mean'], '.3g')} mJ of driver work on average (worst "
-        f"{_num(best['work_worst'], '.3g')} mJ) and a peak torque of "
-        f"{_num(best['torque_peak'], '.3g')} N m. The click to listen for: a fall of "
-        f"{_num(best['click_mean'], '.4g')} {u} within a degree of turn.",
+        f"turn, after {number_text(best['turn_mean'], '.0f')} deg on average "
+        f"(worst {number_text(best['turn_worst'], '.0f')} deg), for "
+        f"{number_text(best['work_mean'], '.3g')} mJ of driver work on average (worst "
+        f"{number_text(best['work_worst'], '.3g')} mJ) and a peak torque of "
+        f"{number_text(best['torque_peak'], '.3g')} N m. The click to listen for: a fall of "
+        f"{number_text(best['click_mean'], '.4g')} {u} within a degree of turn.",
     ]
     snaps = outcomes[outcomes["snapped"] & (outcomes["turn"] > 0)]
     windows = snaps[snaps["snap_window"] > 0]
@@ -505,7 +502,7 @@ def _report(
             f"- **Whatever the nut's thread-start azimuth** (worst of the four quarter-turn "
             f"directions): a pre-tilt of {p['tilt_size']:g} deg, worst direction "
             f"{p['worst_direction']}, {p['share_snap']:.0%} snap within one turn, mean turn "
-            f"{_num(p['turn_mean'], '.0f')} deg. Use this when the robot does not know "
+            f"{number_text(p['turn_mean'], '.0f')} deg. Use this when the robot does not know "
             "where the nut's thread starts; the pick above assumes it does (the pre-tilt "
             "about the nut's Y axis as the conventions fix it)."
         )
@@ -529,7 +526,7 @@ def _report(
         f"- Grid: {grid.describe()}. Every configuration is a start: the bolt is dropped "
         "there, settles to a rest state, and is turned counter-clockwise (the unscrewing "
         f"sense) in quasi-static continuation (steps of {step:g} deg, events located to "
-        "0.01 deg) until it snaps into the thread.",
+        f"{PHASE_TOLERANCE:g} deg) until it snaps into the thread.",
         f"- Work: {WEIGHT_FORMULA}.",
         "",
         "## Reading the results",

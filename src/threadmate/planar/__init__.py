@@ -11,36 +11,29 @@ from typing import TYPE_CHECKING
 
 from .._lazy import lazy_exports
 
-if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
+if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
     from ._analysis import (
-        CriticalPhase,
-        PlanarContact,
-        PlanarState,
-        critical_phases,
-        in_phase_window,
-        phase_sweep,
-        planar_state,
+        CriticalPhase as CriticalPhase,
+        PlanarContact as PlanarContact,
+        PlanarState as PlanarState,
+        critical_phases as critical_phases,
+        in_phase_window as in_phase_window,
+        phase_sweep as phase_sweep,
+        planar_state as planar_state,
     )
-    from ._plots import FIGURE_SUFFIXES, figure_format, plot_pivot_axes, plot_region_disk
+    from ._plots import (
+        FIGURE_SUFFIXES as FIGURE_SUFFIXES,
+        figure_format as figure_format,
+        plot_pivot_axes as plot_pivot_axes,
+        plot_region_disk as plot_region_disk,
+    )
 
-__all__ = [
-    "FIGURE_SUFFIXES",
-    "CriticalPhase",
-    "PlanarContact",
-    "PlanarState",
-    "critical_phases",
-    "figure_format",
-    "in_phase_window",
-    "phase_sweep",
-    "planar_state",
-    "plot_pivot_axes",
-    "plot_region_disk",
-]
 
 #: The submodule of each public name, imported when the name is first used (PEP 562):
 #: importing the package loads none of them, so that a command that does not need
 #: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
-#: imports them. tests/test_cli_contract.py checks it against the imports above.
+#: imports them; __all__ is made from it. tests/test_cli_contract.py checks it against
+#: the re-exports above.
 _SOURCES = {
     "._analysis": (
         "CriticalPhase",
@@ -53,9 +46,6 @@ _SOURCES = {
     ),
     "._plots": ("FIGURE_SUFFIXES", "figure_format", "plot_pivot_axes", "plot_region_disk"),
 }
-#: Public names that differ from their submodule's.
-_ALIASES: dict[str, str] = {}
-_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 
 
-__getattr__, __dir__ = lazy_exports(__name__, globals(), _WHERE, _ALIASES)
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals(), _SOURCES)

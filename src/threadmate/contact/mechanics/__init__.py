@@ -11,108 +11,51 @@ from typing import TYPE_CHECKING
 
 from ..._lazy import lazy_exports
 
-if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
-    from ._compliance import LIMITS as COMPLIANCE_LIMITS
-    from ._compliance import (
-        Compliance,
-    )
-    from ._descent import (
-        BALANCE,
-        MAX_STEPS,
-    )
-    from ._figures import (
-        plot_screw,
-        plot_search,
-    )
-    from ._lcp import (
-        contact_step,
-    )
+if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
+    from ._compliance import COMPLIANCE_LIMITS as COMPLIANCE_LIMITS, Compliance as Compliance
+    from ._descent import BALANCE as BALANCE, MAX_STEPS as MAX_STEPS
+    from ._figures import plot_screw as plot_screw, plot_search as plot_search
+    from ._lcp import contact_step as contact_step
     from ._rest_state import (
-        LEAD_TOLERANCE,
-        Engagement,
-        LoadedContact,
-        MechanicalState,
-        RestState,
-        SearchEvent,
-        SearchResult,
-        tightening_torque,
-        turn_units,
+        LEAD_TOLERANCE as LEAD_TOLERANCE,
+        Engagement as Engagement,
+        LoadedContact as LoadedContact,
+        MechanicalState as MechanicalState,
+        RestState as RestState,
+        SearchEvent as SearchEvent,
+        SearchResult as SearchResult,
+        tightening_torque as tightening_torque,
+        turn_units as turn_units,
     )
     from ._screw import (
-        ENGAGED_TURN,
-        ScrewResult,
-        screw,
+        ENGAGED_TURN as ENGAGED_TURN,
+        SCREW_OUTCOMES as SCREW_OUTCOMES,
+        ScrewResult as ScrewResult,
+        screw as screw,
     )
-    from ._screw import OUTCOMES as SCREW_OUTCOMES
     from ._search import (
-        CLICK_SPAN,
-        SENSES,
-        Continuation,
-        Leg,
-        default_torque_limit,
-        engagement,
-        search,
-        sensor_click,
-        wedged,
+        CLICK_SPAN as CLICK_SPAN,
+        SENSES as SENSES,
+        Continuation as Continuation,
+        Leg as Leg,
+        default_torque_limit as default_torque_limit,
+        engagement as engagement,
+        search as search,
+        sensor_click as sensor_click,
+        wedged as wedged,
     )
     from ._settings import (
-        CONTINUATION_STEP,
-        MAX_SCREW_IN,
-        MAX_STEP,
-        MAX_TURNS,
-        PHASE_TOLERANCE,
-        SCREW_IN,
-        check_continuation,
-        check_screw,
+        CONTINUATION_STEP as CONTINUATION_STEP,
+        MAX_SCREW_IN as MAX_SCREW_IN,
+        MAX_STEP as MAX_STEP,
+        MAX_TURNS as MAX_TURNS,
+        PHASE_TOLERANCE as PHASE_TOLERANCE,
+        SCREW_IN as SCREW_IN,
+        check_continuation as check_continuation,
+        check_screw as check_screw,
     )
-    from ._settle import (
-        Mechanics,
-        mechanics,
-        settle,
-    )
+    from ._settle import Mechanics as Mechanics, mechanics as mechanics, settle as settle
 
-__all__ = [
-    "Compliance",
-    "COMPLIANCE_LIMITS",
-    "plot_screw",
-    "plot_search",
-    "contact_step",
-    "Engagement",
-    "LEAD_TOLERANCE",
-    "LoadedContact",
-    "MechanicalState",
-    "RestState",
-    "SearchEvent",
-    "SearchResult",
-    "tightening_torque",
-    "turn_units",
-    "ENGAGED_TURN",
-    "SCREW_OUTCOMES",
-    "screw",
-    "ScrewResult",
-    "Continuation",
-    "default_torque_limit",
-    "engagement",
-    "Leg",
-    "search",
-    "SENSES",
-    "sensor_click",
-    "CLICK_SPAN",
-    "wedged",
-    "check_continuation",
-    "check_screw",
-    "CONTINUATION_STEP",
-    "MAX_SCREW_IN",
-    "MAX_STEP",
-    "MAX_TURNS",
-    "PHASE_TOLERANCE",
-    "SCREW_IN",
-    "BALANCE",
-    "MAX_STEPS",
-    "Mechanics",
-    "mechanics",
-    "settle",
-]
 
 #: The submodule of each public name, imported when the name is first used (PEP 562).
 _SOURCES = {
@@ -173,8 +116,6 @@ _SOURCES = {
         "settle",
     ),
 }
-_ALIASES: dict[str, str] = {"COMPLIANCE_LIMITS": "LIMITS", "SCREW_OUTCOMES": "OUTCOMES"}
-_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 
 
-__getattr__, __dir__ = lazy_exports(__name__, globals(), _WHERE, _ALIASES)
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals(), _SOURCES)

@@ -33,11 +33,11 @@ from typing import Any, cast
 from ..._errors import InputError
 from ..._validate import check_number
 
-__all__ = ["Compliance", "LIMITS"]
+__all__ = ["Compliance", "COMPLIANCE_LIMITS"]
 
 #: Allowed range of each parameter (inclusive), with its unit: beyond these the numbers are
 #: not a bolt held by a compliance but a typing error.
-LIMITS: dict[str, tuple[float, float, str]] = {
+COMPLIANCE_LIMITS: dict[str, tuple[float, float, str]] = {
     "force": (1e-6, 1e5, "N"),
     "stiffness": (0.0, 1e9, "N m/rad"),
     "lateral_stiffness": (1e-6, 1e12, "N/m"),
@@ -47,7 +47,7 @@ LIMITS: dict[str, tuple[float, float, str]] = {
 
 def _in_range(name: str, value: Any, key: str | None = None) -> float:
     value = check_number(name, value)
-    lo, hi, unit = LIMITS[key or name]
+    lo, hi, unit = COMPLIANCE_LIMITS[key or name]
     if not lo <= value <= hi:
         raise InputError(
             f"{name} {value:g} {unit} is out of range: give a value within "
@@ -77,7 +77,7 @@ class Compliance:
     Raises
     ------
     InputError
-        A value that is not a finite number within :data:`LIMITS`.
+        A value that is not a finite number within :data:`COMPLIANCE_LIMITS`.
     """
 
     force: float = 10.0

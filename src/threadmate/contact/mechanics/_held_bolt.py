@@ -20,7 +20,7 @@ from ..._errors import InputError
 from ..._units import METRES_PER_UNIT
 from ..._validate import check_open_range
 from ...geometry import Pose, ThreadSpec, bolt_rotation
-from ..scene import ContactScene, contact_scene
+from ..scene import ContactScene, scene_for
 from ._compliance import Compliance
 
 __all__ = ["LOAD_CARRYING", "STALL_STEPS"]
@@ -64,17 +64,15 @@ class _HeldBolt:
         if not isinstance(spec, ThreadSpec):
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
         compliance.check_for(spec.pitch)
-        if scene is None:
-            scene = contact_scene(
-                spec,
-                chord=chord,
-                bolt_mesh=bolt_mesh,
-                nut_mesh=nut_mesh,
-                mesh_units=mesh_units,
-                max_faces=max_faces,
-            )
-        elif scene.spec != spec:
-            raise InputError("the scene's spec differs from the spec given")
+        scene = scene_for(
+            spec,
+            scene,
+            chord=chord,
+            bolt_mesh=bolt_mesh,
+            nut_mesh=nut_mesh,
+            mesh_units=mesh_units,
+            max_faces=max_faces,
+        )
         self.spec = spec
         self.units = spec.units
         self.compliance = compliance

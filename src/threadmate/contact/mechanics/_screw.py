@@ -36,10 +36,10 @@ from ._search import Leg, begin_turn, wedged
 from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE
 from ._settle import Mechanics
 
-__all__ = ["OUTCOMES", "ENGAGED_TURN", "ScrewResult", "screw"]
+__all__ = ["SCREW_OUTCOMES", "ENGAGED_TURN", "ScrewResult", "screw"]
 
 #: What a clockwise start does.
-OUTCOMES = ("engaged", "riding", "jammed")
+SCREW_OUTCOMES = ("engaged", "riding", "jammed")
 #: Classes of rest states whose load-carrying contacts are not all on the helices.
 OFF_HELIX = (STABLE, QUASI_STABLE)
 #: Turn in phase over which a descent at the lead decides ``engaged`` (degrees).
@@ -58,7 +58,7 @@ class ScrewResult:
     parameters : dict
         The compliance used.
     outcome : str
-        One of :data:`OUTCOMES`.
+        One of :data:`SCREW_OUTCOMES`.
     decided_phase : float or None
         Where it is decided (degrees, as turned: decreasing for a right-hand thread):
         where the bolt entered the turn in phase it then screwed in along (``engaged``),

@@ -28,15 +28,14 @@ thread run-out) is *inside* the zone and may cover half of it (a bolt one pitch 
 point), so any quantile of the zone can land on it. Its distance from the spec grows
 continuously from zero where it meets the thread, so there is no gap to cut at either;
 what separates it is scale: triangles that follow a surface all err by the same order (a
-chord, set by the tessellation: on threadmate's own meshes of a 1/4-20 at chords from
-2e-5 to 1e-3 in the largest triangle deviation in the zone is at most 1.4 times the 75th
-percentile and 2.1 times the median), while the chamfer's triangles spread from zero to
-the chamfer's depth. The 75th percentile of the triangles near the spec is a triangle that
-follows it as long as three quarters of those do; three times it keeps every following
-triangle (so a generated mesh written to a file measures its own deviation) and cuts the
-chamfer at about three chords. Measured on a 1/4-20 (chord 1e-4 in): a chamfered bolt, a
-countersunk nut, a bolt flaring into a head and a hex nut on the flat spec measure 0.9
-to 2.1 chords, where the whole mesh's deviation is 0.025 to 0.16 in.
+chord, set by the tessellation, so the largest of them stays within a small multiple of
+the 75th percentile), while the chamfer's triangles spread from zero to the chamfer's
+depth. The 75th percentile of the triangles near the spec is a triangle that follows it
+as long as three quarters of those do; three times it keeps every following triangle (so
+a generated mesh written to a file measures its own deviation) and cuts the chamfer at
+about three chords, so that a chamfered bolt, a countersunk nut, a bolt flaring into a
+head or a hex nut read against a flat spec measure a few chords, not the depth of the
+end (tests/test_cli_user_meshes.py checks a chamfered bolt).
 
 Contacts farther than :attr:`ContactScene.off_spec_tolerance
 <threadmate.contact.ContactScene>` from the exact surface are labelled by where they

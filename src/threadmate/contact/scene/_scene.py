@@ -49,6 +49,7 @@ __all__ = [
     "ContactScene",
     "check_mesh_file",
     "contact_scene",
+    "scene_for",
 ]
 
 #: Bisection tolerance on travel (bolt motion), per unit.
@@ -333,3 +334,35 @@ def contact_scene(
         )
     meshes = ((bolt_mesh, keys[0]), (nut_mesh, keys[1]), mesh_units, max_faces)
     return _cached(spec, chord, meshes)
+
+
+def scene_for(
+    spec: ThreadSpec,
+    scene: ContactScene | None,
+    *,
+    chord: float | None = None,
+    bolt_mesh: Any = None,
+    nut_mesh: Any = None,
+    mesh_units: str | None = None,
+    max_faces: int | None = None,
+) -> ContactScene:
+    """The scene a contact model stands on: ``scene`` when given (its spec must be
+    ``spec``), else :func:`contact_scene` of the spec, chord and meshes.
+
+    Raises
+    ------
+    InputError
+        If ``scene`` is of another spec.
+    """
+    if scene is None:
+        return contact_scene(
+            spec,
+            chord=chord,
+            bolt_mesh=bolt_mesh,
+            nut_mesh=nut_mesh,
+            mesh_units=mesh_units,
+            max_faces=max_faces,
+        )
+    if scene.spec != spec:
+        raise InputError("the scene's spec differs from the spec given")
+    return scene

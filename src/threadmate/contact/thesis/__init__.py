@@ -12,56 +12,32 @@ from typing import TYPE_CHECKING
 
 from ..._lazy import lazy_exports
 
-if TYPE_CHECKING:  # the names for type checkers; at run time __getattr__ imports them
-    from ._analyzer import (
-        ContactAnalyzer,
-        analyze,
-    )
+if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
+    from ._analyzer import ContactAnalyzer as ContactAnalyzer, analyze as analyze
     from ._result import (
-        STAGES,
-        Contact,
-        ContactResult,
-        StageResult,
-        record_schema,
+        STAGES as STAGES,
+        Contact as Contact,
+        ContactResult as ContactResult,
+        StageResult as StageResult,
+        record_schema as record_schema,
     )
     from ._stability import (
-        classify,
-        interference_depth,
-        is_rolling,
-        pivot_offset,
+        classify as classify,
+        interference_depth as interference_depth,
+        is_rolling as is_rolling,
+        pivot_offset as pivot_offset,
     )
     from ._stages import (
-        Cluster,
-        Search,
-        StageOutcome,
-        TurnOutcome,
-        clusters_at,
-        first_contact,
-        lowering_direction,
-        turn_to_new_contact,
+        Cluster as Cluster,
+        Search as Search,
+        StageOutcome as StageOutcome,
+        TurnOutcome as TurnOutcome,
+        clusters_at as clusters_at,
+        first_contact as first_contact,
+        lowering_direction as lowering_direction,
+        turn_to_new_contact as turn_to_new_contact,
     )
 
-__all__ = [
-    "analyze",
-    "ContactAnalyzer",
-    "Contact",
-    "ContactResult",
-    "record_schema",
-    "StageResult",
-    "STAGES",
-    "classify",
-    "interference_depth",
-    "is_rolling",
-    "pivot_offset",
-    "Cluster",
-    "clusters_at",
-    "first_contact",
-    "lowering_direction",
-    "Search",
-    "StageOutcome",
-    "turn_to_new_contact",
-    "TurnOutcome",
-]
 
 #: The submodule of each public name, imported when the name is first used (PEP 562).
 _SOURCES = {
@@ -93,8 +69,6 @@ _SOURCES = {
         "TurnOutcome",
     ),
 }
-_ALIASES: dict[str, str] = {}
-_WHERE = {name: module for module, names in _SOURCES.items() for name in names}
 
 
-__getattr__, __dir__ = lazy_exports(__name__, globals(), _WHERE, _ALIASES)
+__getattr__, __dir__, __all__ = lazy_exports(__name__, globals(), _SOURCES)

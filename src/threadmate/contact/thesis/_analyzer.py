@@ -32,10 +32,10 @@ from ..scene import (
     ContactScene,
     as_vec,
     contact_normal,
-    contact_scene,
     engagement_outline,
     intersection_segments,
     region_at,
+    scene_for,
     turn_axis_tangent,
 )
 from ._result import Contact, ContactResult, StageResult
@@ -171,17 +171,15 @@ class ContactAnalyzer:
         compliance_z = check_length("compliance_z", compliance_z, spec.units, signed=True)
         if not (isinstance(max_turn, int | float) and 0 < max_turn <= 90):
             raise InputError(f"max_turn must be within (0, 90] degrees, got {max_turn!r}")
-        if scene is None:
-            scene = contact_scene(
-                spec,
-                chord=chord,
-                bolt_mesh=bolt_mesh,
-                nut_mesh=nut_mesh,
-                mesh_units=mesh_units,
-                max_faces=max_faces,
-            )
-        elif scene.spec != spec:
-            raise InputError("the scene's spec differs from the spec given")
+        scene = scene_for(
+            spec,
+            scene,
+            chord=chord,
+            bolt_mesh=bolt_mesh,
+            nut_mesh=nut_mesh,
+            mesh_units=mesh_units,
+            max_faces=max_faces,
+        )
         #: The exact bodies, meshes, collision pair and tolerances (:class:`ContactScene`).
         self.scene = scene
         self.spec = spec
