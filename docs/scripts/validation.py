@@ -285,7 +285,9 @@ def dynamics(stamp: Stamp, path: Path) -> list[str]:
         stamp.read(path, f"`python docs/scripts/dynamics_check.py --json {path.name}`"),
         "",
         "MuJoCo with convex pieces from the exact profile, frictionless, turned slowly and "
-        "heavily damped, against `threadmate search` on the same compliance.",
+        "heavily damped, against `threadmate search` on the same compliance: the flat "
+        "1/4-20 UNC-2A/2B pair, and the pairs the cases name (`--spec`, with flat ends; "
+        "lengths in each pair's units).",
         "",
         "The click is the fall a sensor sees, measured the same way in both: from the "
         "highest the bolt stands within the last degree of turn before the snap "
@@ -301,13 +303,14 @@ def dynamics(stamp: Stamp, path: Path) -> list[str]:
         a, b = r.get("threadmate_snap_phase"), r.get("sim_snap_phase")
         ca, cb = r.get("threadmate_click"), r.get("sim_click")
         held = f"held ({r['held_roll']:g}, {r['held_pitch']:g}) from {r['start_phase']:g}"
+        u = r.get("units", "in")
         lines.append(
             f"| {r['case']}: {held}, {r['stiffness']:g} N m/rad | {_num(a, '.2f')} | "
             f"{_num(b, '.2f')} | {'-' if a is None or b is None else f'{b - a:+.2f}'} | "
-            f"{_num(ca, '.6f')} | {_num(cb, '.6f')} | "
+            f"{_num(ca, '.6f')} {u} | {_num(cb, '.6f')} {u} | "
             f"{'-' if not ca or cb is None else f'{(cb - ca) / ca:+.1%}'} | "
-            f"{_num(r.get('threadmate_jump_drop'), '.6f')} | "
-            f"{_num(r.get('sim_jump_drop'), '.6f')} |"
+            f"{_num(r.get('threadmate_jump_drop'), '.6f')} {u} | "
+            f"{_num(r.get('sim_jump_drop'), '.6f')} {u} |"
         )
     return lines
 
