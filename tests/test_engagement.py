@@ -95,6 +95,30 @@ def test_the_snap_is_where_a_fine_walk_drops(upright_search, mech):
     assert abs(run.snap.phase - 348.78) < 0.5
 
 
+def test_a_tilted_snap_is_where_a_fine_walk_drops(mech):
+    """The same brute force at a held tilt of half a degree about -X (pitch a rounding
+    error off zero, which must not matter): walked in 0.05-degree steps from the search's
+    rest state nearest 340 degrees, the bolt rides the flank-on-edge contact to the drop,
+    and the search's snap lies there (within 0.06 degree) with the same drop (2 %). A
+    landing settled from a state further back on the branch than the last one can fall
+    past the rest states that continue it, degrees before the drop."""
+    roll, pitch = -0.5, math.cos(math.pi / 2)  # 6.1e-17
+    run = search(mech, roll, pitch, 320.0)
+    assert run.snap is not None
+    s = min(run.states, key=lambda x: abs(x.phase - 340.0))
+    assert abs(s.phase - 340.0) <= 0.5
+    phase = s.phase
+    while True:
+        phase += 0.05
+        nxt = mech.settle(roll, pitch, phase, start=s).state
+        if s.centre[2] - nxt.centre[2] > mech.spec.pitch / 40:
+            break
+        s = nxt
+        assert phase < 352.0
+    assert run.snap.phase == pytest.approx(phase, abs=0.06)
+    assert run.snap.drop == pytest.approx(s.centre[2] - nxt.centre[2], rel=0.02)
+
+
 def test_no_state_before_the_snap_moves_along_the_helix(upright_search, mech):
     """Every rest state of the search before its snap, settled 0.2 degree further
     counter-clockwise from itself, rises less than half the lead's share: none of them is

@@ -428,11 +428,15 @@ class Continuation:
         ride: list[MechanicalState] | None = None,
     ) -> tuple[float, float, MechanicalState, MechanicalState]:
         """Close in on where ``same(s_lo, state)`` stops holding, from the side before
-        (``lo``, ``hi``: turns from ``phase``; ``s_hi`` was settled from ``hi_from``). An
-        in-phase or departed ``s_hi`` (a probe) is settled in full: settles depend only on
-        the state they leave, so this is the same computation carried to its end.
+        (``lo``, ``hi``: turns from ``phase``; ``s_hi`` was settled from ``hi_from``).
         ``ride``, when given, collects the states found on the side before: they resolve
-        the branch's last stretch, where the bisection closes in (:func:`sensor_click`)."""
+        the branch's last stretch, where the bisection closes in (:func:`sensor_click`).
+
+        The state returned at ``hi`` is the one the bolt reaches from the last state on
+        the side before, turned on to ``hi``: settled in full from ``s_lo``. A state at
+        ``hi`` settled from an earlier one (or a probe stopped once departed) answers
+        only whether a longer turn leaves the branch; from further back a descent can
+        fall past a rest state that continues it."""
         while hi - lo > self.phase_tolerance:
             mid = 0.5 * (lo + hi)
             s_mid = self._settle(phase + self.sign * mid, s_lo)
@@ -442,8 +446,8 @@ class Continuation:
                     ride.append(s_mid)
             else:
                 hi, s_hi, hi_from = mid, s_mid, s_lo
-        if s_hi.kind == "departed":
-            s_hi = self._settle(phase + self.sign * hi, hi_from, probe=False)
+        if s_hi.kind == "departed" or hi_from is not s_lo:
+            s_hi = self._settle(phase + self.sign * hi, s_lo, probe=False)
         return lo, hi, s_lo, s_hi
 
     def torque(self, s: MechanicalState) -> tuple[float, float]:
@@ -656,18 +660,15 @@ class Continuation:
             # within the tolerance of it), its contact changes located.
             if s_lo is not prev:
                 follow(prev, at, s_lo, lo)
-            if s_hi.potential > s_lo.potential:
-                # A landing above the branch's potential is no jump (a jump goes down U):
-                # turned at its tilt the bolt meets the nut at every height in the thread
-                # (wedged between the flanks), and the lowering climbed out. A rest state
-                # may continue the branch: from the last state on it (whose contacts
-                # predict the tilt where material lies over the bolt), else at a tilt
-                # nearby.
-                again = self._settle(phase + sign * hi, s_lo, probe=False)
-                if self._continuous(s_lo, again):
-                    s_hi = again
-                else:
-                    s_hi = self._tilted(s_lo, phase + sign * hi) or s_hi
+            if not self._continuous(s_lo, s_hi) and s_hi.potential > s_lo.potential:
+                # A fold is a fold only when no rest state continues the branch
+                # (mechanics.md). ``s_hi`` is the settle from the last state on it, turned
+                # on by less than the phase tolerance. A landing above the branch's
+                # potential is no jump (a jump goes down U): turned at its tilt the bolt
+                # meets the nut at every height in the thread (wedged between the flanks)
+                # and the lowering climbed out; a rest state may continue the branch at a
+                # tilt nearby.
+                s_hi = self._tilted(s_lo, phase + sign * hi) or s_hi
             if self._continuous(s_lo, s_hi):
                 # The probe left the branch, but its descent carried to its end came back
                 # to it (where the thread starts meet, a descent can wander that far along
