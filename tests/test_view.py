@@ -14,6 +14,7 @@ from __future__ import annotations
 import io
 import json
 import math
+import re
 import shutil
 import tempfile
 import time
@@ -25,9 +26,9 @@ import pytest
 from _cli import THESIS_PARTS, run_captured
 
 DESIGNATION = "1/4-20 UNC-2A/2B"
-#: The search of the tests: a flat bolt upright at phase 300, 10-degree steps (it snaps
-#: after about 49 degrees).
-SEARCH = (DESIGNATION, *THESIS_PARTS, "--roll", "0", "--pitch", "0", "--phase", "300")
+#: The search of the tests: a flat bolt upright at phase 330, 10-degree steps (a contact
+#: change, then the snap after about 19 degrees).
+SEARCH = (DESIGNATION, *THESIS_PARTS, "--roll", "0", "--pitch", "0", "--phase", "330")
 STEP = 10.0
 #: Flags Chromium needs as root in a closed network (a fresh profile is added).
 CHROMIUM_FLAGS = (
@@ -105,14 +106,34 @@ def _not_blank(element) -> None:
 
 @pytest.fixture(scope="module")
 def searched(tmp_path_factory):
-    """``threadmate search --json --html``: the document and the page."""
+    """``threadmate search --json --html --plot``: the document and the page (the
+    figure beside them)."""
     folder = tmp_path_factory.mktemp("view-search")
     page = folder / "search.html"
-    code, out, err = run_captured("search", *SEARCH, "--step", STEP, "--json", "--html", page)
+    code, out, err = run_captured(
+        "search", *SEARCH, "--step", STEP, "--json", "--html", page, "--plot", folder / "s.svg"
+    )
     assert code == 0, err
     doc = json.loads(out)
     (folder / "search.json").write_text(out)
     return doc, page, folder
+
+
+def test_search_plot_draws_every_state(searched):
+    """``search --plot``: each panel has one marker per state of the search (every step
+    and both sides of each event), not one per grid phase or per step alone."""
+    doc, _, folder = searched
+    svg = (folder / "s.svg").read_text()
+    # The dots of the lines: the marker paths that are curves (the ticks are straight).
+    dots = {m for m, d in re.findall(r'<path id="(m[0-9a-f]+)" d="([^"]*)"', svg) if "C" in d}
+    used = re.findall(r'<use xlink:href="#(m[0-9a-f]+)"', svg)
+    markers = sum(u in dots for u in used)
+    finite = sum(s["driver_torque"] is not None for s in doc["states"])
+    assert markers == 2 * len(doc["states"]) + finite
+    phases = [s["phase"] for s in doc["states"]]
+    for e in doc["events"]:  # both sides of each event, within the phase tolerance
+        assert min(abs(p - e["phase"]) for p in phases if p < e["phase"]) <= 0.011
+        assert min(abs(p - e["phase"]) for p in phases if p >= e["phase"]) <= 0.011
 
 
 def _shown_bolt(driver) -> np.ndarray:
@@ -310,7 +331,8 @@ def test_run_page_loads_and_links_each_start(browser, ran, capsys):
     index = starts.index(missing)
     browser.find_element("css selector", f'a.tm-start[data-start="{index}"]').click()
     note = browser.find_element("id", "tm-start-note").text
-    assert "--start 0,0,330" in note
+    other = f"0,0,{missing['phase']:g}"
+    assert f"--start {other}" in note
     # The linked start opens its search's page.
     browser.find_element(
         "css selector", f'a.tm-start[data-start="{starts.index(linked[0])}"]'
@@ -326,23 +348,24 @@ def test_run_page_loads_and_links_each_start(browser, ran, capsys):
 
     # threadmate view RUN --start writes the other start's page; the run page links it.
     assert "not on the run's grid" in refused(capsys, "view", out, "--start", "0,0,310")
-    code, _, err = run_cli(capsys, "view", out, "--start", "0,0,330")
+    code, _, err = run_cli(capsys, "view", out, "--start", other)
     assert code == 0, err
     assert _errors(_open(browser, out / "report.html")) == []
     starts = browser.execute_script(
         "return JSON.parse(document.getElementById('tm-data').textContent).starts;"
     )
     assert all(s["page"] and (out / s["page"]).is_file() for s in starts)
-    written = json.loads((out / "views" / "search-r+0-p+0-ph330.json").read_text())
-    assert written["start"] == {"roll": 0.0, "pitch": 0.0, "phase": 330.0}
-    assert math.isclose(written["snap"]["phase"], doc_snap(out), abs_tol=1.0)
+    name = f"search-r+0-p+0-ph{missing['phase']:g}.json"
+    written = json.loads((out / "views" / name).read_text())
+    assert written["start"] == {"roll": 0.0, "pitch": 0.0, "phase": missing["phase"]}
+    # The library's snap of that start (grid phases and both sides of its jump) agrees.
+    assert math.isclose(written["snap"]["phase"], library_snap(out, missing["phase"]), abs_tol=1.0)
 
 
-def doc_snap(out: Path) -> float:
-    """The snap phase starts.csv gives the start at phase 330 (the library's reading, at
-    grid resolution and both sides of its jump)."""
+def library_snap(out: Path, phase: float) -> float:
+    """The snap phase starts.csv gives the start at ``phase``."""
     import csv
 
     with (out / "starts.csv").open() as fh:
-        row = next(r for r in csv.DictReader(fh) if float(r["phase_deg"]) == 330.0)
+        row = next(r for r in csv.DictReader(fh) if float(r["phase_deg"]) == phase)
     return float(row["snap_phase_deg"])

@@ -123,7 +123,7 @@
     });
   }
   const plotLayout = {
-    margin: { l: 70, r: 15, t: 40, b: 50 },
+    margin: { l: 70, r: 15, t: 64, b: 50 },
     showlegend: false,
     hovermode: "closest",
     xaxis: { title: { text: "phase (deg, turned counter-clockwise)" }, anchor: "y3" },
