@@ -369,3 +369,34 @@ def library_snap(out: Path, phase: float) -> float:
     with (out / "starts.csv").open() as fh:
         row = next(r for r in csv.DictReader(fh) if float(r["phase_deg"]) == phase)
     return float(row["snap_phase_deg"])
+
+
+# -- the meshes drawn ------------------------------------------------------------------------
+def test_display_meshes_are_thinned_and_whole_near_the_contacts():
+    from scipy.spatial import cKDTree
+
+    from threadmate.geometry import thread_meshes, with_parts
+    from threadmate.view import display_meshes
+
+    spec = with_parts(DESIGNATION, point="flat", countersink=False)
+    # A contact on the nut's top face at the bore's edge, and one at the bolt's tip rim.
+    on_nut = np.array([[spec.nut.minor / 2, 0.0, 0.0]])
+    on_bolt = np.array([[0.0, spec.bolt.major / 2 - 0.01, 0.0]])
+    bolt, nut = display_meshes(spec, on_nut, on_bolt)
+    zone = 0.6 * spec.pitch
+    for shown, source, point in zip(
+        (bolt, nut), thread_meshes(spec), (on_bolt, on_nut), strict=True
+    ):
+        v = np.asarray(source.mesh.vertices)
+        assert shown.source_faces == len(source.mesh.faces)
+        assert len(shown.faces) < 0.6 * shown.source_faces  # thinned
+        assert shown.faces.min() >= 0 and shown.faces.max() < len(shown.vertices)
+        # Every vertex within the zone is drawn where it is.
+        near = v[np.linalg.norm(v - point, axis=1) < 0.9 * zone]
+        assert len(near) > 20
+        distance, _ = cKDTree(shown.vertices).query(near)
+        assert distance.max() < 1e-12
+        # And nothing drawn strays from the body: every drawn vertex lies within a cell of
+        # the source mesh's vertices.
+        distance, _ = cKDTree(v).query(shown.vertices)
+        assert distance.max() < spec.pitch / 14 * math.sqrt(3)

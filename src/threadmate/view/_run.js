@@ -52,9 +52,9 @@
       margin: { l: 70, r: 20, t: 40, b: 50 },
       title: { text: "settings ranked: the pick dotted red", font: { size: 14 } },
       xaxis: { title: { text: "held pitch: pre-tilt about the nut's Y axis (deg)" },
-        anchor: "y2" },
-      yaxis: { title: { text: "snap within one turn (%)" }, domain: [0.55, 1] },
-      yaxis2: { title: { text: "mean turn to the snap (deg)" }, domain: [0, 0.45] },
+        anchor: "y2", zeroline: false },
+      yaxis: { title: { text: "snap share (%)" }, domain: [0.55, 1] },
+      yaxis2: { title: { text: "mean turn (deg)" }, domain: [0, 0.45] },
       legend: { orientation: "h", y: -0.25 },
       shapes: shapes,
     }, config));

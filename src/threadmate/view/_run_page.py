@@ -48,8 +48,9 @@ def write_start_views(views: str | os.PathLike[str], doc: dict[str, Any], spec: 
     start = doc["start"]
     name = start_page_name(start["roll"], start["pitch"], start["phase"])
     views = Path(views)
+    page = write_search_page(doc, views / f"{name}.html", spec=spec)
     atomic_write_text(views / f"{name}.json", json_text(doc))
-    return write_search_page(doc, views / f"{name}.html", spec=spec)
+    return page
 
 
 def _library(run: Path) -> Path:
