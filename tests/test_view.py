@@ -246,6 +246,18 @@ def test_snap_button_shows_the_landing(browser, searched):
         "return document.getElementById('tm-plots').layout.shapes[0].x0;"
     )
     assert cursor == pytest.approx(doc["states"][index]["phase"])
+    # Zoomed to the contacts, the scene spans one and a half pitches around the landing's
+    # most loaded contact.
+    browser.find_element("id", "tm-zoom").click()
+    ranges = browser.execute_script(
+        "const s = document.getElementById('tm-scene').layout.scene;"
+        "return [s.xaxis.range, s.yaxis.range, s.zaxis.range];"
+    )
+    landing = [c for c in doc["states"][index]["contacts"] if (c["force"] or 0.0) > 0.0]
+    focus = max(landing, key=lambda c: c["force"])["point"]
+    pitch = doc["spec"]["pitch"]
+    for (lo, hi), x in zip(ranges, focus, strict=True):
+        assert lo == pytest.approx(x - 0.75 * pitch) and hi == pytest.approx(x + 0.75 * pitch)
 
 
 def test_view_draws_a_saved_search(browser, searched, capsys):

@@ -155,7 +155,9 @@
       "state " + i + " of " + (N - 1) + ": phase " + s.phase.toFixed(3) + " deg, " +
       s.classification + (s.regions ? " on " + s.regions : "") + "; centre height " +
       fmt(s.height, 6) + " " + U + ", tilt " + fmt(s.tilt, 4) + " deg, torque " +
-      fmt(s.torque, 4) + " N m" + (i === D.snap ? " (after the snap)" : "");
+      fmt(s.torque, 4) + " N m" + (i > 0 ? "; fall since the state before " +
+      fmt(D.states[i - 1].height - s.height, 3) + " " + U : "") +
+      (i === D.snap ? " (after the snap)" : "");
     readout.dataset.state = String(i);
     let rows = "<table><tr><th class=\"tm-text\">bolt/nut regions</th><th>x (" + U +
       ")</th><th>y (" + U + ")</th><th>z (" + U + ")</th><th>force (N)</th></tr>";
@@ -168,6 +170,36 @@
       "<p class=\"tm-note\">no touching contact</p>");
   }
 
+  // The contact zone: a cube of one and a half pitches around the most loaded contact of
+  // the snap's landing (else of the last state), fixed while the slider moves, so that a
+  // drop of a few thousandths shows; the button toggles it with the whole scene.
+  const landing = D.states[D.snap === null ? N - 1 : D.snap].contacts;
+  const focus = landing.length ? landing.reduce((a, c) =>
+    ((c.force || 0) > (a.force || 0) ? c : a)).point : null;
+  const zoomBtn = document.getElementById("tm-zoom");
+  let zoomed = false;
+  function zoom(on) {
+    zoomed = on && focus !== null;
+    if (zoomed) {
+      const mid = focus;
+      const h = 0.75 * D.pitch;
+      Plotly.relayout(sceneDiv, {
+        "scene.aspectmode": "cube",
+        "scene.xaxis.range": [mid[0] - h, mid[0] + h],
+        "scene.yaxis.range": [mid[1] - h, mid[1] + h],
+        "scene.zaxis.range": [mid[2] - h, mid[2] + h],
+      });
+    } else {
+      Plotly.relayout(sceneDiv, {
+        "scene.aspectmode": "data",
+        "scene.xaxis.autorange": true,
+        "scene.yaxis.autorange": true,
+        "scene.zaxis.autorange": true,
+      });
+    }
+    zoomBtn.textContent = zoomed ? "whole scene" : "zoom to the contacts";
+  }
+
   Promise.all([
     Plotly.newPlot(sceneDiv, sceneData, sceneLayout, config),
     Plotly.newPlot(plotDiv, plotData, plotLayout, config),
@@ -178,6 +210,7 @@
     for (const btn of document.querySelectorAll("button.tm-event")) {
       btn.addEventListener("click", () => show(Number(btn.dataset.state)));
     }
+    zoomBtn.addEventListener("click", () => zoom(!zoomed));
     plotDiv.on("plotly_click", (ev) => {
       if (ev.points && ev.points.length) show(ev.points[0].customdata);
     });

@@ -260,6 +260,7 @@ def _body(data: dict[str, Any]) -> str:
   <button type="button" id="tm-prev" aria-label="previous state">&#9664;</button>
   <button type="button" id="tm-next" aria-label="next state">&#9654;</button>
   {buttons}
+  <button type="button" id="tm-zoom">zoom to the contacts</button>
 </div>
 <div id="tm-readout" aria-live="polite"></div>
 <div class="tm-main">
