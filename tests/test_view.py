@@ -281,6 +281,7 @@ def test_view_refuses_what_it_cannot_draw(tmp_path, capsys):
     assert "not a search's document" in refused(capsys, "view", old)
     assert "no such file" in refused(capsys, "view", tmp_path / "missing.json")
     assert "--start" in refused(capsys, "view", old, "--start", "0,0,0")
+    assert "not a threadmate run folder" in refused(capsys, "view", tmp_path)
     assert "--html" in refused(capsys, "search", *SEARCH, "--html", tmp_path / "x.png")
     assert not list(tmp_path.glob("*.html"))
 
