@@ -39,8 +39,9 @@ __all__ = [
 
 #: Length of a force arrow carrying the whole axial load, in pitches.
 ARROW_PITCHES = 1.5
-#: Keys a search document must hold for its page.
-_KEYS = ("units", "parameters", "start", "states", "events", "snap", "spec")
+#: Keys a search document must hold for its page (and ``spec``, unless the thread pair is
+#: given apart).
+_KEYS = ("units", "parameters", "start", "states", "events", "snap")
 
 
 def read_search_document(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -58,15 +59,18 @@ def read_search_document(path: str | os.PathLike[str]) -> dict[str, Any]:
         doc = parse_json(read_utf8(path, InputError))
     except ValueError as exc:
         raise InputError(f"{path}: not a JSON document ({exc})") from None
-    check_search_document(doc, str(path))
+    check_search_document(doc, str(path), with_spec=True)
     return dict(doc)
 
 
-def check_search_document(doc: Any, where: str = "search document") -> None:
-    """Refuse a document that is not a search's, naming what is missing."""
+def check_search_document(
+    doc: Any, where: str = "search document", *, with_spec: bool = False
+) -> None:
+    """Refuse a document that is not a search's, naming what is missing (``spec`` too
+    when ``with_spec``)."""
     if not isinstance(doc, dict):
         raise InputError(f"{where}: expected a JSON object (threadmate search --json)")
-    missing = [k for k in _KEYS if k not in doc]
+    missing = [k for k in (*_KEYS, *(("spec",) if with_spec else ())) if k not in doc]
     if missing:
         hint = (
             " (written before searches carried their thread pair: run threadmate search "
@@ -108,9 +112,10 @@ def search_view_data(
     Parameters
     ----------
     doc : dict
-        The search's JSON document (``threadmate search --json``).
+        The search's JSON document (``threadmate search --json``, or
+        :meth:`threadmate.contact.SearchResult.to_dict`).
     spec : ThreadSpec, optional
-        The thread pair (default: the document's ``spec``).
+        The thread pair (default: the document's ``spec``; one of them is needed).
     chord : float, optional
         The meshes' chord (default: the document's, else the spec's default).
 
@@ -123,7 +128,7 @@ def search_view_data(
         (index or None), ``bolt`` and ``nut`` (display meshes: ``x``, ``y``, ``z``, ``i``,
         ``j``, ``k``; the bolt in B, the nut in F), ``arrow`` (length of an arrow per N).
     """
-    check_search_document(doc)
+    check_search_document(doc, with_spec=spec is None)
     spec = ThreadSpec.from_dict(doc["spec"]) if spec is None else spec
     if chord is None:
         mesh = doc.get("mesh") or {}
