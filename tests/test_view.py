@@ -246,6 +246,15 @@ def test_snap_button_shows_the_landing(browser, searched):
         "return document.getElementById('tm-plots').layout.shapes[0].x0;"
     )
     assert cursor == pytest.approx(doc["states"][index]["phase"])
+    # The snap's label above the plots leads there too.
+    from selenium.webdriver.common.keys import Keys
+
+    browser.find_element("id", "tm-slider").send_keys(Keys.HOME)
+    assert browser.find_element("id", "tm-readout").get_attribute("data-state") == "0"
+    labels = browser.find_elements("css selector", "#tm-plots g.annotation")
+    assert len(labels) == len(doc["events"])
+    labels[[e["kind"] for e in doc["events"]].index("snap")].click()
+    assert browser.find_element("id", "tm-readout").get_attribute("data-state") == str(index)
     # Zoomed to the contacts, the scene spans one and a half pitches around the landing's
     # most loaded contact.
     browser.find_element("id", "tm-zoom").click()

@@ -54,13 +54,16 @@ def write_start_views(views: str | os.PathLike[str], doc: dict[str, Any], spec: 
 
 
 def _library(run: Path) -> Path:
-    lib = run / "library"
-    if not (lib / METADATA_FILE).is_file():
-        raise InputError(
-            f"{run}: not a threadmate run folder (no library/{METADATA_FILE}; give the -o "
-            "folder of threadmate run)"
-        )
-    return lib
+    """The run's library: ``library``, or with several compliances the first
+    ``library-F<force>-k<stiffness>`` in name order."""
+    found = [run / "library", *sorted(run.glob("library-F*-k*"))]
+    for lib in found:
+        if (lib / METADATA_FILE).is_file():
+            return lib
+    raise InputError(
+        f"{run}: not a threadmate run folder (no library/{METADATA_FILE}; give the -o "
+        "folder of threadmate run)"
+    )
 
 
 def _read_json(path: Path) -> Any:
@@ -76,7 +79,8 @@ def write_start_page(run: str | os.PathLike[str], roll: float, pitch: float, pha
     links to it.
 
     The search uses the run's library settings: its thread pair, compliance, chord and
-    continuation step. Returns the page's path.
+    continuation step (with several compliances, the first library's in name order; the
+    page names its compliance). Returns the page's path.
 
     Raises
     ------

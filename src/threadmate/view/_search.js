@@ -117,6 +117,7 @@
     });
     notes.push({
       x: e.phase, xref: "x", y: 1.0, yref: "paper", yanchor: "bottom", showarrow: false,
+      captureevents: true, hovertext: "show the state after it",
       text: snap ? "snap: click " + fmt(e.click, 3) + " " + U : e.kind,
       font: { size: snap ? 12 : 10, color: snap ? "#d62728" : "#5a6570" },
       textangle: snap ? 0 : -30,
@@ -211,6 +212,7 @@
       btn.addEventListener("click", () => show(Number(btn.dataset.state)));
     }
     zoomBtn.addEventListener("click", () => zoom(!zoomed));
+    plotDiv.on("plotly_clickannotation", (ev) => show(D.events[ev.index].state));
     plotDiv.on("plotly_click", (ev) => {
       if (ev.points && ev.points.length) show(ev.points[0].customdata);
     });
