@@ -61,7 +61,7 @@ def _library(run: Path) -> Path:
         if (lib / METADATA_FILE).is_file():
             return lib
     raise InputError(
-        f"{run}: not a threadmate run folder (no library/{METADATA_FILE}; give the -o "
+        f"{run}: not a threadmate run folder (no library/{METADATA_FILE}; give the output "
         "folder of threadmate run)"
     )
 
@@ -86,7 +86,8 @@ def write_start_page(run: str | os.PathLike[str], roll: float, pitch: float, pha
     ------
     InputError
         ``run`` is not a run folder, the start is not one of its grid's, or the run was
-        swept on meshes from CAD (give them to ``threadmate search ... --html`` instead).
+        swept on meshes from CAD (give them to ``threadmate search`` with its page
+        instead).
     """
     from ..contact import Compliance, Mechanics, contact_scene, search
 
@@ -98,13 +99,13 @@ def write_start_page(run: str | os.PathLike[str], roll: float, pitch: float, pha
         if not any(math.isclose(value, v, abs_tol=1e-9) for v in values):
             shown = ", ".join(f"{v:g}" for v in values)
             raise InputError(
-                f"--start: {axis} {value:g} deg is not on the run's grid ({axis}: {shown})"
+                f"the start's {axis} {value:g} deg is not on the run's grid ({axis}: {shown})"
             )
     mesh = meta.get("mesh") or {}
     if isinstance(mesh.get("bolt"), dict) or isinstance(mesh.get("nut"), dict):
         raise InputError(
-            f"{run} was swept on meshes from CAD: draw a start with threadmate search "
-            "--bolt-mesh ... --nut-mesh ... --html FILE"
+            f"{run} was swept on meshes from CAD: draw a start with threadmate search on "
+            "the same meshes, which writes its page too"
         )
     spec = ThreadSpec.from_dict(meta["spec"])
     cont = meta.get("continuation") or {}
@@ -236,7 +237,7 @@ def write_run_page(run: str | os.PathLike[str]) -> Path:
     """
     run = Path(run)
     if not run.is_dir():
-        raise InputError(f"{run}: no such folder (give the -o folder of threadmate run)")
+        raise InputError(f"{run}: no such folder (give the output folder of threadmate run)")
     meta = _read_json(_library(run) / METADATA_FILE)
     for name in ("report.md", "recommendation.json", "starts.csv"):
         if not (run / name).is_file():

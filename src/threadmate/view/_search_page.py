@@ -54,7 +54,7 @@ def read_search_document(path: str | os.PathLike[str]) -> dict[str, Any]:
     """
     path = Path(path)
     if not path.is_file():
-        raise InputError(f"{path}: no such file (give the output of threadmate search --json)")
+        raise InputError(f"{path}: no such file (give a search's JSON document)")
     try:
         doc = parse_json(read_utf8(path, InputError))
     except ValueError as exc:
@@ -69,14 +69,14 @@ def check_search_document(
     """Refuse a document that is not a search's, naming what is missing (``spec`` too
     when ``with_spec``)."""
     if not isinstance(doc, dict):
-        raise InputError(f"{where}: expected a JSON object (threadmate search --json)")
+        raise InputError(f"{where}: expected a JSON object (a search's document)")
     missing = [k for k in (*_KEYS, *(("spec",) if with_spec else ())) if k not in doc]
     if missing:
         hint = (
-            " (written before searches carried their thread pair: run threadmate search "
-            "--json again)"
+            " (written before searches carried their thread pair: run the search again "
+            "for its JSON document)"
             if missing == ["spec"]
-            else " (give the output of threadmate search --json)"
+            else " (give the JSON document of threadmate search)"
         )
         raise InputError(f"{where}: not a search's document, no {', '.join(missing)}{hint}")
     states = doc["states"]
