@@ -130,11 +130,11 @@ def search_view_data(
     """
     check_search_document(doc, with_spec=spec is None)
     spec = ThreadSpec.from_dict(doc["spec"]) if spec is None else spec
-    if chord is None:
-        mesh = doc.get("mesh") or {}
-        bolt_mesh = mesh.get("bolt") if isinstance(mesh, dict) else None
-        if isinstance(bolt_mesh, dict) and bolt_mesh.get("generated"):
-            chord = bolt_mesh.get("chord")
+    mesh = doc.get("mesh") or {}
+    parts = [mesh.get(k) for k in ("bolt", "nut")] if isinstance(mesh, dict) else []
+    from_cad = any(isinstance(p, dict) and not p.get("generated", False) for p in parts)
+    if chord is None and parts and isinstance(parts[0], dict) and parts[0].get("generated"):
+        chord = parts[0].get("chord")
     u = spec.units
     states = []
     nut_points: list[list[float]] = []
@@ -204,7 +204,12 @@ def search_view_data(
             f"{name}: counter-clockwise search from roll {start['roll']:g}, pitch "
             f"{start['pitch']:g}, phase {start['phase']:g} deg"
         ),
-        "subtitle": _subtitle(doc, u, force),
+        "subtitle": _subtitle(doc, u, force)
+        + (
+            " The search ran on meshes from CAD; the page draws the spec's own meshes."
+            if from_cad
+            else ""
+        ),
         "force": force,
         "pitch": spec.pitch,
         "arrow": ARROW_PITCHES * spec.pitch / force,
