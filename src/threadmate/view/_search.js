@@ -108,6 +108,7 @@
     line: { color: "#2ca02c", width: 2 },
   }];
   const notes = [];
+  let lifted = 0; // the other events' labels step up, so that close ones do not overlap
   for (const e of D.events) {
     const snap = e.kind === "snap";
     shapes.push({
@@ -118,13 +119,14 @@
     notes.push({
       x: e.phase, xref: "x", y: 1.0, yref: "paper", yanchor: "bottom", showarrow: false,
       captureevents: true, hovertext: "show the state after it",
+      yshift: snap ? 0 : 14 * (lifted++ % 3),
       text: snap ? "snap: click " + fmt(e.click, 3) + " " + U : e.kind,
       font: { size: snap ? 12 : 10, color: snap ? "#d62728" : "#5a6570" },
       textangle: snap ? 0 : -30,
     });
   }
   const plotLayout = {
-    margin: { l: 70, r: 15, t: 64, b: 50 },
+    margin: { l: 70, r: 15, t: 80, b: 50 },
     showlegend: false,
     hovermode: "closest",
     xaxis: { title: { text: "phase (deg, turned counter-clockwise)" }, anchor: "y3" },
