@@ -120,6 +120,7 @@
       x: e.phase, xref: "x", y: 1.0, yref: "paper", yanchor: "bottom", showarrow: false,
       captureevents: true, hovertext: "show the state after it",
       yshift: snap ? 0 : 14 * (lifted++ % 3),
+      xanchor: snap ? "right" : "left",
       text: snap ? "snap: click " + fmt(e.click, 3) + " " + U : e.kind,
       font: { size: snap ? 12 : 10, color: snap ? "#d62728" : "#5a6570" },
       textangle: snap ? 0 : -30,
