@@ -26,9 +26,9 @@ import pytest
 from _cli import THESIS_PARTS, run_captured
 
 DESIGNATION = "1/4-20 UNC-2A/2B"
-#: The search of the tests: a flat bolt upright at phase 330, 10-degree steps (a contact
-#: change, then the snap after about 19 degrees).
-SEARCH = (DESIGNATION, *THESIS_PARTS, "--roll", "0", "--pitch", "0", "--phase", "330")
+#: The search of the tests: a flat bolt upright at phase 340, 10-degree steps (a contact
+#: change, then the snap after about 9 degrees).
+SEARCH = (DESIGNATION, *THESIS_PARTS, "--roll", "0", "--pitch", "0", "--phase", "340")
 STEP = 10.0
 #: Flags Chromium needs as root in a closed network (a fresh profile is added).
 CHROMIUM_FLAGS = (
@@ -298,7 +298,8 @@ def test_view_refuses_what_it_cannot_draw(tmp_path, capsys):
 # -- a run -----------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def ran(tmp_path_factory):
-    """A tiny ``threadmate run``: one held tilt, two start phases, 10-degree steps."""
+    """A tiny ``threadmate run``: one held tilt, two start phases 30 degrees apart, a
+    10-degree continuation step."""
     out = tmp_path_factory.mktemp("view-run") / "job"
     code, stdout, err = run_captured(
         "run", DESIGNATION, *THESIS_PARTS, "-o", out, "--roll", "0", "--pitch", "0",
