@@ -161,7 +161,7 @@ def run_pipeline(
     """
     check_roll_spread(roll_spread)
     out = check_run_folder(out)
-    for folder in (out, out / "figures"):
+    for folder in (out, out / "figures", out / "views"):
         remove_stale_temporaries(folder)  # left by a run killed while writing
     grid = {
         "roll": RUN_GRID["roll"] if roll is None else roll,
