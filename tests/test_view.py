@@ -291,6 +291,27 @@ def test_view_refuses_what_it_cannot_draw(tmp_path, capsys):
     assert "no such file" in refused(capsys, "view", tmp_path / "missing.json")
     assert "--start" in refused(capsys, "view", old, "--start", "0,0,0")
     assert "not a threadmate run folder" in refused(capsys, "view", tmp_path)
+    # A document whose pose is not a rotation matrix: refused, nothing written.
+    from threadmate.geometry import with_parts
+
+    bent = tmp_path / "bent.json"
+    bent.write_text(
+        json.dumps(
+            {
+                "units": {},
+                "parameters": {},
+                "start": {},
+                "snap": None,
+                "events": [],
+                "spec": with_parts(DESIGNATION).to_dict(),
+                "states": [
+                    {"phase": 0, "origin": [0, 0, 0], "rotation": [1, 2], "centre": [0, 0, 0],
+                     "contacts": []}
+                ],
+            }
+        )
+    )  # fmt: skip
+    assert "state 0 has no pose" in refused(capsys, "view", bent)
     assert "--html" in refused(capsys, "search", *SEARCH, "--html", tmp_path / "x.png")
     assert not list(tmp_path.glob("*.html"))
 

@@ -130,7 +130,7 @@
     margin: { l: 70, r: 15, t: 80, b: 50 },
     showlegend: false,
     hovermode: "closest",
-    xaxis: { title: { text: "phase (deg, turned counter-clockwise)" }, anchor: "y3" },
+    xaxis: { title: { text: "phase (deg, turned " + D.sense + ")" }, anchor: "y3" },
     yaxis: { title: { text: series[0][1] }, domain: [0.7, 1.0] },
     yaxis2: { title: { text: series[1][1] }, domain: [0.37, 0.65] },
     yaxis3: { title: { text: series[2][1] }, domain: [0.0, 0.32] },

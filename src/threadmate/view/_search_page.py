@@ -139,9 +139,19 @@ def search_view_data(
     states = []
     nut_points: list[list[float]] = []
     bolt_points: list[list[float]] = []
-    for s in doc["states"]:
-        rot = np.asarray(s["rotation"], dtype=float).reshape(3, 3)
-        origin = np.asarray(s["origin"], dtype=float)
+    for index, s in enumerate(doc["states"]):
+        try:
+            rot = np.asarray(s["rotation"], dtype=float).reshape(3, 3)
+            origin = np.asarray(s["origin"], dtype=float).reshape(3)
+            float(s["phase"]), float(s["centre"][2])
+            for c in s["contacts"]:
+                np.asarray(c["point"], dtype=float).reshape(3)
+                np.asarray(c["normal"], dtype=float).reshape(3)
+        except (ValueError, TypeError, KeyError, IndexError) as exc:
+            raise InputError(
+                f"search document: state {index} has no pose or contact of the search's "
+                f"form ({type(exc).__name__}: {exc})"
+            ) from None
         contacts = []
         for c in _touching(s):
             p = np.asarray(c["point"], dtype=float)
@@ -170,12 +180,12 @@ def search_view_data(
             }
         )
     phases = [s["phase"] for s in states]
-    sense = 1.0 if len(phases) < 2 or phases[-1] >= phases[0] else -1.0
+    way = 1.0 if len(phases) < 2 or phases[-1] >= phases[0] else -1.0
     events = []
     for e in doc["events"]:
         # The state just after the event, as turned (the landing of a jump).
         after = next(
-            (i for i, ph in enumerate(phases) if sense * (ph - float(e["phase"])) >= 0.0),
+            (i for i, ph in enumerate(phases) if way * (ph - float(e["phase"])) >= 0.0),
             len(phases) - 1,
         )
         events.append(
@@ -198,12 +208,14 @@ def search_view_data(
     params = doc["parameters"]
     force = float(params.get("force", 1.0))
     name = spec.designation or f"spec (pitch {spec.pitch:g} {u})"
+    sense = "counter-clockwise" if spec.handedness > 0 else "clockwise"
     return {
         "units": u,
         "title": (
-            f"{name}: counter-clockwise search from roll {start['roll']:g}, pitch "
+            f"{name}: {sense} search from roll {start['roll']:g}, pitch "
             f"{start['pitch']:g}, phase {start['phase']:g} deg"
         ),
+        "sense": sense,
         "subtitle": _subtitle(doc, u, force)
         + (
             " The search ran on meshes from CAD; the page draws the spec's own meshes."
