@@ -36,6 +36,7 @@ PACKAGES = (
     "network",
     "planar",
     "pipeline",
+    "view",
 )
 #: Every command and subcommand, for ``CMD --help``.
 COMMANDS = (
@@ -55,6 +56,7 @@ COMMANDS = (
     ["path"],
     ["recommend"],
     ["run"],
+    ["view"],
 )
 ENTRY = "from threadmate.cli import main; main()"
 
@@ -126,6 +128,9 @@ def test_no_heavy_package_for_help_thread_or_refusals(tmp_path):
         ["search", "M6", "--roll", "0", "--pitch", "0", "--phase", "0", "--screw-in", "800"],
         ["path", str(tmp_path / "l"), "--roll", "0", "--pitch", "0", "--phase", "1e7"],
         ["mesh", "M6", "-o", str(tmp_path / "m"), "--point", "hex"],
+        ["view", str(tmp_path / "missing.json")],
+        ["view", str(tmp_path), "--start", "0,0"],
+        ["search", "M6", "--roll", "0", "--pitch", "0", "--phase", "0", "--html", "x.png"],
     ]
     runs = ok + refused
     code = textwrap.dedent(

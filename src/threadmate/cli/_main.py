@@ -44,6 +44,7 @@ def _register() -> None:
     from . import _mesh  # noqa: F401  (registers: mesh)
     from . import _network  # noqa: F401  (registers: network, path, recommend)
     from . import _run  # noqa: F401  (registers: run)
+    from . import _view  # noqa: F401  (registers: view)
 
 
 class _Terminated(KeyboardInterrupt):

@@ -314,6 +314,19 @@ def _figure_path(plot: Path | None) -> Path | None:
     return writable_output(plot, "--plot")
 
 
+def _page_path(page: Path | None) -> Path | None:
+    """Refuse a page path that is not an .html file, before any work."""
+    if page is None:
+        return None
+    if page.suffix.lower() not in (".html", ".htm"):
+        raise InputError(
+            f"--html {page}: expected a file ending in .html (got {page.suffix or 'no suffix'!r})"
+        )
+    if page.is_dir():
+        raise InputError(f"--html {page}: is a folder; give a file name")
+    return writable_output(page, "--html")
+
+
 # -- commands --------------------------------------------------------------------------------
 _torque_limit_option = click.option(
     "--torque-limit",
@@ -332,8 +345,10 @@ def _emit(
     mech: Mechanics,
     meshes: MeshFiles,
     figure: Path | None,
+    page: Path | None = None,
 ) -> None:
-    """A turn's result out: its figure, then its JSON document or its text."""
+    """A turn's result out: its figure and its page, then its JSON document or its
+    text."""
     spec = mech.spec
     if figure is not None:
         from ..contact import SearchResult, plot_screw, plot_search  # matplotlib, if asked
@@ -342,14 +357,27 @@ def _emit(
             plot_search(run, figure, spec=spec)
         else:
             plot_screw(run, figure, spec=spec)
+    document = _turn_document(run, mech)
+    if page is not None:
+        from ..view import write_search_page  # plotly, if asked
+
+        write_search_page(document, page, spec=spec)
     if as_json:
-        emit_json({**run.to_dict(), "mesh": mech.scene.mesh_info})
+        emit_json(document)
         return
     click.echo(text)
     if meshes.given:
         click.echo(mesh_summary(mech.scene.mesh_info, spec.units))
     if figure is not None:
         click.echo(f"wrote {figure}")
+    if page is not None:
+        click.echo(f"wrote {page}")
+
+
+def _turn_document(run: SearchResult | ScrewResult, mech: Mechanics) -> dict[str, Any]:
+    """A turn's ``--json`` document: the result's, the meshes used and the thread pair
+    (``spec``, the spec-file layout), so that ``threadmate view`` can draw it."""
+    return {**run.to_dict(), "mesh": mech.scene.mesh_info, "spec": mech.spec.to_dict()}
 
 
 def _phase_tolerance(step: float) -> float:
@@ -476,6 +504,16 @@ stiffness in N/m, lengths in the spec's units, angles in degrees, work in mJ.
     "continuation that proves each snap: a landing in phase that does not then descend at "
     "the lead is a jump, and says why.",
 )
+@click.option(
+    "--html",
+    "page",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Write the search's interactive page to this .html file: the bolt on the nut at "
+    "every state under a slider, the contacts and their forces, height, tilt and torque "
+    "against phase (one self-contained file; threadmate view draws a saved --json the "
+    "same way).",
+)
 @_torque_limit_option
 def search_command(
     spec_text: str,
@@ -493,6 +531,7 @@ def search_command(
     turns: float,
     step: float,
     plot: Path | None,
+    page: Path | None,
     screw_in: float,
     torque_limit: float | None,
     parts: SpecParts,
@@ -503,6 +542,7 @@ def search_command(
     check_continuation(turns=turns, step=step, phase_tolerance=_phase_tolerance(step))
     check_screw(screw_in=screw_in, torque_limit=torque_limit)
     figure = _figure_path(plot)
+    html_page = _page_path(page)
     spec, mech = _setup(
         spec_text,
         roll,
@@ -538,7 +578,7 @@ def search_command(
             "threadmate: warning: the start is not a rest state (its descent did not "
             "converge): the search begins where the descent stopped"
         )
-    _emit(run, _search_text(spec, run, step), as_json, mech, meshes, figure)
+    _emit(run, _search_text(spec, run, step), as_json, mech, meshes, figure, html_page)
     if run.snap is None:
         raise NoPathError(
             f"no snap within {turns:g} turn(s) from roll {roll:g}, pitch "

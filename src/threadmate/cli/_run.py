@@ -51,10 +51,11 @@ def _values(text: str | None, option: str) -> list[float]:
 
 Sweeps (or resumes, or reuses) the mechanics library DIR/library, builds the network,
 recommends the SRCC setting and writes DIR/network.graphml, DIR/starts.csv,
-DIR/recommendation.json, DIR/figures/ and DIR/report.md. DIR must be new, empty or a
-previous run's folder (resumed, its files written again). Default: {DEFAULT_DESIGNATION}
-on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]}, phase {RUN_GRID["phase"]}
-(degrees). {SPEC_HELP} {DEFAULTS_NOTE}""",
+DIR/recommendation.json, DIR/figures/, DIR/report.md and DIR/report.html (the report as an
+interactive page; the search of the start its click signature shows in DIR/views/).
+DIR must be new, empty or a previous run's folder (resumed, its files written again).
+Default: {DEFAULT_DESIGNATION} on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]},
+phase {RUN_GRID["phase"]} (degrees). {SPEC_HELP} {DEFAULTS_NOTE}""",
 )
 @click.argument(
     "spec_text", metavar="[DESIGNATION|SPEC]", required=False, default=DEFAULT_DESIGNATION
@@ -207,7 +208,8 @@ def run_command(
         f"wrote {result.out}/: {len(result.libraries)} librar"
         f"{'y' if len(result.libraries) == 1 else 'ies'}, network.graphml, "
         f"network.json, starts.csv, recommendation.json, figures/ "
-        f"({len(result.figures)}), report.md"
+        f"({len(result.figures)}), report.md, report.html"
+        + (f", views/ ({len(result.pages) - 1})" if len(result.pages) > 1 else "")
     )
     click.echo(
         f"recommended pre-tilt: held pitch {best['held_pitch']:+g} deg; "

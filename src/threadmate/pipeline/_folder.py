@@ -27,6 +27,8 @@ RUN_FILES = (
     "recommendation.json",
     "figures",
     "report.md",
+    "report.html",
+    "views",
 )
 _LIBRARY = re.compile(r"library(-F.+-k.+)?")
 

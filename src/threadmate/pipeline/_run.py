@@ -12,6 +12,10 @@ Layout of the output folder::
     DIR/figures/            recommendation, click signature, click against tilt, class
                             map and strips, region combinations, planar figures
     DIR/report.md           the report, figures embedded
+    DIR/report.html         the report as one interactive page, each start linked to
+                            its search's page
+    DIR/views/              the search's page (and JSON) of the start the click
+                            signature shows (threadmate view DIR --start adds others)
 """
 
 from __future__ import annotations
@@ -27,7 +31,17 @@ from .._io import atomic_write_text, remove_stale_temporaries
 from .._text import number_text
 from .._validate import check_roll_spread
 from .._version import __version__
-from ..contact import CONTINUATION_STEP, PHASE_TOLERANCE, UNSTABLE, Compliance
+from ..contact import (
+    CONTINUATION_STEP,
+    PHASE_TOLERANCE,
+    UNSTABLE,
+    Compliance,
+    Mechanics,
+    SearchResult,
+    contact_scene,
+    plot_search,
+    search,
+)
 from ..geometry import ThreadSpec
 from ..library import Grid, info, load, sweep, write_figures
 from ..network import (
@@ -47,6 +61,7 @@ from ..network import (
     write_recommendation,
 )
 from ..planar import plot_pivot_axes, plot_region_disk
+from ..view import start_page_name, write_run_page, write_start_views
 from ._defaults import RUN_GRID
 from ._folder import check_run_folder
 
@@ -71,6 +86,8 @@ class RunResult:
     #: The meshes used (the library metadata's ``mesh`` entry: chord, and per body a CAD
     #: mesh's file, SHA-256, units, deviation and off-spec shares, or None: generated).
     meshes: dict[str, Any] = field(default_factory=dict)
+    #: ``report.html`` and the start pages written into ``views/``.
+    pages: list[Path] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready mapping of paths and figures (``threadmate run --json``)."""
@@ -90,6 +107,7 @@ class RunResult:
             "starts": str(self.starts),
             "recommendation": str(self.recommendation),
             "report": str(self.report),
+            "pages": [str(p) for p in self.pages],
             "figures": {k: str(v) for k, v in self.figures.items()},
             "counts": self.counts,
             "recommended": self.recommended,
@@ -143,7 +161,7 @@ def run_pipeline(
     """
     check_roll_spread(roll_spread)
     out = check_run_folder(out)
-    for folder in (out, out / "figures"):
+    for folder in (out, out / "figures", out / "views"):
         remove_stale_temporaries(folder)  # left by a run killed while writing
     grid = {
         "roll": RUN_GRID["roll"] if roll is None else roll,
@@ -186,11 +204,39 @@ def run_pipeline(
     figures: dict[str, Path] = {}
     figures["recommendation"] = plot_recommendation(rec, figdir / "recommendation.png")
     signature = _click_signature_start(outcomes, rec)
+    traced: SearchResult | None = None
+    failed = ""  # why the signature's search failed, if it did
+    pages: list[Path] = []
     if signature is not None:
-        path = least_resistance_path(graph, *signature)
-        figures["click_signature"] = plot_click_signature(
-            graph, path, figdir / "click-signature.png"
+        # The search itself from that start, at its own resolution (every step, both sides
+        # of each event), on the library's mechanics; the library holds grid phases only.
+        mech = Mechanics(
+            spec,
+            compliances[0],
+            scene=contact_scene(
+                spec,
+                chord=chord,
+                bolt_mesh=bolt_mesh,
+                nut_mesh=nut_mesh,
+                mesh_units=mesh_units,
+                max_faces=max_faces,
+            ),
         )
+        try:
+            traced = search(mech, *signature, step=step)
+        except Exception as exc:  # noqa: BLE001 - the library's path stands in for it
+            failed = f"{type(exc).__name__}: {exc}"
+        if traced is not None:
+            figures["click_signature"] = plot_search(
+                traced, figdir / "click-signature.png", spec=spec
+            )
+            doc = {**traced.to_dict(), "mesh": mech.scene.mesh_info, "spec": spec.to_dict()}
+            pages.append(write_start_views(out / "views", doc, spec))
+        else:
+            path = least_resistance_path(graph, *signature)
+            figures["click_signature"] = plot_click_signature(
+                graph, path, figdir / "click-signature.png"
+            )
     figures["click_vs_tilt"] = plot_click_vs_tilt(
         outcomes, figdir / "click-vs-tilt.png", spec.units
     )
@@ -221,10 +267,12 @@ def run_pipeline(
         out,
         meshes,
         map_phase,
+        traced or failed,
     )
     if clockwise:
         report += "\n" + _clockwise_section(load(libs[0]))
     report_path = atomic_write_text(out / "report.md", report)
+    pages.insert(0, write_run_page(out))
     recommended = dict(rec.best, units=spec.units)
     return RunResult(
         out,
@@ -239,6 +287,7 @@ def run_pipeline(
         recommended,
         rec.notes,
         meshes,
+        pages,
     )
 
 
@@ -384,6 +433,38 @@ def _click_signature_start(outcomes: Any, rec: Recommendation) -> tuple[float, f
     return float(row["held_roll"]), float(row["held_pitch"]), float(row["phase"])
 
 
+def _signature_caption(
+    signature: tuple[float, float, float] | None, traced: SearchResult | str, step: float, u: str
+) -> str:
+    """The click signature's caption: which search, at what resolution, and its page."""
+    head = (
+        "The click signature a force/torque sensor would see: height of the compliance "
+        "centre, tilt and driver torque against phase along the search from "
+    )
+    if signature is None:
+        return head + "a start."
+    head += f"held roll {signature[0]:g}, pitch {signature[1]:g}, phase {signature[2]:g} deg"
+    if isinstance(traced, str):
+        return (
+            f"{head}, drawn from the library's states (grid phases and both sides of each "
+            f"jump): the search itself failed ({traced}); the snap in red."
+        )
+    events = len(traced.events)
+    name = start_page_name(*signature)
+    snap = (
+        "no snap within the turn"
+        if traced.snap is None
+        else f"the snap at {traced.snap.phase:.2f} deg in bold red, its click "
+        f"{traced.snap.click:.4g} {u}"
+    )
+    return (
+        f"{head}, at the search's own resolution: its {len(traced.states)} states, every "
+        f"{step:g} deg step and both sides of each of its {events} event"
+        f"{'s' if events != 1 else ''}; {snap}. Interactive: views/{name}.html "
+        "(or report.html)."
+    )
+
+
 def _lean(pitch: float) -> str:
     """Where a held pitch leans the bolt's head, in the nut's frame (conventions.md)."""
     if pitch == 0:
@@ -443,6 +524,7 @@ def _report(
     out: Path,
     meshes: dict[str, Any] | None = None,
     map_phase: tuple[float, int, int] | None = None,
+    traced: SearchResult | str = "",
 ) -> str:
     name = spec.designation or "custom spec"
     u = spec.units
@@ -574,16 +656,7 @@ def _report(
     ]
     captions = {
         "recommendation": "Snap share and mean turn against the pre-tilt.",
-        "click_signature": (
-            "The click signature a force/torque sensor would see: height of the "
-            "compliance centre, tilt and driver torque along the search from "
-            + (
-                f"held roll {signature[0]:g}, pitch {signature[1]:g}, phase {signature[2]:g} deg"
-                if signature
-                else "a start"
-            )
-            + "; the snap dashed red."
-        ),
+        "click_signature": _signature_caption(signature, traced, step, u),
         "click_vs_tilt": "The click and the turn to the snap against the tilt's size.",
         "library_stability_map": _map_caption(map_phase),
         "library_phase_strips": "The same over every start phase (phase 0 to 360 deg left to "
@@ -599,6 +672,10 @@ def _report(
     lines += [
         "## Files and where to look next",
         "",
+        "- `report.html`: this report as one interactive page (open it in a browser; it "
+        "needs no network): the settings ranked, the class map over the held tilts at any "
+        "start phase, and every start linked to its search's page in `views/`; "
+        "`threadmate view DIR --start R,P,PH` writes the page of any other start.",
         "- `library/`: every state (Parquet; `threadmate library info`), "
         "`network.graphml` / `network.json`: the network (open in yEd, Gephi or Cytoscape), "
         "`starts.csv`: every start's outcome, `recommendation.json`: the ranking.",
