@@ -361,8 +361,10 @@ def test_the_click_is_the_whole_fall_a_sensor_sees(flat, mech):
     the whole fall, as a dynamic simulation does: the click is the highest the branch
     stands within the last degree of turn (``CLICK_SPAN``) less the landing. The branch
     is followed independently here in steps of 0.05 degree from the search's state at
-    345 to a hundredth of a degree before the snap; the click is larger than the jump's
-    own drop."""
+    345 to a hundredth of a degree before the snap: it does not engage before the snap,
+    and what it jumps on the way (the bolt rolls down a nearly neutral valley as it tips,
+    and a walk of other steps can leave it by a small jump) lies within that last degree;
+    the click is larger than the jump's own drop."""
     run = search(mech, 2.0, -1.5, 200.0)
     assert run.snap is not None and run.snap.engagement is not None
     assert run.snap.engagement.engaged
@@ -371,7 +373,8 @@ def test_the_click_is_the_whole_fall_a_sensor_sees(flat, mech):
     state = next(s for s in run.states if s.phase == pytest.approx(345.0))
     end = run.snap.phase - 0.01
     _, events, states = walk.advance(state, 345.0, end - 345.0)
-    assert not [e for e in events if e.kind in ("jump", "snap")]
+    assert not [e for e in events if e.kind == "snap"]
+    assert all(e.phase >= run.snap.phase - CLICK_SPAN for e in events if e.kind == "jump")
     top = max(s.centre[2] for s in states if s.phase >= run.snap.phase - CLICK_SPAN)
     assert run.snap.click == pytest.approx(top - landing.centre[2], rel=0.01)
     assert run.snap.click > run.snap.drop * 1.1
