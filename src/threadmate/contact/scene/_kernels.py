@@ -2,10 +2,9 @@
 
 The contact code asks these one edge or a few triangle pairs at a time, thousands of
 times per rest state, where Python's and numpy's per-call overhead is most of the cost.
-They are plain loops over floats, compiled by numba (``njit(cache=True)``: compiled once
-per machine and kept on disk in the package's ``__pycache__``, or numba's user cache where
-that is not writable). Without numba the same functions run as Python: the same
-results, slower.
+They are plain loops over floats, compiled by numba (:mod:`threadmate._compiled`:
+once per machine, kept on disk). Without numba the same functions run as Python: the
+same results, slower.
 
 The profile and the envelope travel as float arrays (:func:`profile_array`,
 :func:`envelope_array`); each kernel repeats the arithmetic of the Python methods it
@@ -17,51 +16,24 @@ methods' to the last bit, bar the order of rounding in a library call.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, TypeVar, cast
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..._angles import TWO_PI
+from ..._compiled import compiled
 
 if TYPE_CHECKING:
     from ...geometry import ThreadBody
 
 __all__ = [
-    "COMPILED",
     "envelope_array",
     "kink_height",
     "kink_heights",
     "profile_array",
     "vertical_touch",
 ]
-
-_F = TypeVar("_F", bound=Callable[..., Any])
-
-
-def _compiler() -> Any:
-    """numba's ``njit``, or None where numba is not installed (a dependency: this keeps a
-    bare install working, slower)."""
-    try:
-        from numba import njit
-    except ImportError:  # pragma: no cover
-        return None
-    return njit
-
-
-_njit = _compiler()
-#: Whether the kernels run compiled.
-COMPILED = _njit is not None
-
-
-def _compiled(func: _F) -> _F:
-    """``func`` compiled (releasing the GIL) and cached on disk; as Python without
-    numba."""
-    if _njit is None:  # pragma: no cover
-        return func
-    return cast("_F", _njit(cache=True, nogil=True)(func))
-
 
 #: Relative tolerance of :func:`scipy.optimize.brentq` by default (four machine epsilons).
 _RTOL = 4 * np.finfo(float).eps
@@ -121,7 +93,7 @@ def envelope_array(body: ThreadBody) -> NDArray[np.float64]:
     )
 
 
-@_compiled
+@compiled
 def _profile_radius(prof: NDArray[np.float64], t: float) -> float:
     """``Profile.radius(t)`` of one number (:meth:`Profile._radius_at` of ``|wrap(t)|``)."""
     pitch = prof[13]
@@ -139,7 +111,7 @@ def _profile_radius(prof: NDArray[np.float64], t: float) -> float:
     return prof[5]
 
 
-@_compiled
+@compiled
 def _envelope_radius(env: NDArray[np.float64], z: float) -> float:
     """The envelope's radius at one height (+inf for the bolt, -inf for the nut beyond
     its span)."""
@@ -151,14 +123,14 @@ def _envelope_radius(env: NDArray[np.float64], z: float) -> float:
     return math.sqrt(max(rho * rho - (z - env[4]) ** 2, 0.0))
 
 
-@_compiled
+@compiled
 def _gap(
     prof: NDArray[np.float64], env: NDArray[np.float64], rise: float, theta: float, h: float
 ) -> float:
     return _profile_radius(prof, h - rise * theta) - _envelope_radius(env, h)
 
 
-@_compiled
+@compiled
 def _brentq(
     prof: NDArray[np.float64],
     env: NDArray[np.float64],
@@ -220,7 +192,7 @@ def _brentq(
     raise RuntimeError("the kink's height did not converge")
 
 
-@_compiled
+@compiled
 def _kink_height(
     prof: NDArray[np.float64], env: NDArray[np.float64], rise: float, theta: float, z: float
 ) -> float:
@@ -253,7 +225,7 @@ def _kink_height(
     return z0
 
 
-@_compiled
+@compiled
 def _kink_walk(
     prof: NDArray[np.float64],
     env: NDArray[np.float64],
@@ -308,7 +280,7 @@ def kink_heights(body: ThreadBody, angles: NDArray[np.float64], z: float) -> NDA
     return _kink_walk(prof, env, rise, np.ascontiguousarray(angles, dtype=float), float(z))
 
 
-@_compiled
+@compiled
 def _vertical_touch(
     a: NDArray[np.float64],
     b: NDArray[np.float64],
