@@ -6,6 +6,7 @@ Usage::
     python benchmarks/bench_sweep.py                           # mechanics, 2 held tilts x 72
     python benchmarks/bench_sweep.py --roll=-4:4:1 --pitch=-4:4:1   # the whole thesis grid
     python benchmarks/bench_sweep.py --workers 1,2             # speed-up from 1 to 2 workers
+    python benchmarks/bench_sweep.py --workers 1,2 --scheduler local   # on a Dask LocalCluster
     python benchmarks/bench_sweep.py --model thesis --roll=-4:4:1 --pitch=-4:4:1
 
 The pair is 1/4-20 UNC-2A/2B at mean material, default chord (``--chord`` to change),
@@ -37,6 +38,11 @@ time on the given workers divided the same way. Target
 
 ``--model thesis`` runs the thesis's fixed-pivot stages instead (chunks of ``--chunk-size``
 configurations), with query times taken at the stages' last poses.
+
+``--scheduler local`` runs the sweep on a Dask distributed LocalCluster of ``--workers``
+worker processes on 127.0.0.1 (the sweep's own ``scheduler="local"``), so that its speed-up
+at 1 and 2 workers can be read beside the pool's; its workers' CPU time is not gathered
+(they are the cluster's processes), so its query equivalents are of wall time only.
 
 Each run happens in a fresh child process so that its peak memory and its workers' CPU time
 are its own. Only threadmate's public API is used.
@@ -137,7 +143,9 @@ def _one(args: argparse.Namespace) -> None:
     sampler.start()
     n_tilts = grid.shape[0] * grid.shape[1]
     out = Path(args.out)
-    kwargs = {"model": args.model, "workers": args.workers, "chord": args.chord}
+    kwargs: dict[str, Any] = {"model": args.model, "workers": args.workers, "chord": args.chord}
+    if args.scheduler != "pool":
+        kwargs["scheduler"] = args.scheduler
     if args.model == "mechanics":
         kwargs["step"] = args.step
     else:
@@ -153,6 +161,8 @@ def _one(args: argparse.Namespace) -> None:
     me = resource.getrusage(resource.RUSAGE_SELF)
     # workers=1 runs in this process: its CPU time is the work's.
     cpu = children.ru_utime + children.ru_stime if args.workers > 1 else me.ru_utime + me.ru_stime
+    if args.scheduler != "pool":
+        cpu = float("nan")  # the cluster's worker processes are not this process's children
     doc = info(out)
     size = sum(p.stat().st_size for p in out.iterdir())
     to_mb = 1 / 1024  # ru_maxrss is in KiB on Linux
@@ -174,6 +184,7 @@ def _one(args: argparse.Namespace) -> None:
         json.dumps(
             {
                 "model": args.model,
+                "scheduler": args.scheduler,
                 "grid": doc["grid"],
                 "configurations": n,
                 "held_tilts": n_tilts,
@@ -223,6 +234,12 @@ def main() -> None:
         help="chord tolerance in inches (default: threadmate's default)",
     )
     parser.add_argument("--chunk-size", type=int, default=None, help="thesis model only")
+    parser.add_argument(
+        "--scheduler",
+        default="pool",
+        choices=("pool", "local"),
+        help="pool: the process pool (default); local: a Dask LocalCluster",
+    )
     parser.add_argument("--keep", default=None, help="keep the libraries under this folder")
     parser.add_argument("--_one", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--out", default=None, help=argparse.SUPPRESS)
@@ -253,6 +270,8 @@ def main() -> None:
                 str(out),
                 "--step",
                 str(args.step),
+                "--scheduler",
+                args.scheduler,
             ]
             if args.chord is not None:
                 cmd += ["--chord", str(args.chord)]
@@ -266,7 +285,8 @@ def main() -> None:
             r = json.loads(proc.stdout.strip().splitlines()[-1])
             results.append(r)
             print(
-                f"{r['model']}: {r['grid']}, {w} worker(s): {r['wall_s']:.1f} s wall, "
+                f"{r['model']} ({r['scheduler']}): {r['grid']}, {w} worker(s): "
+                f"{r['wall_s']:.1f} s wall, "
                 f"{r['cpu_s']:.1f} s worker CPU"
             )
             print(

@@ -23,7 +23,7 @@ from typing import Any
 from .._errors import InputError
 from .._validate import check_workers
 from ._store import release_inherited_locks
-from ._workers import Job, run_chunk
+from ._workers import Job, run_chunk, with_mesh_contents
 
 __all__ = [
     "check_execution",
@@ -135,7 +135,11 @@ class _Dask:
             if address == "local":
                 n = workers or cpu_count()
                 self.cluster = distributed.LocalCluster(
-                    n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+                    n_workers=n,
+                    threads_per_worker=1,
+                    processes=True,
+                    host="127.0.0.1",
+                    dashboard_address=None,
                 )
                 self.client = distributed.Client(self.cluster)
                 self.description = f"Dask LocalCluster of {n}"
@@ -149,9 +153,18 @@ class _Dask:
         threads = sum(self.client.nthreads().values())
         self.slots = max(1, threads)
         self.window = 2 * self.slots
+        self._job: Job | None = None
+        self._job_data: Any = None
 
     def submit(self, job: Job, ids: list[int]) -> Any:
-        return self.client.submit(run_chunk, job, ids, pure=False)
+        # The workers may not share this file system: the job carries its CAD meshes'
+        # bytes, and travels to each worker once (scattered), not with every chunk.
+        if self._job is not job:
+            self._job = job
+            self._job_data = self.client.scatter(
+                with_mesh_contents(job), broadcast=True, hash=False
+            )
+        return self.client.submit(run_chunk, self._job_data, ids, pure=False)
 
     def wait_first(self, futures: set[Any]) -> set[Any]:
         done = self._distributed.wait(list(futures), return_when="FIRST_COMPLETED").done

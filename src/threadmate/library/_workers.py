@@ -11,10 +11,12 @@ neither pickle nor share between threads. :func:`run_chunk` turns a chunk of
 from __future__ import annotations
 
 import functools
+import hashlib
 import os
+import tempfile
 import threading
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -34,18 +36,33 @@ from ._grid import Grid
 from ._held_tilt import states_of_held_tilt
 from ._store import library_schema
 
-__all__ = ["MeshFile", "Job", "describe_analyzer", "mesh_files", "run_chunk"]
+__all__ = [
+    "MeshFile",
+    "Job",
+    "describe_analyzer",
+    "local_mesh_path",
+    "mesh_files",
+    "run_chunk",
+    "with_mesh_contents",
+]
 
 
 @dataclass(frozen=True)
 class MeshFile:
     """A mesh from CAD as a worker receives it: the path (fcl objects do not pickle: each
     worker loads the file once), its units and the SHA-256 the sweep started with (a file
-    changed meanwhile is refused)."""
+    changed meanwhile is refused).
+
+    ``content``, when given, is the file's bytes, shipped with the job to workers that
+    need not share the sweep's file system (a Dask cluster): such a worker writes them
+    once to a local copy of the same name (:func:`local_mesh_path`) and loads that. The
+    bytes are no part of the job's identity: the SHA-256 is.
+    """
 
     path: str
     units: str
     sha256: str
+    content: bytes | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)
@@ -90,11 +107,50 @@ class Job:
             return {}
         limit = {} if self.max_faces == MAX_FACES else {"max_faces": self.max_faces}
         return {
-            "bolt_mesh": None if self.bolt_mesh is None else self.bolt_mesh.path,
-            "nut_mesh": None if self.nut_mesh is None else self.nut_mesh.path,
+            "bolt_mesh": None if self.bolt_mesh is None else local_mesh_path(self.bolt_mesh),
+            "nut_mesh": None if self.nut_mesh is None else local_mesh_path(self.nut_mesh),
             "mesh_units": self.mesh_units,
             **limit,  # a raised or lowered limit only (an analyser factory may not take it)
         }
+
+
+def with_mesh_contents(job: Job) -> Job:
+    """``job`` with its CAD mesh files' bytes inside, for workers that may not see the
+    sweep's file system. A file changed since the sweep started is refused, as a worker
+    would refuse it."""
+
+    def shipped(kind: str, mesh: MeshFile | None) -> MeshFile | None:
+        if mesh is None or mesh.content is not None:
+            return mesh
+        content = Path(mesh.path).read_bytes()
+        if hashlib.sha256(content).hexdigest() != mesh.sha256:
+            raise LibraryError(
+                f"{kind} mesh {mesh.path} changed while the sweep ran; run the sweep again"
+            )
+        return replace(mesh, content=content)
+
+    if job.bolt_mesh is None and job.nut_mesh is None:
+        return job
+    return replace(
+        job, bolt_mesh=shipped("bolt", job.bolt_mesh), nut_mesh=shipped("nut", job.nut_mesh)
+    )
+
+
+def local_mesh_path(mesh: MeshFile) -> str:
+    """Where this worker reads ``mesh``: its path, or, for a mesh shipped with its bytes,
+    a copy of the same file name under this host's temporary directory (by SHA-256,
+    written once and atomically: workers on one host share it)."""
+    if mesh.content is None:
+        return mesh.path
+    folder = Path(tempfile.gettempdir()) / "threadmate-meshes" / mesh.sha256
+    target = folder / Path(mesh.path).name
+    if target.is_file() and target.stat().st_size == len(mesh.content):
+        return str(target)
+    folder.mkdir(parents=True, exist_ok=True)
+    part = folder / f".{target.name}.{os.getpid()}.{threading.get_ident()}.part"
+    part.write_bytes(mesh.content)
+    os.replace(part, target)
+    return str(target)
 
 
 _LOCAL = threading.local()

@@ -24,6 +24,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
 from ..._angles import TWO_PI, phase_difference
+from ..._compiled import compiled
 from ..scene import (
     contact_normal,
     edge_crossing,
@@ -265,32 +266,54 @@ def _single_linkage(points: NDArray[np.float64], separation: float) -> NDArray[n
     than ``separation``: the distinct contacts of :meth:`Mechanics.contacts`.
 
     The points are one per cell of a sixteenth of the linkage, so there are few (tens to a
-    few hundred): a dense link matrix and label propagation (each point takes the least
-    label among its links, then its label's label) cost less than a k-d tree and a
-    union-find in Python, or a sparse graph's validation.
+    few hundred): every pair is tested, compiled (:func:`_linked`). A broad patch (more
+    than 400) takes its links from a k-d tree, as a sparse graph.
     """
     n = len(points)
     if n == 1:
         return np.zeros(1, dtype=np.intp)
-    labels: NDArray[np.integer]
-    if n > 400:  # a broad patch: the links from a k-d tree, as a sparse graph
-        pairs = cKDTree(points).query_pairs(separation, output_type="ndarray").reshape(-1, 2)
-        graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-        labels = connected_components(graph, directed=False)[1]
-    else:
-        diff = points[:, None, :] - points[None, :, :]
-        linked = np.einsum("ijk,ijk->ij", diff, diff) <= separation * separation
-        labels = np.arange(n)
-        while True:
-            new = np.where(linked, labels[None, :], n).min(axis=1)
-            new = new[new]  # pointer jumping: long chains in few rounds
-            if np.array_equal(new, labels):
-                break
-            labels = new
-    # Renumber by first appearance (with propagation, a component's label is its first
-    # point already).
+    if n <= 400:
+        return _linked(np.ascontiguousarray(points, dtype=float), float(separation))
+    pairs = cKDTree(points).query_pairs(separation, output_type="ndarray").reshape(-1, 2)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    labels = connected_components(graph, directed=False)[1]
+    # Renumber by first appearance.
     _, first, inverse = np.unique(labels, return_index=True, return_inverse=True)
     return np.argsort(np.argsort(first))[inverse].astype(np.intp)
+
+
+@compiled
+def _linked(points: NDArray[np.float64], separation: float) -> NDArray[np.intp]:
+    """:func:`_single_linkage` of a few hundred points: every pair no farther apart than
+    ``separation`` joined (union-find), the components labelled by first appearance."""
+    n = points.shape[0]
+    parent = np.arange(n)
+    reach = separation * separation
+    for i in range(n):
+        for j in range(i + 1, n):
+            dx = points[i, 0] - points[j, 0]
+            dy = points[i, 1] - points[j, 1]
+            dz = points[i, 2] - points[j, 2]
+            if dx * dx + dy * dy + dz * dz <= reach:
+                a, b = i, j
+                while parent[a] != a:
+                    a = parent[a]
+                while parent[b] != b:
+                    b = parent[b]
+                if a != b:
+                    parent[max(a, b)] = min(a, b)
+    labels = np.empty(n, dtype=np.intp)
+    named = np.full(n, -1, dtype=np.intp)
+    count = 0
+    for i in range(n):
+        root = i
+        while parent[root] != root:
+            root = parent[root]
+        if named[root] < 0:
+            named[root] = count
+            count += 1
+        labels[i] = named[root]
+    return labels
 
 
 def _touching_pairs(near: list[_Near], touching: float) -> tuple[str, ...]:

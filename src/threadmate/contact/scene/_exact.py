@@ -52,6 +52,7 @@ from scipy.optimize import brentq
 
 from ..._angles import SQRT3, TWO_PI
 from ...geometry import Pose, ThreadBody
+from ._kernels import kink_height, kink_heights
 
 __all__ = [
     "Feature",
@@ -540,7 +541,7 @@ def _edge_points(
         )
     if feature.kind == "kink":
         assert body.envelope is not None  # only a point or countersink has a kink
-        z = _kink_heights(body, angles, float(anchor[2]))
+        z = kink_heights(body, angles, float(anchor[2]))
         r_k = body.envelope.radius(z)
         return np.column_stack([r_k * np.cos(angles), r_k * np.sin(angles), z])
     theta0 = math.atan2(anchor[1], anchor[0])
@@ -554,56 +555,6 @@ def _edge_points(
         r = float(prof.radius(uc))
     z = anchor[2] + body.hand * body.lead * (angles - theta0) / TWO_PI
     return np.column_stack([r * np.cos(angles), r * np.sin(angles), z])
-
-
-def _kink_heights(body: ThreadBody, angles: NDArray[np.float64], z: float) -> NDArray[np.float64]:
-    """:func:`_kink_height` at each of ``angles``, in order: the first from ``z``, each
-    next from the root before it (the kink is followed along the edge, and the walk to
-    the next root is then a cell or none)."""
-    out = np.empty(len(angles))
-    h = float(z)
-    for i, a in enumerate(angles.tolist()):
-        h = out[i] = _kink_height(body, a, h)
-    return out
-
-
-def _kink_height(body: ThreadBody, theta: float, z: float) -> float:
-    """Height where the thread meets the point or countersink at polar angle ``theta``:
-    the root of ``R(t(theta, h)) - envelope(h)`` nearest ``z``.
-
-    The root is bracketed on a grid of a 64th of a pitch stepped out from ``z`` (nearest
-    cells first, up to half a pitch each way) and found by Brent's method, which, unlike
-    Newton's, the profile's corners do not defeat. Plain floats: the contact code asks
-    one angle at a time. ``z`` (clipped to the envelope's span) when no root is near.
-    """
-    env = body.envelope
-    assert env is not None
-    prof = body.profile
-    thread_pitch = prof.pitch
-    rise = body.hand * body.lead / TWO_PI
-    z0 = min(max(z, env.z_lo), env.z_hi)
-
-    def gap(h: float) -> float:
-        return float(prof.radius(h - rise * theta)) - float(env.radius(h))
-
-    step = thread_pitch / 64.0
-    values: dict[int, tuple[float, float]] = {}
-
-    def node(k: int) -> tuple[float, float]:
-        if k not in values:
-            h = min(max(z0 + k * step, env.z_lo), env.z_hi)
-            values[k] = (h, gap(h))
-        return values[k]
-
-    # Cells in order of their middles' distance from z0, the lower first on a tie.
-    for k in range(1, 33):
-        for lo_k in (-k, k - 1):
-            (h_lo, f_lo), (h_hi, f_hi) = node(lo_k), node(lo_k + 1)
-            if h_hi > h_lo and math.copysign(1.0, f_lo) != math.copysign(1.0, f_hi):
-                if f_lo == 0.0:
-                    return h_lo
-                return float(brentq(gap, h_lo, h_hi, xtol=1e-12 * thread_pitch))
-    return z0
 
 
 def refine_on_edge(
@@ -732,7 +683,7 @@ def _edge_curve(
         last = [float(anchor[2])]  # the root before, to follow the kink from
 
         def kink(angle: float) -> tuple[float, float, float]:
-            z = last[0] = _kink_height(body, angle, last[0])
+            z = last[0] = kink_height(body, angle, last[0])
             r = float(env.radius(z))
             return r * math.cos(angle), r * math.sin(angle), z
 

@@ -1,0 +1,209 @@
+"""The speed targets of the mechanics, as ratios to their targets, for one or more source
+trees side by side in one run.
+
+Usage::
+
+    python benchmarks/bench_targets.py                          # this checkout
+    python benchmarks/bench_targets.py --src OLD/src,NEW/src    # before and after
+    python benchmarks/bench_targets.py --src OLD/src,NEW/src --run   # and `threadmate run`
+
+Each source tree is measured in a child process of its own (``PYTHONPATH`` set to it),
+one after the other, with the host's load (``os.getloadavg``) printed beside. The pair is
+1/4-20 UNC-2A/2B at mean material, default chord and compliance: its ``flat`` parts
+(no point, no countersink) and its default parts (the chamfered point and the
+countersink of the standard nut). Costs are CPU time of this process (one core) divided
+by one python-fcl yes/no query of the same meshes (``_reference.py``), timed in the same
+child at the run's own rest poses: query equivalents (QE).
+
+Targets (a ratio below 1 meets one):
+
+- a sweep's grid configuration (its drop, rest state and its search continued to the
+  next grid phase, events included), on a stretch of the thesis grid (one held tilt,
+  all 72 phases of the thesis grid, ``--phases``): flat parts <= 45 QE, default parts <= 90 QE;
+- a rest state (fresh drops, roll and pitch uniform within +/-4 degrees): <= 30 QE;
+- one search turn on the default parts (``threadmate search "1/4-20 UNC-2A/2B" --roll 1
+  --pitch -1 --phase 100``): <= 5 s CPU;
+- 2,600 starts on the default parts: <= 5 min on two cores, estimated from the grid
+  configuration's CPU time (cores not shared);
+- with ``--run``: ``threadmate run`` on its defaults, from an empty compile cache, wall
+  time on this machine's cores: <= 60 s (its CPU time, all processes, printed beside:
+  the figure that other load on the host does not change).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+TARGETS = {
+    "flat_config_qe": 45.0,
+    "default_config_qe": 90.0,
+    "rest_state_qe": 30.0,
+    "search_turn_s": 5.0,
+    "starts_2600_min": 5.0,
+    "run_s": 60.0,
+}
+LABELS = {
+    "flat_config_qe": "grid configuration, flat parts (QE)",
+    "default_config_qe": "grid configuration, default parts (QE)",
+    "rest_state_qe": "rest state, default parts (QE)",
+    "search_turn_s": "one search turn, default parts (s CPU)",
+    "starts_2600_min": "2,600 starts, default parts, 2 cores (min)",
+    "run_s": "threadmate run, first run (s wall)",
+}
+
+
+def _child(args: argparse.Namespace) -> None:
+    """Measure in this process (the source tree on ``sys.path``); print one JSON line."""
+    import numpy as np
+    from _reference import ReferenceQuery
+
+    from threadmate.contact import Compliance, Mechanics, search
+    from threadmate.geometry import Pose, spec_from_designation
+    from threadmate.library import load, sweep
+
+    out: dict[str, float] = {}
+    specs = {
+        "flat": spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False),
+        "default": spec_from_designation("1/4-20 UNC-2A/2B"),
+    }
+    mechs = {k: Mechanics(s, Compliance()) for k, s in specs.items()}
+    # Compile caches and lazy imports warmed outside the timings (the run's figure has them).
+    mechs["default"].settle(1.0, -1.0, 100.0)
+    mechs["flat"].settle(1.0, -1.0, 100.0)
+    queries = {k: ReferenceQuery(s) for k, s in specs.items()}
+
+    def qe(kind: str, poses: list[Pose]) -> float:
+        return queries[kind].cpu_time(poses, mechs[kind].tolerance, repeats=10)
+
+    # Rest states.
+    rng = np.random.default_rng(0)
+    times, poses = [], []
+    for _ in range(args.rest_states):
+        cfg = (rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(0, 360))
+        t = time.process_time()
+        rest = mechs["default"].settle(*cfg)
+        times.append(time.process_time() - t)
+        poses.append(rest.state.pose)
+    q_default = qe("default", poses)
+    out["rest_state_qe"] = float(np.mean(times)) / q_default
+    out["query_default_us"] = 1e6 * q_default
+
+    # One search turn.
+    t = time.process_time()
+    search(mechs["default"], 1.0, -1.0, 100.0)
+    out["search_turn_s"] = time.process_time() - t
+
+    # A stretch of the thesis grid, in this process (one worker).
+    for kind in ("flat", "default"):
+        folder = Path(tempfile.mkdtemp(prefix="bench-targets-"))
+        t = time.process_time()
+        sweep(specs[kind], "1", "-1", args.phases, out=folder / "lib", workers=1)
+        cpu = time.process_time() - t
+        rows = load(folder / "lib")
+        n = int(rows["config_id"].nunique())
+        rest = rows[(rows["role"] == "start") & (rows["error"] == "")]
+        rest_poses = [
+            Pose(
+                np.reshape(np.asarray(r["rotation"], dtype=float), (3, 3)),
+                np.array([r["origin_x"], r["origin_y"], r["origin_z"]]),
+            )
+            for _, r in rest.iterrows()
+        ]
+        q = qe(kind, rest_poses)
+        out[f"{kind}_config_qe"] = cpu / n / q
+        out[f"{kind}_config_ms"] = 1e3 * cpu / n
+        out[f"query_{kind}_us"] = 1e6 * q
+        if kind == "default":
+            out["starts_2600_min"] = cpu / n * 2600 / 2 / 60
+    print(json.dumps(out))
+
+
+def _threadmate_run(src: str) -> tuple[float, float]:
+    """Wall time and CPU time (all its processes) of ``threadmate run`` on its defaults,
+    with an empty compile cache."""
+    with tempfile.TemporaryDirectory(prefix="bench-run-") as folder:
+        env = {
+            **os.environ,
+            "PYTHONPATH": src,
+            "NUMBA_CACHE_DIR": str(Path(folder) / "numba"),
+        }
+        code = "import sys; from threadmate.cli import main; sys.exit(main())"
+        t = time.perf_counter()
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc = subprocess.run(
+            [sys.executable, "-c", code, "run", "-o", str(Path(folder) / "out")],
+            env=env,
+            capture_output=True,
+            text=True,
+        )
+        wall = time.perf_counter() - t
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if proc.returncode:
+            sys.exit(f"threadmate run failed ({src}):\n{proc.stderr[-2000:]}")
+        cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+        return wall, cpu
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--src", default=None, help="comma list of source trees (default: ours)")
+    parser.add_argument("--phases", default="0:355:5", help="grid phases (default 0:355:5)")
+    parser.add_argument("--rest-states", type=int, default=20, help="fresh drops (default 20)")
+    parser.add_argument("--run", action="store_true", help="also time `threadmate run`")
+    parser.add_argument("--_child", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args._child:
+        _child(args)
+        return
+    here = Path(__file__).resolve().parent
+    srcs = args.src.split(",") if args.src else [str(here.parent / "src")]
+    results = []
+    for src in srcs:
+        load0 = os.getloadavg()[0]
+        env = {**os.environ, "PYTHONPATH": os.pathsep.join([src, str(here)])}
+        cmd = [sys.executable, __file__, "--_child", f"--phases={args.phases}"]
+        cmd += ["--rest-states", str(args.rest_states)]
+        proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
+        if proc.returncode:
+            sys.exit(f"benchmark failed ({src}):\n{proc.stderr[-3000:]}")
+        r = json.loads(proc.stdout.strip().splitlines()[-1])
+        if args.run:
+            r["run_s"], r["run_cpu_s"] = _threadmate_run(src)
+        r["load"] = [load0, os.getloadavg()[0]]
+        results.append(r)
+        print(f"{src}: load {r['load'][0]:.2f} -> {r['load'][1]:.2f}", flush=True)
+    print()
+    head = f"{'target':46s} {'limit':>7s}" + "".join(
+        f" {Path(s).parent.name[-14:]:>22s}" for s in srcs
+    )
+    print(head)
+    for key, limit in TARGETS.items():
+        if key not in results[0]:
+            continue
+        cells = "".join(
+            f" {r[key]:10.1f} ({r[key] / limit:5.2f}x)" if key in r else f" {'-':>22s}"
+            for r in results
+        )
+        print(f"{LABELS[key]:46s} {limit:7.0f}{cells}")
+    for key in (
+        "query_flat_us",
+        "query_default_us",
+        "flat_config_ms",
+        "default_config_ms",
+        "run_cpu_s",
+    ):
+        if key in results[0]:
+            print(f"{key:46s} {'':7s}" + "".join(f" {r[key]:22.0f}" for r in results))
+    print(json.dumps(results))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,41 @@
+"""Compiled kernels' decorator: numba's ``njit`` with its on-disk cache, or plain Python.
+
+The contact code's innermost loops (the exact contact geometry, the lowering's vertical
+touch, the grouping of contact points) are asked a few numbers at a time, thousands of
+times per rest state, where Python's and numpy's per-call overhead is most of the cost.
+They are written as plain loops over floats and arrays and compiled by numba on first
+use, once per machine: ``cache=True`` keeps the machine code in the package's
+``__pycache__`` (or numba's user cache where that is not writable, or
+``NUMBA_CACHE_DIR``). Where numba is not installed the same functions run as Python,
+with the same results, slower.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, TypeVar, cast
+
+__all__ = ["COMPILED", "compiled"]
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def _compiler() -> Any:
+    """numba's ``njit``, or None where numba is not installed."""
+    try:
+        from numba import njit
+    except ImportError:  # pragma: no cover - numba is a dependency
+        return None
+    return njit
+
+
+_njit = _compiler()
+#: Whether the kernels run compiled.
+COMPILED = _njit is not None
+
+
+def compiled(func: _F) -> _F:
+    """``func`` compiled (releasing the GIL) and cached on disk; as Python without numba."""
+    if _njit is None:  # pragma: no cover
+        return func
+    return cast("_F", _njit(cache=True, nogil=True)(func))

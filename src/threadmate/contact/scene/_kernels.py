@@ -1,0 +1,366 @@
+"""Compiled kernels of the exact contact geometry: the kink's height, the vertical touch.
+
+The contact code asks these one edge or a few triangle pairs at a time, thousands of
+times per rest state, where Python's and numpy's per-call overhead is most of the cost.
+They are plain loops over floats, compiled by numba (:mod:`threadmate._compiled`:
+once per machine, kept on disk). Without numba the same functions run as Python: the
+same results, slower.
+
+The profile and the envelope travel as float arrays (:func:`profile_array`,
+:func:`envelope_array`); each kernel repeats the arithmetic of the Python methods it
+replaces operation for operation (:meth:`threadmate.geometry.Profile.radius`, the
+envelope's ``radius``, :func:`scipy.optimize.brentq`), so that its results are those
+methods' to the last bit, bar the order of rounding in a library call.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..._angles import TWO_PI
+from ..._compiled import compiled
+
+if TYPE_CHECKING:
+    from ...geometry import ThreadBody
+
+__all__ = [
+    "envelope_array",
+    "kink_height",
+    "kink_heights",
+    "profile_array",
+    "vertical_touch",
+]
+
+#: Relative tolerance of :func:`scipy.optimize.brentq` by default (four machine epsilons).
+_RTOL = 4 * np.finfo(float).eps
+#: Iterations of :func:`scipy.optimize.brentq` by default.
+_MAXITER = 100
+#: Cells of a pitch that bracket a kink's root, and how many each way are tried.
+_CELLS = 64
+_REACH = 32
+
+
+def profile_array(body: ThreadBody) -> NDArray[np.float64]:
+    """The body's profile as the kernels read it: ``a1..a4`` (breakpoints in ``u = |t|``),
+    ``r_hi``, ``r_lo``, the major corner's centre ``(u, r)`` and fillet radius, the minor
+    corner's, the pitch radius and the pitch (lengths in the spec's units)."""
+    prof = body.profile
+    a1, a2, a3, a4 = prof.breakpoints
+    (hu, hr), (lu, lr) = prof.centre_hi, prof.centre_lo
+    return np.array(
+        [
+            a1,
+            a2,
+            a3,
+            a4,
+            prof.r_hi,
+            prof.r_lo,
+            hu,
+            hr,
+            prof.fillet_hi,
+            lu,
+            lr,
+            prof.fillet_lo,
+            prof.pitch_diameter / 2,
+            prof.pitch,
+        ],
+        dtype=float,
+    )
+
+
+def envelope_array(body: ThreadBody) -> NDArray[np.float64]:
+    """The body's point or countersink as the kernels read it: kind (0 cone, 1 sphere),
+    side, ``r0``, ``slope_rz``, ``z0``, ``rho``, ``z_lo``, ``z_hi``."""
+    env = body.envelope
+    if env is None:
+        raise ValueError("the body has no point or countersink")
+    return np.array(
+        [
+            0.0 if env.kind == "cone" else 1.0,
+            float(env.side),
+            env.r0,
+            env.slope_rz,
+            env.z0,
+            env.rho,
+            env.z_lo,
+            env.z_hi,
+        ],
+        dtype=float,
+    )
+
+
+@compiled
+def _profile_radius(prof: NDArray[np.float64], t: float) -> float:
+    """``Profile.radius(t)`` of one number (:meth:`Profile._radius_at` of ``|wrap(t)|``)."""
+    pitch = prof[13]
+    u = abs(t - pitch * math.floor(t / pitch + 0.5))
+    if u <= prof[0]:
+        return prof[4]
+    if u <= prof[1]:
+        rho = prof[8]
+        return prof[7] + math.sqrt(max(rho * rho - (u - prof[6]) ** 2, 0.0))
+    if u <= prof[2]:
+        return prof[12] + math.sqrt(3.0) * (pitch / 4 - u)
+    if u <= prof[3]:
+        rho = prof[11]
+        return prof[10] - math.sqrt(max(rho * rho - (u - prof[9]) ** 2, 0.0))
+    return prof[5]
+
+
+@compiled
+def _envelope_radius(env: NDArray[np.float64], z: float) -> float:
+    """The envelope's radius at one height (+inf for the bolt, -inf for the nut beyond
+    its span)."""
+    if not env[6] <= z <= env[7]:
+        return math.inf * env[1]
+    if env[0] == 0.0:
+        return env[2] + env[3] * z
+    rho = env[5]
+    return math.sqrt(max(rho * rho - (z - env[4]) ** 2, 0.0))
+
+
+@compiled
+def _gap(
+    prof: NDArray[np.float64], env: NDArray[np.float64], rise: float, theta: float, h: float
+) -> float:
+    return _profile_radius(prof, h - rise * theta) - _envelope_radius(env, h)
+
+
+@compiled
+def _brentq(
+    prof: NDArray[np.float64],
+    env: NDArray[np.float64],
+    rise: float,
+    theta: float,
+    xa: float,
+    xb: float,
+    xtol: float,
+) -> float:
+    """:func:`scipy.optimize.brentq` of :func:`_gap` on ``[xa, xb]`` (scipy's C code,
+    step for step, with its default ``rtol`` and ``maxiter``)."""
+    xpre, xcur = xa, xb
+    xblk, fblk, spre, scur = 0.0, 0.0, 0.0, 0.0
+    fpre = _gap(prof, env, rise, theta, xpre)
+    fcur = _gap(prof, env, rise, theta, xcur)
+    if fpre == 0.0:
+        return xpre
+    if fcur == 0.0:
+        return xcur
+    for _ in range(_MAXITER):
+        if fpre != 0.0 and fcur != 0.0 and (math.copysign(1.0, fpre) != math.copysign(1.0, fcur)):
+            xblk = xpre
+            fblk = fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre = xcur
+            xcur = xblk
+            xblk = xpre
+            fpre = fcur
+            fcur = fblk
+            fblk = fpre
+        delta = (xtol + _RTOL * abs(xcur)) / 2
+        sbis = (xblk - xcur) / 2
+        if fcur == 0.0 or abs(sbis) < delta:
+            return xcur
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:  # interpolate
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:  # extrapolate
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):  # a good short step
+                spre = scur
+                scur = stry
+            else:  # bisect
+                spre = sbis
+                scur = sbis
+        else:  # bisect
+            spre = sbis
+            scur = sbis
+        xpre = xcur
+        fpre = fcur
+        if abs(scur) > delta:
+            xcur += scur
+        else:
+            xcur += delta if sbis > 0 else -delta
+        fcur = _gap(prof, env, rise, theta, xcur)
+    raise RuntimeError("the kink's height did not converge")
+
+
+@compiled
+def _kink_height(
+    prof: NDArray[np.float64], env: NDArray[np.float64], rise: float, theta: float, z: float
+) -> float:
+    """The root of ``R(t(theta, h)) - envelope(h)`` nearest ``z``: bracketed on cells of a
+    64th of a pitch stepped out from ``z`` (nearest first, the lower first on a tie, up to
+    half a pitch each way), found by Brent's method; ``z`` clipped to the envelope's span
+    when none is near."""
+    z_lo, z_hi = env[6], env[7]
+    z0 = min(max(z, z_lo), z_hi)
+    step = prof[13] / _CELLS
+    xtol = 1e-12 * prof[13]
+    # Node k sits at z0 + k step (clipped), k in [-REACH, REACH]; NaN: not evaluated yet.
+    heights = np.empty(2 * _REACH + 1)
+    values = np.full(2 * _REACH + 1, np.nan)
+    for k in range(1, _REACH + 1):
+        for side in range(2):
+            lo_k = -k if side == 0 else k - 1
+            for j in (lo_k, lo_k + 1):
+                i = j + _REACH
+                if math.isnan(values[i]):
+                    h = min(max(z0 + j * step, z_lo), z_hi)
+                    heights[i] = h
+                    values[i] = _gap(prof, env, rise, theta, h)
+            h_lo, f_lo = heights[lo_k + _REACH], values[lo_k + _REACH]
+            h_hi, f_hi = heights[lo_k + 1 + _REACH], values[lo_k + 1 + _REACH]
+            if h_hi > h_lo and math.copysign(1.0, f_lo) != math.copysign(1.0, f_hi):
+                if f_lo == 0.0:
+                    return h_lo
+                return _brentq(prof, env, rise, theta, h_lo, h_hi, xtol)
+    return z0
+
+
+@compiled
+def _kink_walk(
+    prof: NDArray[np.float64],
+    env: NDArray[np.float64],
+    rise: float,
+    angles: NDArray[np.float64],
+    z: float,
+) -> NDArray[np.float64]:
+    out = np.empty(len(angles))
+    h = z
+    for i in range(len(angles)):
+        h = _kink_height(prof, env, rise, angles[i], h)
+        out[i] = h
+    return out
+
+
+#: The kernels' arrays of the bodies asked last, by ``id`` (the body kept beside them, so
+#: that its ``id`` is not reused while the entry lives).
+_ARRAYS: dict[int, tuple[Any, NDArray[np.float64], NDArray[np.float64], float]] = {}
+
+
+def _arrays(body: ThreadBody) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
+    """The profile's and envelope's arrays of ``body`` and the helix's rise per radian."""
+    got = _ARRAYS.get(id(body))
+    if got is None or got[0] is not body:
+        if len(_ARRAYS) > 64:
+            _ARRAYS.clear()
+        got = (
+            body,
+            profile_array(body),
+            envelope_array(body),
+            float(body.hand * body.lead / TWO_PI),
+        )
+        _ARRAYS[id(body)] = got
+    return got[1], got[2], got[3]
+
+
+def kink_height(body: ThreadBody, theta: float, z: float) -> float:
+    """Height (body frame) where the thread meets the point or countersink at the polar
+    angle ``theta`` (radians): the root of ``R(t(theta, h)) - envelope(h)`` nearest ``z``,
+    bracketed on cells of a 64th of a pitch stepped out from ``z`` (nearest first, up to
+    half a pitch each way) and found by Brent's method, which, unlike Newton's, the
+    profile's corners do not defeat; ``z`` clipped to the envelope's span when no root is
+    near."""
+    prof, env, rise = _arrays(body)
+    return float(_kink_height(prof, env, rise, float(theta), float(z)))
+
+
+def kink_heights(body: ThreadBody, angles: NDArray[np.float64], z: float) -> NDArray[np.float64]:
+    """:func:`kink_height` at each of ``angles`` (radians, in order): the first from
+    ``z``, each next from the root before it (the kink followed along the edge)."""
+    prof, env, rise = _arrays(body)
+    return _kink_walk(prof, env, rise, np.ascontiguousarray(angles, dtype=float), float(z))
+
+
+@compiled
+def _vertical_touch(
+    a: NDArray[np.float64],
+    b: NDArray[np.float64],
+    drop: NDArray[np.float64],
+    point: NDArray[np.float64],
+) -> None:
+    n = a.shape[0]
+    cand = np.empty(15)
+    cpts = np.empty((15, 3))
+    for m in range(n):
+        # Vertices inside the other triangle's projection: bolt vertices over the nut
+        # triangle (candidates 0-2), nut vertices under the bolt triangle (3-5).
+        for which in range(2):
+            tri = b[m] if which == 0 else a[m]
+            pts = a[m] if which == 0 else b[m]
+            o0, o1, o2 = tri[0, 0], tri[0, 1], tri[0, 2]
+            e00, e01, e02 = tri[1, 0] - o0, tri[1, 1] - o1, tri[1, 2] - o2
+            e10, e11, e12 = tri[2, 0] - o0, tri[2, 1] - o1, tri[2, 2] - o2
+            det = e00 * e11 - e01 * e10
+            scale = (e00 * e00 + e01 * e01) + (e10 * e10 + e11 * e11)
+            ok = abs(det) > 1e-12 * max(scale, 1e-300)
+            safe = det if ok else 1.0
+            for k in range(3):
+                w0 = pts[k, 0] - o0
+                w1 = pts[k, 1] - o1
+                u = (w0 * e11 - w1 * e10) / safe
+                v = (e00 * w1 - e01 * w0) / safe
+                z = o2 + u * e02 + v * e12
+                c = 3 * which + k
+                if ok and u >= 0 and v >= 0 and u + v <= 1:
+                    d = pts[k, 2] - z
+                    cand[c] = d if which == 0 else -d
+                else:
+                    cand[c] = math.inf
+                if which == 0:
+                    cpts[c, 0], cpts[c, 1], cpts[c, 2] = pts[k, 0], pts[k, 1], z
+                else:
+                    cpts[c, 0], cpts[c, 1], cpts[c, 2] = pts[k, 0], pts[k, 1], pts[k, 2]
+        # Crossings of edge projections, bolt edge (i, i+1) by nut edge (k, k+1),
+        # row-major (candidates 6-14).
+        for i in range(3):
+            i1 = (i + 1) % 3
+            p0, p1, p2 = a[m, i, 0], a[m, i, 1], a[m, i, 2]
+            r0, r1, r2 = a[m, i1, 0] - p0, a[m, i1, 1] - p1, a[m, i1, 2] - p2
+            for k in range(3):
+                k1 = (k + 1) % 3
+                q0, q1, q2 = b[m, k, 0], b[m, k, 1], b[m, k, 2]
+                s0, s1, s2 = b[m, k1, 0] - q0, b[m, k1, 1] - q1, b[m, k1, 2] - q2
+                den = r0 * s1 - r1 * s0
+                ok = abs(den) > 1e-14 * max(math.hypot(r0, r1) * math.hypot(s0, s1), 1e-300)
+                safe = den if ok else 1.0
+                w0, w1 = q0 - p0, q1 - p1
+                t = (w0 * s1 - w1 * s0) / safe
+                u = (w0 * r1 - w1 * r0) / safe
+                c = 6 + 3 * i + k
+                pz = q2 + u * s2
+                cpts[c, 0], cpts[c, 1], cpts[c, 2] = q0 + u * s0, q1 + u * s1, pz
+                if ok and t >= 0 and t <= 1 and u >= 0 and u <= 1:
+                    cand[c] = (p2 + t * r2) - pz
+                else:
+                    cand[c] = math.inf
+        best = 0
+        for c in range(1, 15):
+            if cand[c] < cand[best]:
+                best = c
+        drop[m] = cand[best]
+        if math.isfinite(cand[best]):
+            point[m, 0], point[m, 1], point[m, 2] = cpts[best, 0], cpts[best, 1], cpts[best, 2]
+        else:
+            point[m, 0] = point[m, 1] = point[m, 2] = math.nan
+
+
+def vertical_touch(
+    bolt_tris: NDArray[np.float64], nut_tris: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Drop at which each bolt triangle first meets its nut triangle, and where (see
+    :func:`threadmate.contact.scene.vertical_touch`, which this computes)."""
+    a = np.ascontiguousarray(bolt_tris, dtype=float).reshape(-1, 3, 3)
+    b = np.ascontiguousarray(nut_tris, dtype=float).reshape(-1, 3, 3)
+    drop = np.empty(len(a))
+    point = np.empty((len(a), 3))
+    _vertical_touch(a, b, drop, point)
+    return drop, point
