@@ -141,6 +141,8 @@ CASES: dict[str, Case] = {
         Case("tilt-2+1", -2.0, 1.0, 120.0),
         Case("tilt+2-1.5", 2.0, -1.5, 200.0),
         Case("stiff", 0.0, 0.0, 300.0, stiffness=100.0),
+        Case("roll-1", -1.0, 0.0, 30.0),
+        Case("pitch-1", 0.0, -1.0, 30.0),
     )
 }
 
