@@ -212,9 +212,9 @@ def separation(
         span = max(float(values[-1] - values[0]), abs(float(values[-1])), 1e-300)
         candidates = np.concatenate(
             [
-                [values[0] - 0.5 * span],
+                [values[0] - 0.05 * span],
                 (values[:-1] + values[1:]) / 2.0,
-                [values[-1] + 0.5 * span],
+                [values[-1] + 0.05 * span],
             ]
         )
         best = min(candidates, key=lambda t: (counts(t)[2], counts(t)[1], counts(t)[0]))
