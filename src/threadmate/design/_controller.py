@@ -34,6 +34,7 @@ from .._angles import FULL_TURN
 from .._errors import InputError, NoPathError
 from .._text import number_text
 from .._validate import check_range
+from ..contact import SCREW_IN
 from ..network import least_resistance_path
 from ._searches import search_events
 from ._sensor import SnapDetection, snap_detection
@@ -286,7 +287,9 @@ def controller_program(
         "rule": (
             "per start not caught within the turn limit, the network's least-resistance plan "
             "with active moves (change the held tilt by one grid step: lift, tilt, lower), "
-            "written as robot moves; the retry tilt is the held tilt most plans end at"
+            "written as robot moves; the retry tilt is the held tilt most plans end at. A "
+            "plan's tilt change assumes the robot knows the held tilt it starts from (its "
+            "misalignment); one that does not retries at the retry tilt itself"
             if active
             else "the network was built without active moves: retry at the held tilt that "
             "catches the most starts within the turn limit (then the least mean turn)"
@@ -316,8 +319,9 @@ def controller_program(
         "first_click_threshold": first_click,
         "searches_with_a_jump_before_their_snap": jump_before_snap,
         "searches_whose_first_click_is_not_a_snap": jump_first,
-        "confirm": "turn clockwise a little (a tenth of a turn or more): a snap descends at "
-        "the lead (P/360 per degree); a landing that does not is not in the thread",
+        "confirm": f"turn clockwise {SCREW_IN:g} deg (the library's own proof of each snap): "
+        "a snap descends at the lead (P/360 per degree); a landing that does not is not in "
+        "the thread",
         "rule": "the click's threshold when it separates the snap from every other jump; "
         "otherwise stop at the first click of at least half the smallest snap click and "
         "confirm by screwing in (the model's own proof of a snap)",
@@ -331,10 +335,11 @@ def controller_program(
             else "no snap to detect"
         )
     )
+    stiffness = found.compliance["stiffness"]
     steps = [
-        f"Press down with {found.compliance['force']:g} N through the compliance; hold the "
-        f"tilt at held roll {best_tilt['held_roll']:+g}, pitch {best_tilt['held_pitch']:+g} "
-        "deg (the library's best held tilt) where the robot can choose it.",
+        f"Press down with {found.compliance['force']:g} N through the compliance "
+        f"({stiffness['roll']:g}/{stiffness['pitch']:g} N m/rad), at the pre-tilt the "
+        "recommendation gives.",
         "Turn counter-clockwise (the unscrewing sense) and watch the tool's axial position: "
         f"stop at {stop}.",
         f"Confirm: {snap_signal['confirm']}; then screw in.",
@@ -365,7 +370,7 @@ def format_controller_program(prog: ControllerProgram) -> str:
     """The program as Markdown: the steps, then each setting with its rule."""
     u = prog.units
     t, q, r, s = prog.turn_limit, prog.torque_limit, prog.retry, prog.snap_signal
-    lines = [f"{i}. {step}" for i, step in enumerate(prog.steps, 1)]
+    lines = [f"- Step {i}. {step}" for i, step in enumerate(prog.steps, 1)]
     lines += [
         "",
         f"- **Turn limit: {number_text(t['value'], '.0f')} deg.** It catches {t['caught']} of "
@@ -384,7 +389,7 @@ def format_controller_program(prog: ControllerProgram) -> str:
     for plan in r["plans_list"][:3]:
         st = plan["start"]
         lines.append(
-            f"  - e.g. from held roll {st['held_roll']:+g}, pitch {st['held_pitch']:+g}, phase "
+            f"- A plan, from held roll {st['held_roll']:+g}, pitch {st['held_pitch']:+g}, phase "
             f"{st['phase']:g} deg: " + "; ".join(plan["moves"]) + "."
         )
     click = s["click"]
