@@ -319,9 +319,9 @@ def controller_program(
         "first_click_threshold": first_click,
         "searches_with_a_jump_before_their_snap": jump_before_snap,
         "searches_whose_first_click_is_not_a_snap": jump_first,
-        "confirm": f"turn clockwise {SCREW_IN:g} deg (the library's own proof of each snap): "
-        "a snap descends at the lead (P/360 per degree); a landing that does not is not in "
-        "the thread",
+        "confirm": f"turn clockwise {SCREW_IN:g} deg (the search's default screw-in, its "
+        "proof of a snap): a snap descends at the lead (P/360 per degree); a landing that "
+        "does not is not in the thread",
         "rule": "the click's threshold when it separates the snap from every other jump; "
         "otherwise stop at the first click of at least half the smallest snap click and "
         "confirm by screwing in (the model's own proof of a snap)",
