@@ -1,9 +1,9 @@
 """What to program on the controller, each figure derived from a library and said how.
 
 - **Turn limit**: the largest turn to the snap among the searches that snap, plus a margin
-  of one start-phase step of the grid (a start between two grid phases turns up to the
-  gap to the next grid phase, then follows that grid start's search), with the share of
-  the starts it catches, recounted from the searches.
+  of one start-phase step of the grid (a start between two grid phases reaches the next
+  grid phase within that gap, and from there mostly joins that grid start's search), with
+  the share of the starts it catches, recounted from the searches.
 - **Torque limit**: the largest driver torque up to the snap (the library's peak over the
   search's transitions and rest states) and the same at the top of the friction range
   (the rest states' friction torque scaled to ``high_friction``: exact in the model, whose
@@ -187,7 +187,8 @@ def controller_program(
         "rule": "the largest turn to the snap among the starts whose search snaps, plus "
         + (
             f"one start-phase step of the grid ({margin:g} deg: a start between two grid "
-            "phases turns at most that gap before it follows the next grid start's search)"
+            "phases reaches the next grid phase within that gap, and from there the "
+            "library's continuations mostly join that grid start's search)"
             if turn_margin is None
             else f"the margin asked for ({margin:g} deg)"
         )

@@ -389,8 +389,9 @@ def snap_detection(graph: nx.DiGraph | SearchEvents) -> SnapDetection:
     already = int((table["snaps"] & table["snap_event"].eq("")).sum())
     if already:
         notes.append(
-            f"{already} start(s) rest in the thread already (no search, no click); they "
-            "count as caught but not as snaps to detect"
+            f"{already} start(s) reach the thread with no snap (in it from the start, or "
+            "turned into it without a jump): no click; they count as caught but not as "
+            "snaps to detect"
         )
     return SnapDetection(
         found.units,
