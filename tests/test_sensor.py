@@ -55,7 +55,7 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
             continue
         seen, n = set(), sid
         turn, snap, jumps = 0.0, math.nan, []
-        torques, high = [start["driver_torque"]], []
+        torques, high, falls = [start["driver_torque"]], [], [math.nan]
         ok = False
         while True:
             r = by_id.loc[n]
@@ -76,6 +76,8 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
                 jumps.append(click)
             if np.isfinite(r["torque_peak"]):
                 torques.append(r["torque_peak"])
+            if r["transition"] == "turning" and r["transition_turn"] > 0:
+                falls.append(r["drop"] / r["transition_turn"])
             turn += r["transition_turn"]
             n = r["next_id"]
         out.append(
@@ -89,6 +91,7 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
                 "jump_click": max(jumps) if jumps else math.nan,
                 "torque": max(torques),
                 "torque_high": max(high),
+                "branch_fall": np.nanmax(falls) if np.isfinite(falls).any() else math.nan,
             }
         )
     return pd.DataFrame(out).sort_values(["held_roll", "held_pitch", "phase"], ignore_index=True)
@@ -111,6 +114,7 @@ def test_clicks_are_those_of_the_rows(library, walked):
     np.testing.assert_allclose(got["jump_click"], walked["jump_click"], rtol=1e-12)
     assert det.snaps == int(walked["snap_click"].notna().sum())
     assert det.with_jumps == int(walked["jump_click"].notna().sum())
+    assert det.branch_fall == pytest.approx(walked["branch_fall"].max(), rel=1e-12)
 
 
 def test_threshold_separates_or_overlap_is_stated(library, walked):

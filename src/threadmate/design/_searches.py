@@ -106,6 +106,10 @@ class SearchEvents:
         The friction coefficient ``torque_peak_high_friction`` is taken at.
     starts : int
         Starts of the library (at rest or not).
+    branch_fall : float
+        The steepest mean fall of the compliance centre per degree of turn along a
+        continuous branch the searches pass (length per degree, NaN: none): the library
+        holds a branch's ends, not its steepest degree.
     """
 
     searches: pd.DataFrame
@@ -115,6 +119,7 @@ class SearchEvents:
     phase_step: float
     high_friction: float
     starts: int
+    branch_fall: float = math.nan
 
 
 def _phase_step(grid: dict[str, Any]) -> float:
@@ -208,6 +213,7 @@ def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEv
 
     rows = []
     total = 0
+    branch_fall = math.nan
     for (roll, pitch, phase), start in sorted(starts(graph).items()):
         total += 1
         d0 = nodes[start]
@@ -227,6 +233,8 @@ def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEv
             peak = _largest(peak, _finite(e.get("torque_peak")), torque(v))
             peak_high = _largest(peak_high, torque_high(v))
             turn += float(e.get("turn", 0.0))
+            if e["kind"] == "turning" and float(e.get("turn", 0.0)) > 0:
+                branch_fall = _largest(branch_fall, _finite(e.get("drop")) / float(e["turn"]))
             if e["kind"] in ("jump", "snap"):
                 ev = event(n, v, e)
                 ev["searches"] += 1
@@ -293,4 +301,5 @@ def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEv
         _phase_step(json.loads(graph.graph["grid"])),
         float(high_friction),
         total,
+        branch_fall,
     )

@@ -280,6 +280,9 @@ class SnapDetection:
         The distinct jumps and snaps met (:class:`SearchEvents`).
     searches_table : pandas.DataFrame
         One row per search (:class:`SearchEvents`).
+    branch_fall : float or None
+        The steepest mean fall per degree of turn of a continuous branch the searches pass
+        (length/deg): what a sensor watching for a click sees without a jump.
     notes : list of str
         What the figures do not say by themselves.
     """
@@ -295,6 +298,7 @@ class SnapDetection:
     torque: dict[str, Any]
     events: pd.DataFrame
     searches_table: pd.DataFrame
+    branch_fall: float | None = None
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -313,6 +317,7 @@ class SnapDetection:
                 "torque": "N m",
                 "force": "N",
                 "angle": "deg",
+                "branch_fall_per_degree": f"{self.units}/deg",
             },
             "compliance": self.compliance,
             "starts": self.starts,
@@ -325,6 +330,7 @@ class SnapDetection:
                 {"held_pitch": r["held_pitch"], **r["click"].to_dict()} for r in self.by_held_pitch
             ],
             "torque": self.torque,
+            "branch_fall_per_degree": self.branch_fall,
             "snap_clicks": [float(x) for x in self.searches_table["snap_click"].dropna()],
             "largest_jump_clicks": [float(x) for x in self.searches_table["jump_click"].dropna()],
             "events": [
@@ -393,6 +399,14 @@ def snap_detection(graph: nx.DiGraph | SearchEvents) -> SnapDetection:
             "turned into it without a jump): no click; they count as caught but not as "
             "snaps to detect"
         )
+    fall = found.branch_fall
+    if math.isfinite(fall) and signals["click"].smallest_snap is not None:
+        notes.append(
+            f"along the continuous branches the compliance centre falls at most {fall:.3g} "
+            f"{found.units} per degree of turn on average between the library's states "
+            f"(the smallest snap click is {signals['click'].smallest_snap:.3g} "
+            f"{found.units}); the library does not resolve a branch's steepest degree"
+        )
     return SnapDetection(
         found.units,
         found.compliance,
@@ -405,6 +419,7 @@ def snap_detection(graph: nx.DiGraph | SearchEvents) -> SnapDetection:
         torque,
         ev,
         table,
+        _opt(fall),
         notes,
     )
 
