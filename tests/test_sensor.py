@@ -43,6 +43,13 @@ def library(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+def lateral(row: pd.Series) -> np.ndarray:
+    """The lateral part of a state's contact normal forces, sum lambda_i n_i,xy (N)."""
+    f = np.asarray(row["contact_forces"], dtype=float)
+    n = np.asarray(row["contact_normals"], dtype=float).reshape(-1, 3)
+    return (f[:, None] * n[:, :2]).sum(axis=0)
+
+
 def walk(rows: pd.DataFrame) -> pd.DataFrame:
     """Each start's passive search from the rows alone: its snap's click, the largest
     click of its other jumps, its turn to the snap and its largest driver torque (the
@@ -55,6 +62,7 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
             continue
         seen, n = set(), sid
         turn, snap, jumps = 0.0, math.nan, []
+        snap_lateral, jump_lateral = math.nan, [math.nan]
         torques, high, falls = [start["driver_torque"]], [], [math.nan]
         ok = False
         while True:
@@ -70,10 +78,13 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
                 break
             seen.add(n)
             click = r["click"] if np.isfinite(r["click"]) else r["drop"]
+            if r["transition"] in ("snap", "jump"):
+                change = float(np.hypot(*(lateral(by_id.loc[r["next_id"]]) - lateral(r))))
             if r["transition"] == "snap":
-                snap = click
+                snap, snap_lateral = click, change
             elif r["transition"] == "jump":
                 jumps.append(click)
+                jump_lateral.append(change)
             if np.isfinite(r["torque_peak"]):
                 torques.append(r["torque_peak"])
             if r["transition"] == "turning" and r["transition_turn"] > 0:
@@ -89,6 +100,8 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
                 "turn": turn if ok else math.nan,
                 "snap_click": snap,
                 "jump_click": max(jumps) if jumps else math.nan,
+                "snap_lateral": snap_lateral,
+                "jump_lateral": np.nanmax(jump_lateral) if len(jump_lateral) > 1 else math.nan,
                 "torque": max(torques),
                 "torque_high": max(high),
                 "branch_fall": np.nanmax(falls) if np.isfinite(falls).any() else math.nan,
@@ -106,12 +119,14 @@ def walked(library: Path) -> pd.DataFrame:
 def test_clicks_are_those_of_the_rows(library, walked):
     """The snap clicks and each search's largest other jump are the rows' own, walked
     with pandas; the library holds both kinds, so the comparison means something."""
-    det = snap_detection(from_library(library))
+    det = snap_detection(from_library(library), load(library))
     got = det.searches_table.sort_values(["held_roll", "held_pitch", "phase"], ignore_index=True)
     assert len(got) == len(walked) == 6
     assert walked["snap_click"].notna().any() and walked["jump_click"].notna().any()
     np.testing.assert_allclose(got["snap_click"], walked["snap_click"], rtol=1e-12)
     np.testing.assert_allclose(got["jump_click"], walked["jump_click"], rtol=1e-12)
+    np.testing.assert_allclose(got["snap_lateral_force_change"], walked["snap_lateral"], rtol=1e-9)
+    np.testing.assert_allclose(got["jump_lateral_force_change"], walked["jump_lateral"], rtol=1e-9)
     assert det.snaps == int(walked["snap_click"].notna().sum())
     assert det.with_jumps == int(walked["jump_click"].notna().sum())
     assert det.branch_fall == pytest.approx(walked["branch_fall"].max(), rel=1e-12)

@@ -71,12 +71,14 @@ def sensor_command(libraries: tuple[str, ...], plot: str | None, as_json: bool) 
             raise InputError(f"--plot {plot}: expected a file ending in .png, .pdf or .svg")
         fig = writable_output(plot, "--plot")
     from ..design import format_snap_detection, plot_snap_detection, snap_detection
-    from ..network import from_library
+    from ..library import load
+    from ..network import build_network
 
     found = []
     for lib in libraries:
-        graph = from_library(lib)
-        det = snap_detection(graph)
+        rows = load(lib)
+        graph = build_network(rows)
+        det = snap_detection(graph, rows)
         note = _incomplete_note(lib, graph)
         if note:
             det.notes.insert(0, note)
@@ -133,11 +135,18 @@ def program_command(
     if turn_margin is not None:
         check_range("turn_margin", turn_margin, 0.0, 720.0, units="deg")
     check_range("torque_margin", torque_margin, 0.0, 10.0)
-    from ..design import controller_program, format_controller_program
-    from ..network import from_library
+    from ..design import controller_program, format_controller_program, snap_detection
+    from ..library import load
+    from ..network import build_network
 
-    graph = from_library(library, active=True)
-    prog = controller_program(graph, turn_margin=turn_margin, torque_margin=torque_margin)
+    rows = load(library)
+    graph = build_network(rows, active=True)
+    prog = controller_program(
+        graph,
+        snap_detection(graph, rows),
+        turn_margin=turn_margin,
+        torque_margin=torque_margin,
+    )
     note = _incomplete_note(library, graph)
     if note:
         prog.notes.insert(0, note)

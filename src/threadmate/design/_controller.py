@@ -316,6 +316,11 @@ def controller_program(
         "click": click.to_dict(),
         "moment_change": det.signals["moment_change"].to_dict(),
         "torque_change": det.signals["torque_change"].to_dict(),
+        "lateral_force_change": (
+            det.signals["lateral_force_change"].to_dict()
+            if "lateral_force_change" in det.signals
+            else None
+        ),
         "separating_signals": [k for k, s in det.signals.items() if s.separates],
         "first_click_threshold": first_click,
         "searches_with_a_jump_before_their_snap": jump_before_snap,

@@ -15,7 +15,12 @@ from the library's rows and the compliance, none from a new search:
 - ``moment_change``: the change of the moment the compliance's tilt spring passes to the
   tool, ``k_r |(tilt - held) after - (tilt - held) before|`` (N m; tilts in radians);
 - ``torque_change``: the change of the driver's torque across the event,
-  ``|T after - T before|`` (N m).
+  ``|T after - T before|`` (N m);
+- ``lateral_force_change``: the change of the lateral force the tool takes at the
+  compliance centre, ``|sum lambda_i n_i,xy after - before|`` over the contacts' normal
+  forces (N; the model's equilibrium is frictionless, so the friction forces are not in
+  it). It needs the library's rows (contact forces and normals stay there, not in the
+  network); without them it is NaN.
 
 The axial force is not among them: the model presses the bolt with a constant axial force
 (docs/mechanics.md, "The system"), so at rest before and after any jump the tool carries
@@ -30,6 +35,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import networkx as nx
+import numpy as np
 import pandas as pd
 
 from .._angles import FULL_TURN
@@ -49,6 +55,11 @@ EVENT_SIGNALS: dict[str, tuple[str, str]] = {
     "torque_change": (
         "N m",
         "change of the driver's torque across the event, |T after - T before|",
+    ),
+    "lateral_force_change": (
+        "N",
+        "change of the lateral force the tool takes at the compliance centre, "
+        "|sum lambda_i n_i,xy after - before| (normal forces: the equilibrium is frictionless)",
     ),
 }
 
@@ -132,7 +143,29 @@ def _phase_step(grid: dict[str, Any]) -> float:
     return float(max(gaps))
 
 
-def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEvents:
+def _lateral_forces(rows: pd.DataFrame | None) -> dict[str, tuple[float, float]]:
+    """Per state id, the lateral part of the contacts' normal forces ``sum lambda_i
+    n_i,xy`` (N): what the tool holding the compliance centre takes (with the sign
+    reversed)."""
+    if rows is None:
+        return {}
+    out: dict[str, tuple[float, float]] = {}
+    for sid, forces, normals in zip(
+        rows["state_id"], rows["contact_forces"], rows["contact_normals"], strict=True
+    ):
+        f = np.asarray(forces, dtype=float)
+        n = np.asarray(normals, dtype=float).reshape(-1, 3)
+        if f.size == 0 or n.shape[0] != f.size:
+            out[sid] = (math.nan, math.nan)
+            continue
+        fx, fy = (f[:, None] * n[:, :2]).sum(axis=0)
+        out[sid] = (float(fx), float(fy))
+    return out
+
+
+def search_events(
+    graph: nx.DiGraph, rows: pd.DataFrame | None = None, *, high_friction: float = 0.20
+) -> SearchEvents:
     """Walk every start's passive search of ``graph`` once and keep its events.
 
     Parameters
@@ -140,6 +173,9 @@ def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEv
     graph : networkx.DiGraph
         A library's network (:func:`threadmate.network.build_network`; active moves, if
         any, are passed over).
+    rows : pandas.DataFrame, optional
+        The library's rows (:func:`threadmate.library.load`), for the lateral force;
+        without them ``lateral_force_change`` is NaN.
     high_friction : float
         The friction coefficient at which the driver's torque is also given (default
         0.20, the top of the VDI 2230 range of thread friction). The model's equilibrium
@@ -158,6 +194,7 @@ def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEv
     mu = float(compliance["friction"])
     scale = high_friction / mu if mu > 0 else math.nan
     nodes = graph.nodes
+    lateral = _lateral_forces(rows)
 
     def passive_next(n: str) -> tuple[str, dict[str, Any]] | None:
         for _, v, d in graph.out_edges(n, data=True):
@@ -205,13 +242,23 @@ def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEv
                 "click": click,
                 "moment_change": math.hypot(mu1 - mu0, mv1 - mv0),
                 "torque_change": abs(t1 - t0),
+                "lateral_force_change": math.hypot(
+                    *(
+                        b - a
+                        for a, b in zip(
+                            lateral.get(u, (math.nan, math.nan)),
+                            lateral.get(v, (math.nan, math.nan)),
+                            strict=True,
+                        )
+                    )
+                ),
                 "torque_before": t0,
                 "torque_after": t1,
                 "searches": 0,
             }
         return events[key]
 
-    rows = []
+    table = []
     total = 0
     branch_fall = math.nan
     for (roll, pitch, phase), start in sorted(starts(graph).items()):
@@ -262,7 +309,7 @@ def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEv
             row[f"snap_{name}"] = snap[name] if snap else math.nan
             values = [j[name] for j in jumps if not math.isnan(j[name])]
             row[f"jump_{name}"] = max(values) if values else math.nan
-        rows.append(row)
+        table.append(row)
     columns = [
         "node",
         "held_roll",
@@ -294,7 +341,7 @@ def search_events(graph: nx.DiGraph, *, high_friction: float = 0.20) -> SearchEv
         "searches",
     ]
     return SearchEvents(
-        pd.DataFrame(rows, columns=columns),
+        pd.DataFrame(table, columns=columns),
         pd.DataFrame(list(events.values()), columns=event_columns),
         str(graph.graph["units"]),
         compliance,

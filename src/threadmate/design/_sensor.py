@@ -267,8 +267,8 @@ class SnapDetection:
         Starts of the library; searches judged (the starts at rest); those that snap
         with an event; those with a non-snap jump.
     signals : dict of str to Separation
-        Per signal (click, moment_change, torque_change), over every search: the
-        threshold or the overlap.
+        Per signal (click, moment_change, torque_change, and lateral_force_change when
+        the library's rows were given), over every search: the threshold or the overlap.
     by_held_pitch : list of dict
         Per held pitch (the pre-tilt a setting fixes): ``held_pitch`` (deg) and the
         click's :class:`Separation` over its searches.
@@ -314,6 +314,7 @@ class SnapDetection:
                 "length": self.units,
                 "click": self.units,
                 "moment_change": "N m",
+                "lateral_force_change": "N",
                 "torque": "N m",
                 "force": "N",
                 "angle": "deg",
@@ -344,7 +345,9 @@ class SnapDetection:
         }
 
 
-def snap_detection(graph: nx.DiGraph | SearchEvents) -> SnapDetection:
+def snap_detection(
+    graph: nx.DiGraph | SearchEvents, rows: pd.DataFrame | None = None
+) -> SnapDetection:
     """The snap a sensor can detect in a library's searches (module docstring).
 
     Parameters
@@ -352,19 +355,24 @@ def snap_detection(graph: nx.DiGraph | SearchEvents) -> SnapDetection:
     graph : networkx.DiGraph or SearchEvents
         The library's network (:func:`threadmate.network.build_network`), or its
         searches already walked (:func:`search_events`).
+    rows : pandas.DataFrame, optional
+        The library's rows, for the lateral force (:func:`search_events`).
 
     Returns
     -------
     SnapDetection
     """
-    found = graph if isinstance(graph, SearchEvents) else search_events(graph)
+    found = graph if isinstance(graph, SearchEvents) else search_events(graph, rows)
     table = found.searches
     signals = {
         name: separation(
             table[f"snap_{name}"], table[f"jump_{name}"], signal=name, unit=EVENT_SIGNALS[name][0]
         )
         for name in EVENT_SIGNALS
+        # a signal the library did not give (the lateral force without its rows) is left out
+        if table[f"snap_{name}"].notna().any() or table[f"jump_{name}"].notna().any()
     }
+    signals.setdefault("click", separation(table["snap_click"], table["jump_click"]))
     by_pitch = [
         {
             "held_pitch": float(pitch),  # type: ignore[arg-type]

@@ -257,7 +257,9 @@ def run_pipeline(
     )
     # The design stage, from the libraries' rows alone (no new search): the snap a sensor
     # sees per compliance, and the controller's program for the first.
-    detections = [snap_detection(g) for g in graphs]
+    # One library's rows in memory at a time (they hold the contact forces the lateral
+    # force needs, which the network leaves in the library).
+    detections = [snap_detection(g, load(lib)) for g, lib in zip(graphs, libs, strict=True)]
     figures["snap_detection"] = plot_snap_detection(detections, figdir / "snap-detection.png")
     program = controller_program(build_network(load(libs[0]), active=True), detections[0])
     design_files = {
