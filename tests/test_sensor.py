@@ -250,5 +250,16 @@ def test_bad_input_is_one_line(capsys, library, tmp_path):
     assert "--plot" in refused(capsys, "sensor", library, "--plot", tmp_path / "x.txt")
     assert not (tmp_path / "x.txt").exists()
     assert "--torque-margin" in refused(capsys, "program", library, "--torque-margin", "-1")
+    assert "given twice" in refused(capsys, "sensor", library, library)
     code, _, err = run_cli(capsys, "program", tmp_path / "missing", "--json")
     assert code == 2 and one_line(err)
+
+
+def test_a_runs_folder_holds_the_design_documents(tmp_path):
+    """A run writes sensor.json and program.json; running again into its folder is a
+    resume, not a refusal."""
+    from threadmate.pipeline._folder import check_run_folder
+
+    for name in ("report.md", "recommendation.json", "sensor.json", "program.json"):
+        (tmp_path / name).write_text("{}")
+    assert check_run_folder(tmp_path) == tmp_path
