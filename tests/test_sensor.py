@@ -258,8 +258,11 @@ def test_bad_input_is_one_line(capsys, library, tmp_path):
 def test_a_runs_folder_holds_the_design_documents(tmp_path):
     """A run writes sensor.json and program.json; running again into its folder is a
     resume, not a refusal."""
+    from threadmate.library import METADATA_FILE
     from threadmate.pipeline._folder import check_run_folder
 
+    (tmp_path / "library").mkdir()
+    (tmp_path / "library" / METADATA_FILE).write_text("{}")
     for name in ("report.md", "recommendation.json", "sensor.json", "program.json"):
         (tmp_path / name).write_text("{}")
     assert check_run_folder(tmp_path) == tmp_path
