@@ -259,7 +259,7 @@ def test_a_runs_folder_holds_the_design_documents(tmp_path):
     """A run writes sensor.json and program.json; running again into its folder is a
     resume, not a refusal."""
     from threadmate.library import METADATA_FILE
-    from threadmate.pipeline._folder import check_run_folder
+    from threadmate.pipeline import check_run_folder
 
     (tmp_path / "library").mkdir()
     (tmp_path / "library" / METADATA_FILE).write_text("{}")

@@ -6,7 +6,7 @@ the snap (an in-phase state proved by screwing in), to where the library's conti
 stopped, or round a cycle once, and keeps the events a wrist sensor and the driver could
 notice on the way: every **jump** (a fold of the branch that does not end in the thread:
 the bolt tipping off the bore's edge, rolling over a crest, or landing in phase but
-jamming when screwed in) and the **snap**. For each event it keeps three signals, all
+jamming when screwed in) and the **snap**. For each event it keeps four signals, all
 from the library's rows and the compliance, none from a new search:
 
 - ``click``: the fall of the compliance centre a sensor sees (the library's ``click``
