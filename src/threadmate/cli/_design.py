@@ -85,7 +85,9 @@ def sensor_command(libraries: tuple[str, ...], plot: str | None, as_json: bool) 
         found.append((lib, det))
     if fig is not None:
         try:
-            plot_snap_detection([d for _, d in found], fig)
+            plot_snap_detection(
+                [d for _, d in found], fig, [lib for lib, _ in found] if len(found) > 1 else None
+            )
         except OSError as exc:
             raise write_failed(fig, exc) from None
     if as_json:

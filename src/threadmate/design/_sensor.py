@@ -487,15 +487,20 @@ def format_snap_detection(det: SnapDetection) -> str:
 
 
 def plot_snap_detection(
-    detections: SnapDetection | list[SnapDetection], path: str | os.PathLike[str]
+    detections: SnapDetection | list[SnapDetection],
+    path: str | os.PathLike[str],
+    labels: list[str] | None = None,
 ) -> Path:
     """Strips of the snap clicks and each search's largest other jump, one row of axes per
-    compliance, with the threshold (solid where it separates, dashed where none does)."""
+    compliance, with the threshold (solid where it separates, dashed where none does);
+    ``labels`` (one per detection, e.g. the libraries' paths) head each row."""
     dets = [detections] if isinstance(detections, SnapDetection) else list(detections)
+    if labels is not None and len(labels) != len(dets):
+        raise ValueError("give one label per detection")
     fig = new_figure((7.5, 1.0 + 2.2 * len(dets)))
     axes = fig.subplots(len(dets), 1, squeeze=False)[:, 0]
     rng = np.random.default_rng(0)
-    for ax, det in zip(axes, dets, strict=True):
+    for i, (ax, det) in enumerate(zip(axes, dets, strict=True)):
         t = det.searches_table
         u = det.units
         for y, column, colour, label in (
@@ -522,9 +527,13 @@ def plot_snap_detection(
                 label=f"threshold {s.threshold:.4g} {u}"
                 + ("" if s.separates else f" (best; {s.wrong} wrong)"),
             )
+            lo, hi = ax.get_xlim()
+            pad = 0.03 * (max(hi, s.threshold) - min(lo, s.threshold))
+            ax.set_xlim(min(lo, 0.0, s.threshold - pad), max(hi, s.threshold + pad))
         c = det.compliance
         ax.set_title(
-            f"F {c['force']:g} N, k {c['stiffness']['roll']:g}/{c['stiffness']['pitch']:g} "
+            (f"{labels[i]}: " if labels else "")
+            + f"F {c['force']:g} N, k {c['stiffness']['roll']:g}/{c['stiffness']['pitch']:g} "
             "N m/rad: " + ("separated" if s.separates else "no threshold separates"),
             fontsize=9,
         )
