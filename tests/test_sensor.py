@@ -266,3 +266,19 @@ def test_a_runs_folder_holds_the_design_documents(tmp_path):
     for name in ("report.md", "recommendation.json", "sensor.json", "program.json"):
         (tmp_path / name).write_text("{}")
     assert check_run_folder(tmp_path) == tmp_path
+
+
+def test_retry_without_active_moves_is_at_the_best_held_tilt(library, walked):
+    """Without active moves the retry tilt is the held tilt that catches the largest
+    share of its starts within the turn limit (recounted from the rows)."""
+    prog = controller_program(from_library(library))
+    retry = prog.retry
+    assert retry["plans"] == 0 and retry["retry_tilt"]["source"] == "best held tilt"
+    limit = prog.turn_limit["value"]
+    share = (
+        walked.assign(caught=walked["snaps"] & (walked["turn"] <= limit))
+        .groupby(["held_roll", "held_pitch"])["caught"]
+        .mean()
+    )
+    tilt = (retry["retry_tilt"]["held_roll"], retry["retry_tilt"]["held_pitch"])
+    assert share[tilt] == share.max()
