@@ -34,6 +34,7 @@ PACKAGES = (
     "contact.mechanics",
     "library",
     "network",
+    "design",
     "planar",
     "pipeline",
     "view",
@@ -55,6 +56,8 @@ COMMANDS = (
     ["network"],
     ["path"],
     ["recommend"],
+    ["sensor"],
+    ["program"],
     ["run"],
     ["view"],
 )

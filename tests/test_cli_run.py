@@ -347,3 +347,20 @@ def test_run_resumes_a_previous_runs_folder(job, tmp_path):
     (again / "notes.txt").write_text("mine")
     with pytest.raises(InputError, match="'notes.txt'"):
         check_run_folder(again)
+
+
+def test_report_has_the_sensor_and_the_program(job):
+    """The design stage's sections and documents, from the run's library: the snap click
+    the sensor section starts from is one of the library's snap transitions."""
+    out, doc, _ = job
+    report = (out / "report.md").read_text()
+    for text in ("## The snap a sensor sees", "## What to program", "**Turn limit:"):
+        assert text in report, text
+    sensor = json.loads((out / "sensor.json").read_text())
+    program = json.loads((out / "program.json").read_text())
+    assert sensor["units"]["length"] == program["units"]["length"] == "in"
+    rows = library_rows(out / "library")
+    snaps = rows.loc[rows["transition"] == "snap", "click"].to_numpy()
+    smallest = sensor["settings"][0]["signals"]["click"]["smallest_snap"]
+    assert np.isclose(snaps, smallest, rtol=0, atol=1e-15).any()
+    assert set(doc["design"]) == {"sensor", "program"}

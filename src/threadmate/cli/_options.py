@@ -85,6 +85,9 @@ FLAGS: dict[str, str] = {
     "move_penalty": "--move-penalty",
     "roll_spread": "--roll-spread",
     "partial": "--partial",
+    # the design stage
+    "turn_margin": "--turn-margin",
+    "torque_margin": "--torque-margin",
     # the parts (threadmate.geometry.with_parts)
     "condition": "--condition",
     "point": "--point",

@@ -51,7 +51,8 @@ def _values(text: str | None, option: str) -> list[float]:
 
 Sweeps (or resumes, or reuses) the mechanics library DIR/library, builds the network,
 recommends the SRCC setting and writes DIR/network.graphml, DIR/starts.csv,
-DIR/recommendation.json, DIR/figures/, DIR/report.md and DIR/report.html (the report as an
+DIR/recommendation.json, DIR/sensor.json and DIR/program.json (the snap a sensor sees,
+what to program), DIR/figures/, DIR/report.md and DIR/report.html (the report as an
 interactive page; the search of the start its click signature shows in DIR/views/).
 DIR must be new, empty or a previous run's folder (resumed, its files written again).
 Default: {DEFAULT_DESIGNATION} on held roll {RUN_GRID["roll"]}, pitch {RUN_GRID["pitch"]},
@@ -207,7 +208,7 @@ def run_command(
     click.echo(
         f"wrote {result.out}/: {len(result.libraries)} librar"
         f"{'y' if len(result.libraries) == 1 else 'ies'}, network.graphml, "
-        f"network.json, starts.csv, recommendation.json, figures/ "
+        f"network.json, starts.csv, recommendation.json, sensor.json, program.json, figures/ "
         f"({len(result.figures)}), report.md, report.html"
         + (f", views/ ({len(result.pages) - 1})" if len(result.pages) > 1 else "")
     )

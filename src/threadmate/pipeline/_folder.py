@@ -25,6 +25,8 @@ RUN_FILES = (
     "network.json",
     "starts.csv",
     "recommendation.json",
+    "sensor.json",
+    "program.json",
     "figures",
     "report.md",
     "report.html",

@@ -9,6 +9,9 @@ Layout of the output folder::
     DIR/starts.csv          every start's passive outcome (snap, turn, work, click, ...),
                             each column named with its unit (turn_deg, work_mJ, ...)
     DIR/recommendation.json the SRCC recommendation
+    DIR/sensor.json         the snap a sensor can detect, per compliance (threadmate sensor)
+    DIR/program.json        what to program on the controller, for the first compliance
+                            (threadmate program)
     DIR/figures/            recommendation, click signature, click against tilt, class
                             map and strips, region combinations, planar figures
     DIR/report.md           the report, figures embedded
@@ -28,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from .._io import atomic_write_text, remove_stale_temporaries
+from .._json import json_text
 from .._text import number_text
 from .._validate import check_roll_spread
 from .._version import __version__
@@ -42,11 +46,19 @@ from ..contact import (
     plot_search,
     search,
 )
+from ..design import (
+    controller_program,
+    format_controller_program,
+    format_snap_detection,
+    plot_snap_detection,
+    snap_detection,
+)
 from ..geometry import ThreadSpec
 from ..library import Grid, info, load, sweep, write_figures
 from ..network import (
     WEIGHT_FORMULA,
     Recommendation,
+    build_network,
     format_recommendation,
     from_library,
     least_resistance_path,
@@ -88,6 +100,8 @@ class RunResult:
     meshes: dict[str, Any] = field(default_factory=dict)
     #: ``report.html`` and the start pages written into ``views/``.
     pages: list[Path] = field(default_factory=list)
+    #: ``sensor.json`` and ``program.json`` (the design stage's documents).
+    design: dict[str, Path] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready mapping of paths and figures (``threadmate run --json``)."""
@@ -113,6 +127,7 @@ class RunResult:
             "recommended": self.recommended,
             "notes": self.notes,
             "mesh": self.meshes,
+            "design": {k: str(v) for k, v in self.design.items()},
         }
 
 
@@ -240,6 +255,30 @@ def run_pipeline(
     figures["click_vs_tilt"] = plot_click_vs_tilt(
         outcomes, figdir / "click-vs-tilt.png", spec.units
     )
+    # The design stage, from the libraries' rows alone (no new search): the snap a sensor
+    # sees per compliance, and the controller's program for the first.
+    # One library's rows in memory at a time (they hold the contact forces the lateral
+    # force needs, which the network leaves in the library).
+    detections = [snap_detection(g, load(lib)) for g, lib in zip(graphs, libs, strict=True)]
+    figures["snap_detection"] = plot_snap_detection(detections, figdir / "snap-detection.png")
+    program = controller_program(build_network(load(libs[0]), active=True), detections[0])
+    design_files = {
+        "sensor": atomic_write_text(
+            out / "sensor.json",
+            json_text(
+                {
+                    "units": detections[0].to_dict()["units"],
+                    "settings": [
+                        {"library": str(lib), **d.to_dict()}
+                        for lib, d in zip(libs, detections, strict=True)
+                    ],
+                }
+            ),
+        ),
+        "program": atomic_write_text(
+            out / "program.json", json_text({"library": str(libs[0]), **program.to_dict()})
+        ),
+    }
     map_phase = _telling_phase(outcomes)
     figures.update(
         {
@@ -268,6 +307,7 @@ def run_pipeline(
         meshes,
         map_phase,
         traced or failed,
+        _design_sections(detections, program, len(compliances) > 1),
     )
     if clockwise:
         report += "\n" + _clockwise_section(load(libs[0]))
@@ -288,7 +328,52 @@ def run_pipeline(
         rec.notes,
         meshes,
         pages,
+        design_files,
     )
+
+
+def _design_sections(detections: list[Any], program: Any, many: bool) -> str:
+    """The report's sections on the snap a sensor sees (per compliance) and on what to
+    program on the controller (the first compliance)."""
+    lines = [
+        "## The snap a sensor sees",
+        "",
+        "A snap is only useful if a sensor can tell it from the other jumps of a search. "
+        "For every start's search: its snap's click (the fall of the compliance centre "
+        "within the last degree of turn) against the largest drop of any other jump in the "
+        "same search (the bolt tipping off the bore's edge or a crest, or landing in phase "
+        "and jamming), and the same for the change of the tilt spring's moment and of the "
+        "driver's torque. A threshold separates them when the largest other jump lies below "
+        "the smallest snap; it is then the midpoint of the gap (docs/design.md). "
+        "`sensor.json` holds the numbers; `threadmate sensor DIR/library` recomputes them.",
+        "",
+    ]
+    for det in detections:
+        if many:
+            c = det.compliance
+            lines += [
+                f"### {c['force']:g} N, {c['stiffness']['roll']:g}/"
+                f"{c['stiffness']['pitch']:g} N m/rad",
+                "",
+            ]
+        lines += [format_snap_detection(det).rstrip(), ""]
+    lines += [
+        "![snap detection](figures/snap-detection.png)",
+        "",
+        "*Snap clicks and each search's largest other jump, with the threshold (solid: it "
+        "separates; dashed: the best where none does).*",
+        "",
+        "## What to program",
+        "",
+        "For the compliance "
+        + ("of the first library " if many else "")
+        + "(`program.json`; `threadmate program DIR/library`), each figure derived from "
+        "the library and said how:",
+        "",
+        format_controller_program(program).rstrip(),
+        "",
+    ]
+    return "\n".join(lines) + "\n"
 
 
 def _clockwise_section(rows: Any) -> str:
@@ -525,6 +610,7 @@ def _report(
     meshes: dict[str, Any] | None = None,
     map_phase: tuple[float, int, int] | None = None,
     traced: SearchResult | str = "",
+    design: str = "",
 ) -> str:
     name = spec.designation or "custom spec"
     u = spec.units
@@ -651,6 +737,7 @@ def _report(
         "",
         _not_at_rest_line(unsettled),
         "",
+        *([design] if design else []),
         "## Figures",
         "",
     ]
@@ -667,6 +754,8 @@ def _report(
         "pivot_axes": "The planar analysis: pivot axes against phase." + _planar_note(spec),
     }
     for key, path in figures.items():
+        if key == "snap_detection":
+            continue  # shown in its section
         rel = path.relative_to(out).as_posix()
         lines += [f"![{key.replace('_', ' ')}]({rel})", "", f"*{captions.get(key, key)}*", ""]
     lines += [
