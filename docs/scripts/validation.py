@@ -508,6 +508,7 @@ READ: dict[str, tuple[str, Callable[[Stamp, Path], list[str]]]] = {
 #: Sections with no input here: carried over as the page holds them.
 RECORDED = (
     "The model's rules, measured",
+    "The snap a sensor sees, on the default run",
     "The continuation's step",
     "Where the thread starts meet",
     "Robustness",
