@@ -43,6 +43,7 @@ def _register() -> None:
     from . import _library  # noqa: F401  (registers: sweep, library)
     from . import _mesh  # noqa: F401  (registers: mesh)
     from . import _network  # noqa: F401  (registers: network, path, recommend)
+    from . import _design  # noqa: F401  (registers: envelope)
     from . import _run  # noqa: F401  (registers: run)
     from . import _view  # noqa: F401  (registers: view)
 

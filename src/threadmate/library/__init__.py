@@ -49,6 +49,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         read_grid as read_grid,
     )
     from ._models import MODELS as MODELS
+    from ._probes import HeldTiltProbe as HeldTiltProbe
     from ._store import (
         METADATA_FILE as METADATA_FILE,
         compare_metadata as compare_metadata,
@@ -97,6 +98,7 @@ _SOURCES = {
     ),
     # The models, light to import: the commands offer them before the stage loads.
     "._models": ("MODELS",),
+    "._probes": ("HeldTiltProbe",),
     "._store": (
         "METADATA_FILE",
         "compare_metadata",
