@@ -10,7 +10,7 @@ import click
 from .._errors import InputError
 from .._validate import FIGURE_FORMATS, check_workers
 from ..geometry import SpecParts
-from ._common import SPEC_HELP, emit_json, resolve_spec, write_failed, writable_output
+from ._common import SPEC_HELP, emit_json, resolve_spec, writable_output, write_failed
 from ._main import cli
 from ._options import (
     COMPLIANCE_PARAMETERS,
