@@ -156,7 +156,7 @@ def parse_range(values: Values, option: str) -> tuple[float, ...]:
             bad = low if low < 0 else high
             raise InputError(
                 f"tilt: {bad:g} deg is out of range: a tilt size lies within 0 and "
-                f"{MAX_TILT:g} deg (its direction is --direction)"
+                f"{MAX_TILT:g} deg (its direction is given apart)"
             )
     else:
         worst = max(raw, key=abs)
