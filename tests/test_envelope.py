@@ -216,3 +216,38 @@ def test_envelope_agrees_with_direct_searches_inside_and_outside(tmp_path):
     )
     figure = plot_envelope(env, tmp_path / "envelope.png")
     assert figure.stat().st_size > 1000
+
+
+def test_the_bisection_brackets_each_level_within_the_tolerance():
+    """The search along a direction, on a known share of snapping phases (a step profile:
+    every phase up to 1.23 deg, 60 % up to 2.61 deg, none beyond), brackets the 100 % and
+    50 % crossings within the tolerance and puts the 95 % one with the 100 % one."""
+    import pandas as pd
+
+    from threadmate.design._envelope import _Search
+
+    def outcomes(size: float) -> pd.DataFrame:
+        n = 20
+        share = 1.0 if size <= 1.23 else (0.6 if size <= 2.61 else 0.0)
+        snapped = [i < round(share * n) for i in range(n)]
+        return pd.DataFrame({"snapped": snapped, "failed": [False] * n})
+
+    grid = PolarGrid.parse("0:4:0.5", "0,90", "0")
+    search = _Search(grid, tolerance=0.05)
+    probes = 0
+    while True:
+        wanted = {search.key(s, d) for d in (0.0, 90.0) for s in search.needed(d)}
+        wanted -= set(search.outcomes)
+        if not wanted:
+            break
+        for key in wanted:
+            search.outcomes[key] = outcomes(key[0])
+            probes += 1
+    for d in (0.0, 90.0):
+        known = search.evaluated(d)
+        for level, edge in ((1.0, 1.23), (0.95, 1.23), (0.5, 2.61)):
+            lo, hi = search.bracket(known, level)
+            assert lo <= edge < hi and hi - lo <= 0.05 + 1e-12, (d, level, lo, hi)
+        # Walked no further out than the first size where fewer than half snap.
+        assert max(s for s, _ in known) == 3.0
+    assert probes < 2 * 20

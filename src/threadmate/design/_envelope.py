@@ -245,14 +245,16 @@ class _Search:
         """The sizes to evaluate next in ``direction`` (empty: located)."""
         known = self.evaluated(direction)
         if not known or known[0][0] != 0:
-            return {0.0}
+            # Upright first, and the grid's first size with it: it is almost always
+            # needed, and the upright tilt alone would leave every worker but one idle.
+            return {0.0, *self.sizes[:1]}
         done = {s for s, _ in known}
         lowest = min(LEVELS)
-        if all(share + 1e-12 >= lowest for _, share in known):
-            for size in self.sizes:  # the walk outward along the grid's sizes
-                if size not in done:
-                    return {size}
         need = set()
+        if all(share + 1e-12 >= lowest for _, share in known):
+            # The walk outward along the grid's sizes, beside the bisections below (a
+            # bracket holds whatever lies further out).
+            need.update(next(([s] for s in self.sizes if s not in done), []))
         for level in LEVELS:
             lo, hi = self.bracket(known, level)
             if hi is not None and hi - lo > self.tolerance and lo != hi:
@@ -401,28 +403,28 @@ def envelope(
         scheduler=scheduler,
         base_metadata=base_meta,
     ) as probe:
+        # Each direction's next size is asked as soon as the sizes it depends on are in:
+        # the workers stay busy while directions bisect at their own pace.
+        in_flight: dict[tuple[float, float | None], tuple[float, float]] = {}
         while True:
-            wanted: dict[tuple[float, float | None], tuple[float, float]] = {}
             for d in directions:
                 for size in sorted(search.needed(d)):
                     k = search.key(size, d)
-                    if k not in search.outcomes:
-                        wanted[k] = (k[0], d if k[1] is not _UP else directions[0])
-            if not wanted:
+                    if k not in search.outcomes and k not in in_flight:
+                        in_flight[k] = (k[0], d if k[1] is not _UP else directions[0])
+                        probe.submit(*in_flight[k])
+                        asked += 1
+            if not in_flight:
                 break
-            asked += len(wanted)
-            base = done
-
-            def report(n: int, _total: int, base: int = base, asked: int = asked) -> None:
-                if progress is not None:
-                    progress(base + n, asked)
-
             if progress is not None:
                 progress(done, asked)
-            found = probe.run(list(wanted.values()), report)
-            done += len(found)
-            for k, at in wanted.items():
-                search.outcomes[k] = _outcomes(found[at])
+            at, found = probe.next_done()
+            k = next(key for key, value in in_flight.items() if value == at)
+            del in_flight[k]
+            search.outcomes[k] = _outcomes(found)
+            done += 1
+        if progress is not None:
+            progress(done, asked)
         probes = probe.computed
     return _result(search, directions, spec, compliance, grid, where, probes, start)
 

@@ -101,6 +101,8 @@ class HeldTiltProbe:
         )
         self._meta = dict(base_metadata or request_metadata(self._job))
         self._executor: Any = None
+        self._pending: dict[Any, tuple[tuple[float, float], Job]] = {}
+        self._done: list[tuple[tuple[float, float], pd.DataFrame]] = []
         #: Held tilts computed so far.
         self.computed = 0
 
@@ -123,33 +125,50 @@ class HeldTiltProbe:
         """How many held tilts run at once."""
         return 1 if self._executor is None else int(self._executor.slots)
 
+    def submit(self, size: float, direction: float) -> None:
+        """Start the held tilt of ``size`` and ``direction`` (degrees, as a
+        :class:`PolarGrid`'s); :meth:`next_done` hands back its rows."""
+        if self._executor is None:
+            raise RuntimeError("HeldTiltProbe used outside its with-block")
+        job = replace(self._job, grid=PolarGrid((size,), (direction,), self.phase))
+        self._pending[self._executor.submit(job, list(range(len(self.phase))))] = (
+            (size, direction),
+            job,
+        )
+
+    @property
+    def in_flight(self) -> int:
+        """Held tilts submitted and not yet handed back."""
+        return len(self._pending) + len(self._done)
+
+    def next_done(self) -> tuple[tuple[float, float], pd.DataFrame]:
+        """The next held tilt to finish: ``((size, direction), rows)``, rows as
+        :func:`load` gives those of a library whose grid is that one held tilt."""
+        if not self._done:
+            if not self._pending:
+                raise RuntimeError("no held tilt in flight")
+            for fut in self._executor.wait_first(set(self._pending)):
+                key, job = self._pending.pop(fut)
+                table, _ = fut.result()
+                rows = table.to_pandas()
+                rows.attrs["threadmate"] = {**self._meta, "grid": job.grid.to_dict()}
+                self._done.append((key, rows))
+                self.computed += 1
+        return self._done.pop(0)
+
     def run(
         self,
         tilts: Sequence[tuple[float, float]],
         progress: ProbeProgress | None = None,
     ) -> dict[tuple[float, float], pd.DataFrame]:
-        """The rows of each held tilt, given by its size and direction (degrees, as a
-        :class:`PolarGrid`'s), over the phases.
-
-        Returns ``{(size, direction): rows}``, rows as :func:`load` gives those of a
-        library whose grid is that one held tilt.
-        """
-        if self._executor is None:
-            raise RuntimeError("HeldTiltProbe.run outside its with-block")
-        ids = list(range(len(self.phase)))
-        pending = {}
+        """The rows of each held tilt, given by its size and direction (degrees), over
+        the phases, all at once: ``{(size, direction): rows}`` (:meth:`next_done`)."""
         for size, direction in tilts:
-            job = replace(self._job, grid=PolarGrid((size,), (direction,), self.phase))
-            pending[self._executor.submit(job, ids)] = ((size, direction), job)
+            self.submit(size, direction)
         out: dict[tuple[float, float], pd.DataFrame] = {}
-        while pending:
-            for fut in self._executor.wait_first(set(pending)):
-                key, job = pending.pop(fut)
-                table, _ = fut.result()
-                rows = table.to_pandas()
-                rows.attrs["threadmate"] = {**self._meta, "grid": job.grid.to_dict()}
-                out[key] = rows
-                self.computed += 1
-                if progress is not None:
-                    progress(len(out), len(tilts))
+        while len(out) < len(tilts):
+            key, rows = self.next_done()
+            out[key] = rows
+            if progress is not None:
+                progress(len(out), len(tilts))
         return out
