@@ -468,3 +468,32 @@ def test_mesh_does_not_overwrite_a_users_files(capsys, tmp_path):
     rc, _, err = run_cli(capsys, *args, "--force")
     assert rc == 0, err
     assert (tmp_path / "nut.stl").read_bytes()[:80].startswith(b"threadmate units=mm nut")
+
+
+def test_sigterm_in_a_finaliser_still_stops_the_command():
+    """A signal that arrives while Python runs a finaliser (matplotlib's weakref callbacks
+    when a figure is written) raises there, where Python can only drop the exception: it
+    is raised again a moment later and stops the command. Here the finaliser sends SIGTERM
+    to its own process and runs on, so the handler raises inside it."""
+    script = """
+import os, signal
+from threadmate.cli._main import _sigterm_as_interrupt, _Terminated
+
+class Finalised:
+    def __del__(self):
+        os.kill(os.getpid(), signal.SIGTERM)
+        for _ in range(100000):
+            pass
+
+try:
+    with _sigterm_as_interrupt():
+        Finalised()
+        for _ in range(10**7):
+            pass
+    print("ran to the end")
+except _Terminated:
+    print("stopped")
+"""
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.stdout.strip() == "stopped", done.stdout + done.stderr
+    assert "Traceback" not in done.stderr

@@ -509,6 +509,7 @@ READ: dict[str, tuple[str, Callable[[Stamp, Path], list[str]]]] = {
 RECORDED = (
     "The model's rules, measured",
     "The snap a sensor sees, on the default run",
+    "The capture envelope's cost",
     "The continuation's step",
     "Where the thread starts meet",
     "Robustness",

@@ -26,6 +26,7 @@ from ._options import (
     DEFAULTS_NOTE,
     RANGE_HELP,
     MeshFiles,
+    check_grid_kind,
     chord_option,
     compliance_from_options,
     compliance_options,
@@ -34,6 +35,7 @@ from ._options import (
     max_starts_option,
     mesh_files_option,
     parts_option,
+    polar_grid_options,
 )
 from ._progress import progress_bar
 from ._render_library import (
@@ -108,6 +110,12 @@ transition (settling, turning, jump or snap) and the driver's work along it (mJ)
 `threadmate contact`), with the thesis's classes. The compliance and continuation
 settings are stored in the library.
 
+With --tilt and --direction the grid is polar instead: held tilts by size (the angle
+between bolt and nut axes) and direction (the azimuth in the nut's frame, from +X toward
++Y, toward which the bolt's axis leans), e.g. --tilt 0:4:0.5 --direction 0:360:22.5;
+size 0 is one upright held tilt. Each held tilt's roll and pitch are computed exactly
+from its size and direction (docs/design.md) and every row carries them.
+
 Rows are written in chunks to LIBRARY, a Parquet dataset directory with its metadata.
 Running the same command on an interrupted LIBRARY resumes it (saying how many
 configurations were already done); a LIBRARY of another spec, grid, model or setting is
@@ -142,6 +150,7 @@ N/m, lengths in the spec's units, angles in degrees.
     metavar="RANGE",
     help=f"Phase values, modulo 360: {RANGE_HELP} (default {DEFAULT_RANGES['phase']}).",
 )
+@polar_grid_options
 @click.option(
     "-o",
     "--out",
@@ -217,6 +226,8 @@ def sweep_command(
     roll: str | None,
     pitch: str | None,
     phase: str | None,
+    tilt: str | None,
+    direction: str | None,
     out: Path,
     model: str,
     force: float,
@@ -246,9 +257,11 @@ def sweep_command(
     )
     spec = resolve_spec(spec_text, condition, parts)
     writable_directory(out, "-o")
-    from ..library import Grid
+    check_grid_kind(roll, pitch, tilt, direction)
+    from ..library import make_grid
 
-    Grid.parse(roll, pitch, phase)  # a bad range is refused before the library stage loads
+    # A bad range, or a square and a polar grid mixed, is refused before the stage loads.
+    make_grid(roll, pitch, phase, tilt, direction)
     from ..library import METADATA_FILE, SweepInterrupted, info, sweep
 
     existed = (out / METADATA_FILE).is_file()
@@ -286,6 +299,8 @@ def sweep_command(
                 progress=callback,
                 clockwise=clockwise,
                 max_starts=max_starts,
+                tilt=tilt,
+                direction=direction,
                 **meshes.arguments(),
             )
     except SweepInterrupted as exc:

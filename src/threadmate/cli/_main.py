@@ -44,6 +44,7 @@ def _register() -> None:
     from . import _mesh  # noqa: F401  (registers: mesh)
     from . import _network  # noqa: F401  (registers: network, path, recommend)
     from . import _design  # noqa: F401  (registers: sensor, program)
+    from . import _envelope  # noqa: F401  (registers: envelope)
     from . import _run  # noqa: F401  (registers: run)
     from . import _view  # noqa: F401  (registers: view)
 
@@ -123,7 +124,8 @@ def _drop_stdout() -> None:
 @contextlib.contextmanager
 def _sigterm_as_interrupt() -> Iterator[None]:
     """SIGTERM raises :class:`_Terminated` in this process (a worker forked from it dies
-    of the signal as before)."""
+    of the signal as before); an interrupt or SIGTERM that Python could only drop, raised
+    within a finaliser, is raised again a moment later."""
     main_pid = os.getpid()
 
     def handler(signum: int, frame: FrameType | None) -> None:
@@ -133,15 +135,37 @@ def _sigterm_as_interrupt() -> Iterator[None]:
             return
         raise _Terminated()
 
+    dropped: list[BaseException] = []
+
+    def unraisable(report: sys.UnraisableHookArgs) -> None:
+        # A signal that arrives while Python runs a finaliser or a weakref callback
+        # (matplotlib's transforms have many) raises there, where Python can only report
+        # and drop the exception. Raise it again a moment later, from a timer's signal,
+        # where it stops the command; not from here, which is such a place too.
+        if isinstance(report.exc_value, KeyboardInterrupt) and os.getpid() == main_pid:
+            dropped[:] = [report.exc_value]
+            signal.setitimer(signal.ITIMER_REAL, 0.01)
+        else:
+            hook(report)
+
+    def again(signum: int, frame: FrameType | None) -> None:
+        if dropped:
+            raise dropped.pop()
+
     try:
         previous = signal.signal(signal.SIGTERM, handler)
     except ValueError:  # not the main thread (an embedding program's): leave it alone
         yield
         return
+    alarm = signal.signal(signal.SIGALRM, again)
+    hook, sys.unraisablehook = sys.unraisablehook, unraisable
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGTERM, previous)
+        signal.signal(signal.SIGALRM, alarm)
+        sys.unraisablehook = hook
 
 
 def _error(message: str) -> None:

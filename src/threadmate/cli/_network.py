@@ -21,7 +21,7 @@ from ._common import (
     write_failed,
 )
 from ._main import cli
-from ._options import roll_spread_option
+from ._options import DIRECTION_HELP, held_tilt_from_options, roll_spread_option
 from ._progress import progress_words
 
 # The graph stage (networkx, pandas, matplotlib) is imported where it is used, so that
@@ -223,8 +223,20 @@ def network_command(
 
 @cli.command("path")
 @click.argument("library", type=click.Path())
-@click.option("--roll", type=float, required=True, help="Held roll of the start [deg].")
-@click.option("--pitch", type=float, required=True, help="Held pitch of the start [deg].")
+@click.option("--roll", type=float, default=None, help="Held roll of the start [deg].")
+@click.option("--pitch", type=float, default=None, help="Held pitch of the start [deg].")
+@click.option(
+    "--tilt",
+    type=float,
+    default=None,
+    help="Held tilt size of the start [deg], with --direction (instead of --roll/--pitch).",
+)
+@click.option(
+    "--direction",
+    type=float,
+    default=None,
+    help=f"Direction of the held tilt [deg]: {DIRECTION_HELP}.",
+)
 @click.option("--phase", type=float, required=True, help="Start phase [deg] (modulo 360).")
 @click.option(
     "--k",
@@ -244,8 +256,10 @@ def network_command(
 @click.option("--json", "as_json", is_flag=True, help="Print one JSON document on stdout.")
 def path_command(
     library: str,
-    roll: float,
-    pitch: float,
+    roll: float | None,
+    pitch: float | None,
+    tilt: float | None,
+    direction: float | None,
     phase: float,
     k: int,
     nearest: bool,
@@ -258,8 +272,10 @@ def path_command(
 
     Without --active it is the passive search from that start (as `threadmate search`
     computes it). Exit status 3 when no path reaches the snap (with --json, the document
-    still, its path and snap null).
+    still, its path and snap null). The held tilt is --roll and --pitch, or --tilt and
+    --direction (either names a start of either kind of grid).
     """
+    roll, pitch = held_tilt_from_options(roll, pitch, tilt, direction)
     check_configuration(roll, pitch, phase)  # the API's check, before the stage loads
     from ..network import from_library, k_best_paths, no_path_document
 

@@ -39,6 +39,10 @@ __all__ = [
     "parts_option",
     "roll_spread_option",
     "RANGE_HELP",
+    "DIRECTION_HELP",
+    "polar_grid_options",
+    "held_tilt_from_options",
+    "check_grid_kind",
     "MeshFiles",
     "mesh_files_option",
     "echo_mesh_notes",
@@ -52,6 +56,8 @@ FLAGS: dict[str, str] = {
     # the configuration and the grid
     "roll": "--roll",
     "pitch": "--pitch",
+    "tilt": "--tilt",
+    "direction": "--direction",
     "phase": "--phase",
     "nearest": "--nearest",
     # the compliance
@@ -136,6 +142,75 @@ def flag_words(message: str) -> str:
 RANGE_HELP = (
     "START:STOP:STEP (STOP included when on the grid), a value, or a comma list, in degrees"
 )
+#: What a polar grid's direction is, in the help's words (the one definition is
+#: threadmate.geometry.held_tilt_from_polar's).
+DIRECTION_HELP = (
+    "the azimuth in the nut's frame F, from +X toward +Y, toward which the bolt's axis "
+    "leans (0: a positive held pitch, 90: a negative held roll)"
+)
+
+
+def polar_grid_options(func: Callable[..., Any]) -> Callable[..., Any]:
+    """``--tilt RANGE`` and ``--direction RANGE``: a polar grid of misalignment, for every
+    command that sweeps one (the library stage refuses them mixed with roll and pitch)."""
+    from ..library._grid import DEFAULT_POLAR_RANGES  # light: numpy and the angle rules
+
+    func = click.option(
+        "--direction",
+        "direction",
+        default=None,
+        metavar="RANGE",
+        help=f"Polar grid: directions of the held tilt, {DIRECTION_HELP}, modulo 360: "
+        f"{RANGE_HELP} (default {DEFAULT_POLAR_RANGES['direction']} with --tilt). Not with "
+        "--roll/--pitch.",
+    )(func)
+    return click.option(
+        "--tilt",
+        "tilt",
+        default=None,
+        metavar="RANGE",
+        help=f"Polar grid: held tilt sizes, the angle between bolt and nut axes, 0 to "
+        f"{MAX_TILT:g}: {RANGE_HELP} (default {DEFAULT_POLAR_RANGES['tilt']} with "
+        "--direction). Size 0 is one held tilt, upright. Not with --roll/--pitch.",
+    )(func)
+
+
+def check_grid_kind(
+    roll: str | None, pitch: str | None, tilt: str | None, direction: str | None
+) -> None:
+    """Refuse a square grid's options mixed with a polar grid's (one message, in flags)."""
+    square = [f for f, v in (("--roll", roll), ("--pitch", pitch)) if v is not None]
+    polar = [f for f, v in (("--tilt", tilt), ("--direction", direction)) if v is not None]
+    if square and polar:
+        raise InputError(
+            f"{square[0]} and {polar[0]} name two kinds of grid: give --roll/--pitch (a "
+            "square grid) or --tilt/--direction (a polar grid), not both"
+        )
+
+
+def held_tilt_from_options(
+    roll: float | None, pitch: float | None, tilt: float | None, direction: float | None
+) -> tuple[float, float]:
+    """The held ``(roll, pitch)`` of one start given as ``--roll/--pitch`` or as
+    ``--tilt/--direction`` (InputError when mixed or incomplete)."""
+    square, polar = (roll, pitch), (tilt, direction)
+    if any(v is not None for v in square) and any(v is not None for v in polar):
+        raise InputError(
+            "give the held tilt as --roll and --pitch or as --tilt and --direction, not both"
+        )
+    if all(v is not None for v in polar):
+        from ..geometry._frames import held_tilt_from_polar
+
+        t = float(tilt)  # type: ignore[arg-type]
+        if not 0 <= t <= MAX_TILT:
+            raise InputError(
+                f"--tilt {t:g} is out of range: a tilt size lies within 0 and {MAX_TILT:g} deg"
+            )
+        return held_tilt_from_polar(t, float(direction))  # type: ignore[arg-type]
+    if all(v is not None for v in square):
+        return float(roll), float(pitch)  # type: ignore[arg-type]
+    raise InputError("give the held tilt: --roll and --pitch, or --tilt and --direction")
+
 
 #: The defaults of the options are those of :class:`Compliance`.
 _D = Compliance()

@@ -51,7 +51,8 @@ def progress_bar(label: str) -> Iterator[Any]:
             # Configurations resumed from disk fill the bar but do not count in the rate.
             task = bar.add_task(label, total=total, completed=done)
         elif task is not None:  # set with the bar
-            bar.update(task, completed=done)
+            # The total may grow (a search that asks for more as it goes: the envelope).
+            bar.update(task, completed=done, total=total)
 
     try:
         yield callback

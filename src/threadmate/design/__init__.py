@@ -1,23 +1,35 @@
-"""The design stage: what a robot integrator sets and programs, from a library.
+"""The design stage: what a designer sets, what it tolerates, and what to program.
 
-From a library's network (:mod:`threadmate.network`), with no new search:
-
-- :func:`snap_detection`: whether a sensor can tell the snap from the other jumps of the
-  same searches (the click, the tilt spring's moment, the driver's torque), with the
-  threshold that separates them or the statement that none does (docs/design.md, "The
-  snap a sensor sees");
+- :func:`envelope`: the capture envelope of a compliance: for each direction of
+  misalignment relative to the nut's thread start, the largest held tilt at which every
+  start phase (and 95 %, 50 % of them) snaps within one turn, located by bisection in tilt
+  size along the direction; the tolerated misalignment is its worst direction. It reads a
+  polar library (``threadmate sweep --tilt ... --direction ...``) or sweeps a spec's held
+  tilts on demand, with the library's own machinery (docs/design.md, "The capture
+  envelope").
+- :func:`snap_detection`: from a library's network, with no new search, whether a sensor
+  can tell the snap from the other jumps of the same searches (the click, the tilt
+  spring's moment, the driver's torque, the lateral force), with the threshold that
+  separates them or the statement that none does (docs/design.md, "The snap a sensor
+  sees").
 - :func:`controller_program`: what to program on the controller: the turn limit, the
   torque limit, what to do for starts that never snap, and the snap as a sensor threshold
   (docs/design.md, "What to program").
 
-Lengths in the spec's units, angles in degrees, forces in N, torques and moments in N m.
+Lengths in the spec's units, angles in degrees, forces in N, stiffness in N m/rad, torques
+and moments in N m, work in mJ.
 
 Example
 -------
+>>> from threadmate.geometry import spec_from_designation
+>>> from threadmate.contact import Compliance
 >>> from threadmate import design, network
+>>> spec = spec_from_designation("1/4-20 UNC-2A/2B")
+>>> env = design.envelope(spec, compliance=Compliance(force=10, stiffness=1))  # doctest: +SKIP
+>>> env.tolerated_tilt, env.to_dict()["units"]                                 # doctest: +SKIP
+>>> design.plot_envelope(env, "envelope.png")                                  # doctest: +SKIP
 >>> g = network.from_library("lib-1-4-20", active=True)               # doctest: +SKIP
 >>> det = design.snap_detection(g)                                     # doctest: +SKIP
->>> det.click.statement(det.units)                                     # doctest: +SKIP
 >>> design.controller_program(g, det).to_dict()                        # doctest: +SKIP
 """
 
@@ -31,6 +43,15 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         controller_program as controller_program,
         format_controller_program as format_controller_program,
     )
+    from ._envelope import (
+        ENVELOPE_PHASES as ENVELOPE_PHASES,
+        LEVELS as LEVELS,
+        TOLERANCE as TOLERANCE,
+        Envelope as Envelope,
+        EnvelopeProgress as EnvelopeProgress,
+        envelope as envelope,
+    )
+    from ._figures import plot_envelope as plot_envelope
     from ._searches import (
         EVENT_SIGNALS as EVENT_SIGNALS,
         SearchEvents as SearchEvents,
@@ -51,6 +72,15 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
 #: above.
 _SOURCES = {
     "._controller": ("ControllerProgram", "controller_program", "format_controller_program"),
+    "._envelope": (
+        "ENVELOPE_PHASES",
+        "LEVELS",
+        "TOLERANCE",
+        "Envelope",
+        "EnvelopeProgress",
+        "envelope",
+    ),
+    "._figures": ("plot_envelope",),
     "._searches": ("EVENT_SIGNALS", "SearchEvents", "search_events"),
     "._sensor": (
         "Separation",

@@ -10,12 +10,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial.transform import Rotation
 
-__all__ = ["Pose", "rot_x", "rot_y", "rot_z", "bolt_rotation", "axis_angle_rotation"]
+__all__ = [
+    "Pose",
+    "rot_x",
+    "rot_y",
+    "rot_z",
+    "bolt_rotation",
+    "axis_angle_rotation",
+    "held_tilt_from_polar",
+    "polar_from_held_tilt",
+]
 
 
 def rot_x(deg: float) -> NDArray[np.float64]:
@@ -39,6 +48,54 @@ def rot_z(deg: float) -> NDArray[np.float64]:
 def bolt_rotation(roll: float, pitch: float, phase: float) -> NDArray[np.float64]:
     """``Rx(roll) @ Ry(pitch) @ Rz(phase)``: the bolt's orientation in F (degrees)."""
     return rot_x(roll) @ rot_y(pitch) @ rot_z(phase)
+
+
+def held_tilt_from_polar(tilt: float, direction: float) -> tuple[float, float]:
+    """The held ``(roll, pitch)`` of a tilt given by its size and direction (degrees).
+
+    The polar form of a held tilt: the bolt axis (+Z of B, toward the head) makes the angle
+    ``tilt`` with +Z of F and leans toward the azimuth ``direction``, measured in F (the
+    nut's frame, fixed to its thread start) from +X toward +Y. With
+    ``R = Rx(roll) @ Ry(pitch)`` the axis is ``(sin p, -sin r cos p, cos r cos p)``;
+    equated to ``(sin t cos d, sin t sin d, cos t)`` it gives, exactly,
+
+        pitch = asin(sin t cos d),    roll = atan2(-sin t sin d, cos t).
+
+    So direction 0 is a positive pitch, 90 a negative roll, 180 a negative pitch and 270
+    a positive roll; a tilt of 0 is upright whatever the direction.
+
+    Parameters
+    ----------
+    tilt : float
+        Angle between the bolt and nut axes, degrees in [0, 90).
+    direction : float
+        Azimuth toward which the bolt's axis leans, degrees (any value; modulo 360).
+
+    Returns
+    -------
+    (roll, pitch) : tuple of float
+        Degrees.
+    """
+    t, d = math.radians(tilt), math.radians(direction)
+    pitch = math.degrees(math.asin(max(-1.0, min(1.0, math.sin(t) * math.cos(d)))))
+    roll = math.degrees(math.atan2(-math.sin(t) * math.sin(d), math.cos(t)))
+    return roll + 0.0, pitch + 0.0  # + 0.0 turns -0.0 into 0.0
+
+
+def polar_from_held_tilt(roll: ArrayLike, pitch: ArrayLike) -> tuple[NDArray[Any], NDArray[Any]]:
+    """The size and direction (degrees) of held tilts ``(roll, pitch)``: the inverse of
+    :func:`held_tilt_from_polar`.
+
+    The size is the angle between the bolt axis ``Rx(roll) Ry(pitch) e_z`` and +Z of F;
+    the direction the azimuth of the axis's horizontal part, from +X toward +Y, in
+    [0, 360); NaN for an upright axis (no direction).
+    """
+    r, p = np.radians(np.asarray(roll, dtype=float)), np.radians(np.asarray(pitch, dtype=float))
+    ax, ay, az = np.sin(p), -np.sin(r) * np.cos(p), np.cos(r) * np.cos(p)
+    horizontal = np.hypot(ax, ay)
+    tilt = np.degrees(np.arctan2(horizontal, az))
+    direction = np.where(horizontal > 0, np.degrees(np.arctan2(ay, ax)) % 360.0, np.nan)
+    return tilt, direction
 
 
 def axis_angle_rotation(axis: ArrayLike, deg: float) -> NDArray[np.float64]:
@@ -129,5 +186,7 @@ class Pose:
     def angles(self) -> tuple[float, float, float]:
         """``(roll, pitch, phase)`` in degrees with ``R = Rx Ry Rz`` (extrinsic x-y-z read
         as intrinsic X-Y-Z)."""
+        from scipy.spatial.transform import Rotation  # on demand: this module stays light
+
         roll, pitch, phase = Rotation.from_matrix(self.rotation).as_euler("XYZ", degrees=True)
         return float(roll), float(pitch), float(phase)

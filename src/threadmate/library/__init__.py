@@ -9,7 +9,11 @@ version). An interrupted sweep resumes where it stopped; a library of another re
 refused, never mixed.
 
 Configurations are numbered roll-major, phase fastest:
-``config_id = (i_roll * n_pitch + i_pitch) * n_phase + i_phase``. Angles are degrees,
+``config_id = (i_roll * n_pitch + i_pitch) * n_phase + i_phase``. A polar grid of
+misalignment (:class:`PolarGrid`: ``sweep(spec, tilt="0:4:0.5", direction="0:360:22.5")``)
+holds tilts by size and by the direction toward which the bolt leans, and numbers them
+``config_id = i_held * n_phase + i_phase``; its rows carry the held roll and pitch as a
+square grid's do. Angles are degrees,
 lengths the spec's units, poses per conventions.md.
 
 Example
@@ -33,12 +37,19 @@ from .._lazy import lazy_exports
 if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
     from ._grid import (
         DEFAULT_GRID as DEFAULT_GRID,
+        DEFAULT_POLAR_RANGES as DEFAULT_POLAR_RANGES,
         DEFAULT_RANGES as DEFAULT_RANGES,
+        DIRECTION_DEFINITION as DIRECTION_DEFINITION,
         MAX_TILT as MAX_TILT,
+        AnyGrid as AnyGrid,
         Grid as Grid,
+        PolarGrid as PolarGrid,
+        make_grid as make_grid,
         parse_range as parse_range,
+        read_grid as read_grid,
     )
     from ._models import MODELS as MODELS
+    from ._probes import HeldTiltProbe as HeldTiltProbe
     from ._store import (
         METADATA_FILE as METADATA_FILE,
         compare_metadata as compare_metadata,
@@ -72,9 +83,22 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
 #: imports them; __all__ is made from it. tests/test_cli_contract.py checks it against
 #: the re-exports above.
 _SOURCES = {
-    "._grid": ("DEFAULT_GRID", "DEFAULT_RANGES", "MAX_TILT", "Grid", "parse_range"),
+    "._grid": (
+        "DEFAULT_GRID",
+        "DEFAULT_POLAR_RANGES",
+        "DEFAULT_RANGES",
+        "DIRECTION_DEFINITION",
+        "MAX_TILT",
+        "AnyGrid",
+        "Grid",
+        "PolarGrid",
+        "make_grid",
+        "parse_range",
+        "read_grid",
+    ),
     # The models, light to import: the commands offer them before the stage loads.
     "._models": ("MODELS",),
+    "._probes": ("HeldTiltProbe",),
     "._store": (
         "METADATA_FILE",
         "compare_metadata",

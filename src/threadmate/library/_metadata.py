@@ -29,10 +29,10 @@ from ._store import (
 )
 from ._workers import Job, MeshFile, describe_analyzer
 
-__all__ = ["open_library", "record_settings"]
+__all__ = ["open_library", "record_settings", "request_metadata"]
 
 
-def _request_metadata(job: Job) -> dict[str, Any]:
+def request_metadata(job: Job) -> dict[str, Any]:
     """The metadata document of ``job``'s request; what the workers use (mesh deviation,
     tolerances) stays None until the first chunk reports it."""
     meta: dict[str, Any] = {
@@ -92,7 +92,7 @@ def _mesh_metadata(mesh: MeshFile | None) -> dict[str, Any] | None:
 
 def open_library(out: Path, job: Job) -> dict[str, Any]:
     """Create the library directory, or check that an existing one holds this request."""
-    wanted = _request_metadata(job)
+    wanted = request_metadata(job)
     if out.exists() and not out.is_dir():
         raise LibraryError(f"{out} exists and is not a directory: give a library directory")
     if out.is_dir() and (out / METADATA_FILE).exists():

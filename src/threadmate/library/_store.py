@@ -48,7 +48,7 @@ from .._angles import phase_difference
 from .._errors import InputError, LibraryError
 from .._io import atomic_path, atomic_write_text
 from .._json import json_text
-from ._grid import Grid
+from ._grid import AnyGrid, read_grid
 from ._models import MODELS
 
 __all__ = [
@@ -168,7 +168,7 @@ def read_metadata(path: str | os.PathLike[str]) -> dict[str, Any]:
 
     try:
         spec = ThreadSpec.from_dict(doc["spec"])
-        grid = Grid.from_dict(doc["grid"])
+        grid = read_grid(doc["grid"])
         stated = doc["grid"].get("size")
         if stated is not None and stated != grid.size:
             raise InputError(
@@ -261,7 +261,7 @@ class _Library:
 
     path: Path
     meta: dict[str, Any]
-    grid: Grid
+    grid: AnyGrid
     parts: list[Path]
     dataset: ds.Dataset | None
     done: np.ndarray  # sorted config_ids of the finished configurations
@@ -272,7 +272,7 @@ def _open(path: str | os.PathLike[str]) -> _Library:
     the rows fit its grid (see :func:`_check_fit`)."""
     path = _check_dir(path)
     meta = read_metadata(path)
-    grid = Grid.from_dict(meta["grid"])
+    grid = read_grid(meta["grid"])
     parts = part_files(path)
     _check_parts(path, meta, parts)
     dataset = None
@@ -316,7 +316,7 @@ def _corrupt(path: Path, what: str) -> LibraryError:
     )
 
 
-def _check_fit(path: Path, meta: dict[str, Any], grid: Grid, dataset: ds.Dataset) -> np.ndarray:
+def _check_fit(path: Path, meta: dict[str, Any], grid: AnyGrid, dataset: ds.Dataset) -> np.ndarray:
     """The finished configurations (sorted config_ids), once checked against the grid:
     each number within the grid and held once, its held tilt and phase the grid's, every
     other state of a mechanics library at its start's held tilt."""
@@ -378,7 +378,7 @@ def progress(library: str | os.PathLike[str] | pd.DataFrame) -> dict[str, Any]:
         meta = library.attrs.get("threadmate") or {}
         if "grid" not in meta:
             raise InputError("rows without library metadata (load them with library.load)")
-        total = Grid.from_dict(meta["grid"]).size
+        total = read_grid(meta["grid"]).size
         rows = library[library["role"] == "start"] if "role" in library.columns else library
         done = int(rows["config_id"].nunique())
     else:
@@ -565,8 +565,11 @@ def query(
 _IDENTITY = (
     (("model",), "model"),
     (("spec",), "spec"),
+    (("grid", "kind"), "grid kind (roll/pitch or polar)"),
     (("grid", "roll"), "grid roll values"),
     (("grid", "pitch"), "grid pitch values"),
+    (("grid", "tilt"), "grid tilt sizes"),
+    (("grid", "direction"), "grid directions"),
     (("grid", "phase"), "grid phase values"),
     (("mesh", "chord"), "mesh chord tolerance"),
     (("mesh", "bolt"), "bolt mesh"),

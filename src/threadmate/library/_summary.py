@@ -25,7 +25,7 @@ import pandas as pd
 from .._errors import InputError
 from .._figures import new_figure, save_figure
 from ..contact import ERROR_CLASS, IN_PHASE, NO_CONTACT, QUASI_STABLE, STABLE, UNSTABLE
-from ._grid import Grid
+from ._grid import AnyGrid, Grid, read_grid
 from ._store import configurations, load
 
 if TYPE_CHECKING:
@@ -100,7 +100,7 @@ def _model(df: pd.DataFrame) -> str:
     return "mechanics" if "role" in df.columns else "thesis"
 
 
-def _frame(library: Library) -> tuple[pd.DataFrame, Grid, str, str]:
+def _frame(library: Library) -> tuple[pd.DataFrame, AnyGrid, str, str]:
     """One row per configuration (the columns the summary needs), the grid, a title and
     the model."""
     df = _rows(library)
@@ -113,7 +113,7 @@ def _frame(library: Library) -> tuple[pd.DataFrame, Grid, str, str]:
     if missing:
         raise InputError(f"not library rows: column {missing[0]!r} is missing")
     if meta is not None:
-        grid = Grid.from_dict(meta["grid"])
+        grid = read_grid(meta["grid"])
         spec = meta.get("spec", {})
         name = spec.get("designation") or f"pitch {spec.get('pitch', '?')} {meta['units']}"
     else:
@@ -137,8 +137,21 @@ def _what(model: str) -> str:
     )
 
 
-def _class_index(df: pd.DataFrame, grid: Grid) -> np.ndarray:
-    """Array (n_roll, n_pitch, n_phase) of indices into CLASS_ORDER; -1 where not computed."""
+def _square(grid: AnyGrid) -> Grid:
+    """The roll x pitch x phase grid the figures draw on: the grid itself, or for a polar
+    grid the distinct held rolls and pitches of its held tilts (cells that are no held
+    tilt stay blank)."""
+    if isinstance(grid, Grid):
+        return grid
+    rolls = tuple(sorted({r for r, _ in grid.held_tilts}))
+    pitches = tuple(sorted({p for _, p in grid.held_tilts}))
+    return Grid(rolls, pitches, grid.phase)
+
+
+def _class_index(df: pd.DataFrame, grid: AnyGrid) -> np.ndarray:
+    """Array (n_roll, n_pitch, n_phase) of indices into CLASS_ORDER; -1 where not computed
+    (on :func:`_square`'s grid)."""
+    grid = _square(grid)
     cube = np.full(grid.shape, -1, dtype=np.int16)
     if df.empty:
         return cube
@@ -155,7 +168,8 @@ def _class_index(df: pd.DataFrame, grid: Grid) -> np.ndarray:
     return cube
 
 
-def _nearest_phase(grid: Grid, phase: float | None) -> tuple[int, float]:
+def _nearest_phase(grid: AnyGrid, phase: float | None) -> tuple[int, float]:
+    grid = _square(grid)
     if phase is None:
         return 0, grid.phase[0]
     _, (_, _, on_grid) = grid.nearest(grid.roll[0], grid.pitch[0], phase)
@@ -313,6 +327,7 @@ def plot_stability_map(
     df, grid, name, model = _frame(library)
     k, on_grid = _nearest_phase(grid, phase)
     cube = _class_index(df, grid)
+    grid = _square(grid)
     plane = cube[:, :, k].T  # rows: pitch, columns: roll
     fig = _figure(6.4, 5.2)
     ax = fig.add_subplot()
@@ -344,6 +359,7 @@ def plot_phase_strips(library: Library, path: str | os.PathLike[str]) -> Path:
     strip per roll/pitch, phase increasing left to right from 0 to 360 deg."""
     df, grid, name, model = _frame(library)
     cube = _class_index(df, grid)
+    grid = _square(grid)
     n_roll, n_pitch, n_phase = grid.shape
     width = n_phase
     height = max(2, int(round(n_phase / 5)))

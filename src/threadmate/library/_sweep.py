@@ -37,7 +37,7 @@ from ..contact import (
 )
 from ..geometry import ThreadSpec, check_chord
 from ._executors import check_execution, cpu_count, lost_errors, open_executor
-from ._grid import Grid, Values
+from ._grid import Values, make_grid
 from ._metadata import open_library, record_settings
 from ._models import check_model
 from ._store import (
@@ -103,6 +103,8 @@ def sweep(
     clockwise: bool = False,
     max_starts: int | None = None,
     max_faces: int | None = None,
+    tilt: Values = None,
+    direction: Values = None,
 ) -> Path | pd.DataFrame:
     """Build (or resume) the contact-state library of a thread pair over a grid.
 
@@ -179,6 +181,12 @@ def sweep(
     max_faces : int, optional
         Most triangles a mesh from CAD may have (default
         ``threadmate._validate.MAX_FACES``; see :func:`threadmate.geometry.load_mesh`).
+    tilt, direction : str, float, sequence of float or None
+        A polar grid of misalignment instead of roll and pitch (:class:`PolarGrid`): held
+        tilt sizes (degrees, 0 to ``MAX_TILT``) and the directions toward which the bolt
+        leans (degrees, azimuth in F from +X toward +Y, modulo 360); either one given makes
+        the grid polar (the other takes :data:`DEFAULT_POLAR_RANGES`). Not with ``roll``
+        or ``pitch``.
 
     Returns
     -------
@@ -197,7 +205,7 @@ def sweep(
     if not isinstance(spec, ThreadSpec):
         raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
     model = check_model(model)
-    grid = Grid.parse(roll, pitch, phase)
+    grid = make_grid(roll, pitch, phase, tilt, direction)
     check_execution(workers, scheduler)
     n_workers = workers or cpu_count()
     what = grid.describe(size=False)
@@ -260,6 +268,8 @@ def write_library(
     step: float = CONTINUATION_STEP,
     phase_tolerance: float = PHASE_TOLERANCE,
     rows_per_part: int = 500_000,
+    tilt: Values = None,
+    direction: Values = None,
 ) -> Path:
     """Write a library from rows computed elsewhere (a study, a benchmark, a test).
 
@@ -274,7 +284,7 @@ def write_library(
         Rows with the columns of ``STATE_COLUMNS`` (mechanics) or of ``thesis_schema``.
     out : path-like
         A new or empty directory (or a library of the same request, to add parts to).
-    spec, roll, pitch, phase, model, compliance, chord, step, phase_tolerance
+    spec, roll, pitch, phase, tilt, direction, model, compliance, chord, step, phase_tolerance
         As :func:`sweep`: they go into the metadata.
     rows_per_part : int
         Rows per Parquet part.
@@ -289,7 +299,7 @@ def write_library(
     model = check_model(model)
     job = Job(
         spec,
-        Grid.parse(roll, pitch, phase),
+        make_grid(roll, pitch, phase, tilt, direction),
         check_chord(spec, chord),
         model,
         compliance or Compliance(),

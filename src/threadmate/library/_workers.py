@@ -32,7 +32,7 @@ from ..contact import (
     blank_row,
 )
 from ..geometry import ThreadSpec
-from ._grid import Grid
+from ._grid import AnyGrid
 from ._held_tilt import states_of_held_tilt
 from ._store import library_schema
 
@@ -70,7 +70,7 @@ class Job:
     """Everything a worker needs to analyse configurations of one sweep (small, picklable)."""
 
     spec: ThreadSpec
-    grid: Grid
+    grid: AnyGrid
     chord: float
     model: str
     compliance: Compliance
@@ -87,10 +87,11 @@ class Job:
 
     @property
     def key(self) -> str:
+        """What decides the model a worker builds and keeps (not the grid: a worker keeps
+        its model for jobs of other grids, such as the envelope's probes)."""
         return repr(
             (
                 self.spec,
-                self.grid,
                 self.chord,
                 self.model,
                 self.compliance,

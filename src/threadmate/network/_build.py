@@ -15,8 +15,9 @@ and ``snap``. Each keeps its label (``stable``, ``quasi-stable``, ``unstable``) 
 work the library measured. None changes the held tilt.
 
 **Active edges** (``active=True``, marked ``active``): what a robot can do beyond turning.
-From every rest state at a grid phase, change the held tilt by one grid step in roll or
-pitch: lift the bolt clear and drop it again at the new held tilt, arriving at that
+From every rest state at a grid phase, change the held tilt by one grid step (in roll or
+pitch; on a polar grid in size or direction, ``Grid.neighbours``): lift the bolt clear
+and drop it again at the new held tilt, arriving at that
 tilt's first contact at the same phase; then it settles passively.
 
 Weights are in mJ (:data:`WEIGHT_FORMULA`); never negative.
@@ -39,7 +40,7 @@ from .._json import json_text
 from .._units import MJ_PER_J, to_metres
 from .._validate import check_range
 from ..contact import ERROR_CLASS, IN_PHASE, STATE_COLUMNS, TRANSITIONS, UNSTABLE
-from ..library import Grid, load, progress
+from ..library import load, progress, read_grid
 
 __all__ = [
     "COST_UNITS",
@@ -211,7 +212,7 @@ def _add_tilt_steps(
 ) -> None:
     """Active moves: from each rest state at a grid phase to the first contact of a
     neighbouring held tilt at that phase."""
-    grid = Grid.from_dict(meta["grid"])
+    grid = read_grid(meta["grid"])
     first = rows[rows["role"] == "first-contact"]
     arrive = {
         (r, p, _phase_key(ph)): (sid, z)
@@ -228,46 +229,43 @@ def _add_tilt_steps(
     rest = rows[
         rows["role"].isin(_REST_ROLES) & ~rows["classification"].isin([IN_PHASE, ERROR_CLASS])
     ]
+    # The held tilts one grid step away from each (in roll or pitch on a square grid; in
+    # size or direction on a polar one): the grid's own rule.
+    near: dict[tuple[float, float], list[tuple[float, float]]] = {}
+    for here, there in grid.neighbours():
+        near.setdefault(here, []).append(there)
     steps = []
-    for axis, values in ((0, grid.roll), (1, grid.pitch)):
-        index = {v: i for i, v in enumerate(values)}
-        for sid, r, p, ph, z in zip(
-            rest["state_id"],
-            rest["held_roll"],
-            rest["held_pitch"],
-            rest["phase"],
-            rest["centre_z"],
-            strict=True,
-        ):
-            i = index.get(r if axis == 0 else p)
-            if i is None:
+    for sid, r, p, ph, z in zip(
+        rest["state_id"],
+        rest["held_roll"],
+        rest["held_pitch"],
+        rest["phase"],
+        rest["centre_z"],
+        strict=True,
+    ):
+        for tilt in near.get((r, p), ()):
+            target = arrive.get((tilt[0], tilt[1], _phase_key(ph)))
+            if target is None:
                 continue
-            for j in (i - 1, i + 1):
-                if not 0 <= j < len(values):
-                    continue
-                tilt = (values[j], p) if axis == 0 else (r, values[j])
-                target = arrive.get((tilt[0], tilt[1], _phase_key(ph)))
-                if target is None:
-                    continue
-                lift = max(0.0, target[1] - z) * metres
-                steps.append(
-                    (
-                        sid,
-                        target[0],
-                        {
-                            "kind": "tilt-step",
-                            "label": UNSTABLE,
-                            "turn": 0.0,
-                            "work_friction": 0.0,
-                            "work_potential": MJ_PER_J * force * lift,
-                            "torque_peak": math.nan,
-                            "drop": z - target[1],
-                            "tilt_change": math.nan,
-                            "weight": MJ_PER_J * force * lift + move_penalty,
-                            "active": True,
-                        },
-                    )
+            lift = max(0.0, target[1] - z) * metres
+            steps.append(
+                (
+                    sid,
+                    target[0],
+                    {
+                        "kind": "tilt-step",
+                        "label": UNSTABLE,
+                        "turn": 0.0,
+                        "work_friction": 0.0,
+                        "work_potential": MJ_PER_J * force * lift,
+                        "torque_peak": math.nan,
+                        "drop": z - target[1],
+                        "tilt_change": math.nan,
+                        "weight": MJ_PER_J * force * lift + move_penalty,
+                        "active": True,
+                    },
                 )
+            )
     graph.add_edges_from(steps)
 
 
@@ -307,7 +305,7 @@ def start_node(
     the nearest grid configurations named; with it, the nearest is taken and ``moved_to_grid`` is
     True.
     """
-    grid = Grid.from_dict(json.loads(graph.graph["grid"]))
+    grid = read_grid(json.loads(graph.graph["grid"]))
     _, on_grid, moved_to_grid = grid.locate(roll, pitch, phase, nearest=nearest)
     node = starts(graph).get(on_grid)
     if node is None:

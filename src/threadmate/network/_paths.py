@@ -17,12 +17,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import networkx as nx
+import numpy as np
 import pandas as pd
 
 from .._angles import FULL_TURN
 from .._errors import InputError, NoPathError
 from .._validate import MAX_K, check_whole
 from ..contact import ERROR_CLASS, IN_PHASE, UNSTABLE
+from ..geometry import polar_from_held_tilt
 from ._build import start_node, starts
 
 __all__ = [
@@ -333,7 +335,9 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        One row per start: ``node``, ``held_roll``, ``held_pitch``, ``phase``,
+        One row per start: ``node``, ``held_roll``, ``held_pitch``, ``held_tilt`` and
+        ``held_direction`` (the held tilt's size and direction, degrees:
+        :func:`threadmate.geometry.polar_from_held_tilt`; direction NaN upright), ``phase``,
         ``classification`` (of the rest state reached), ``snapped`` (reaches the snap
         within one turn), ``reaches`` (at all, within the library's horizon), ``turn``
         (degrees to the snap, NaN if never), ``work`` (mJ: the sum of the passive edge
@@ -440,6 +444,8 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
             "node",
             "held_roll",
             "held_pitch",
+            "held_tilt",
+            "held_direction",
             "phase",
             "classification",
             "snapped",
@@ -454,5 +460,9 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
             "failed",
         ],
     )
+    # The held tilt's size and direction (docs/design.md), derived from roll and pitch by
+    # the one rule that owns them.
+    size, direction = polar_from_held_tilt(table["held_roll"], table["held_pitch"])
+    table["held_tilt"], table["held_direction"] = np.round(size, 9), np.round(direction, 9)
     graph.graph["_outcomes"] = table  # private key: the writers skip it
     return table.copy()

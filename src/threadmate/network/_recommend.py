@@ -30,7 +30,8 @@ phases (all of them are averaged) absorb the rest. The azimuth-proof recommendat
 for each pre-tilt size ``s`` that the grid holds in all four quarter-turn directions
 (held pitch ``+s`` and ``-s`` with the roll spread, held roll ``+s`` and ``-s`` with the
 same spread in pitch), the *worst* of the four directions, and ranks the sizes the same
-way. Directions between the quarter turns are not computed.
+way. Directions between the quarter turns are not computed. A library of a polar grid
+(docs/design.md) gives, for each tilt size, the worst of every direction it holds.
 """
 
 from __future__ import annotations
@@ -277,7 +278,8 @@ def recommend(
                     **_figures(rows),
                 }
             )
-        proof += _azimuth_proof(out, spread, comp)
+        polar = json.loads(graph.graph["grid"]).get("kind") == "polar"
+        proof += _polar_proof(out, comp) if polar else _azimuth_proof(out, spread, comp)
     settings.sort(key=_rank_key)
     proof.sort(key=_rank_key)
     pitches = sorted({s["held_pitch"] for s in settings})
@@ -391,6 +393,25 @@ def _azimuth_proof(out: pd.DataFrame, spread: float, comp: dict[str, Any]) -> li
             continue
         worst = max(figures.items(), key=lambda kv: _rank_key(kv[1]))
         found.append({**comp, "tilt_size": float(s), "worst_direction": worst[0], **worst[1]})
+    return found
+
+
+def _polar_proof(out: pd.DataFrame, comp: dict[str, Any]) -> list[dict[str, Any]]:
+    """A polar grid's tilt sizes, each with the worst of all its directions (every
+    direction the grid holds, not only the quarter turns; the roll spread does not apply:
+    the directions are the spread)."""
+    found = []
+    for size, rows in out.groupby("held_tilt", sort=True):
+        by_direction = (
+            {"upright": rows}
+            if float(size) == 0  # type: ignore[arg-type]
+            else {f"{d:g} deg": g for d, g in rows.groupby("held_direction", sort=True)}
+        )
+        figures = {k: _figures(v) for k, v in by_direction.items()}
+        worst = max(figures.items(), key=lambda kv: _rank_key(kv[1]))
+        found.append(
+            {**comp, "tilt_size": float(size), "worst_direction": worst[0], **worst[1]}  # type: ignore[arg-type]
+        )
     return found
 
 

@@ -1,0 +1,548 @@
+"""The capture envelope of a compliance (docs/design.md; docs/mechanics.md,
+"Recommendations").
+
+For each direction of misalignment relative to the nut's thread start (the azimuth in F,
+from +X toward +Y, toward which the bolt's axis leans: a polar grid's direction), the
+envelope at level L is the largest held tilt size s such that at every size up to s the
+share L of the start phases snaps within one turn (the first crossing, from upright
+outward). The *tolerated misalignment* is the smallest 100 % envelope over the
+directions: the tilt a compliance tolerates whatever the direction.
+
+The envelope is located by a search along each direction, not read off a grid: the grid's
+sizes are evaluated outward until the share falls below the lowest level, and then, for
+each level, the size is bisected between the last grid size where the level holds and
+the first where it does not, until the bracket is no wider than the tolerance. Each size
+probed is one held tilt with every phase of the grid, computed by the library's sweep
+machinery (:class:`threadmate.library.HeldTiltProbe`) and read as the network reads a
+library (:func:`threadmate.network.start_outcomes`). A start whose drop failed, or whose
+search does not snap within one turn for any reason, counts as not snapping.
+
+Angles in degrees, forces in N, stiffness in N m/rad, work in mJ, torque in N m, lengths
+in the spec's units.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .._errors import InputError
+from .._validate import check_range
+from ..contact import CONTINUATION_STEP, PHASE_TOLERANCE, Compliance
+from ..geometry import ThreadSpec
+from ..library import (
+    DEFAULT_POLAR_RANGES,
+    METADATA_FILE,
+    HeldTiltProbe,
+    PolarGrid,
+    info,
+    load,
+    read_grid,
+)
+
+__all__ = [
+    "ENVELOPE_PHASES",
+    "LEVELS",
+    "TOLERANCE",
+    "Envelope",
+    "EnvelopeProgress",
+    "envelope",
+]
+
+#: The shares of start phases whose envelopes are located: every phase, 95 %, 50 %.
+LEVELS = (1.0, 0.95, 0.5)
+#: How closely each envelope is located in tilt size (degrees): the bisection stops when
+#: the last size where the level holds and the first where it does not are this close.
+TOLERANCE = 0.05
+#: The default start phases of an envelope from a spec (degrees): every 20, as
+#: ``threadmate run``'s grid.
+ENVELOPE_PHASES = "0:340:20"
+#: Narrowest tolerance accepted (degrees).
+MIN_TOLERANCE = 1e-3
+#: ``progress(held_tilts_done, held_tilts_asked)``, cumulative over the search's rounds.
+EnvelopeProgress = Callable[[int, int], None]
+
+_UP = None  # the direction key of the upright held tilt, shared by every direction
+
+
+def _level_key(level: float) -> str:
+    return f"{100 * level:g}%"
+
+
+def _figures(out: pd.DataFrame) -> dict[str, Any]:
+    """Turn, work, click and peak torque of starts (rows of ``start_outcomes``) that snap;
+    the torque over every start."""
+    snapped = out[out["snapped"] & ~out["failed"]]
+    clicks = snapped.loc[snapped["turn"] > 0, "click"].dropna()
+
+    def stat(series: pd.Series, how: str) -> float | None:
+        series = series.dropna()
+        if series.empty:
+            return None
+        return float(getattr(series, how)())
+
+    return {
+        "starts": len(out),
+        "snapped": len(snapped),
+        "failed": int(out["failed"].sum()),
+        "turn_mean": stat(snapped["turn"], "mean"),
+        "turn_worst": stat(snapped["turn"], "max"),
+        "work_mean": stat(snapped["work"], "mean"),
+        "work_worst": stat(snapped["work"], "max"),
+        "click_mean": stat(clicks, "mean"),
+        "click_min": stat(clicks, "min"),
+        "torque_peak": stat(out["torque_peak"], "max"),
+    }
+
+
+def _share(out: pd.DataFrame) -> float:
+    """Share of the starts that snap within one turn (a failed start does not)."""
+    if out.empty:
+        return 0.0
+    return float((out["snapped"] & ~out["failed"]).sum() / len(out))
+
+
+@dataclass
+class Envelope:
+    """The capture envelope of one compliance (module docstring).
+
+    Attributes
+    ----------
+    directions : list of dict
+        One per direction (degrees): ``direction``; ``tilt`` (per level, "100%", "95%",
+        "50%": the envelope in degrees); ``first_failure`` (per level: the smallest size
+        probed above it where the level fails, None when none did); ``beyond_range`` (per
+        level: no size searched failed, the envelope is at least the largest);
+        ``shares`` (``[size, share]`` of every size evaluated, ascending); ``inside``
+        (turn, work, click and peak torque of the starts at the sizes evaluated up to the
+        100 % envelope).
+    tolerated : dict
+        Per level, the smallest envelope over the directions (``tilt``) and the
+        direction(s) where it lies (``worst_directions``).
+    inside : dict
+        Turn (deg), work (mJ), click (spec units) and peak torque (N m) of the starts at
+        every size evaluated up to the tolerated misalignment, in every direction.
+    compliance : dict
+        Force (N), stiffness (N m/rad), lateral stiffness, friction and centre.
+    spec, grid : dict
+        The thread pair and the polar grid searched.
+    tolerance : float
+        The bisection's tolerance (degrees).
+    units : str
+        Length units of the spec.
+    probes : int
+        Held tilts computed for this envelope (the library's own not counted).
+    seconds : float
+        Wall time.
+    notes : list of str
+        What the figures do not say by themselves.
+    """
+
+    directions: list[dict[str, Any]]
+    tolerated: dict[str, Any]
+    inside: dict[str, Any]
+    compliance: dict[str, Any]
+    spec: dict[str, Any]
+    grid: dict[str, Any]
+    tolerance: float
+    units: str
+    probes: int
+    seconds: float
+    source: str
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def tolerated_tilt(self) -> float:
+        """The tolerated misalignment: every start phase snaps within one turn up to this
+        tilt (degrees) in any direction."""
+        return float(self.tolerated[_level_key(1.0)]["tilt"])
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON document (``threadmate envelope --json``)."""
+        return {
+            "units": {
+                "angle": "deg",
+                "force": "N",
+                "stiffness": "N m/rad",
+                "lateral_stiffness": "N/m",
+                "work": "mJ",
+                "torque": "N m",
+                "length": self.units,
+                "share": "1",
+            },
+            "definition": (
+                "per direction (azimuth in F from +X toward +Y toward which the bolt's axis "
+                "leans) and level L: the largest held tilt size up to which, at every size, "
+                "the share L of start phases snaps within one turn; tolerated: the smallest "
+                "over directions"
+            ),
+            "tolerated_tilt": self.tolerated_tilt,
+            "tolerated": self.tolerated,
+            "inside": self.inside,
+            "directions": self.directions,
+            "compliance": self.compliance,
+            "spec": self.spec,
+            "grid": self.grid,
+            "tolerance": self.tolerance,
+            "levels": [_level_key(v) for v in LEVELS],
+            "source": self.source,
+            "probes": self.probes,
+            "seconds": self.seconds,
+            "notes": list(self.notes),
+        }
+
+    def summary_line(self) -> str:
+        """One sentence: what the compliance tolerates."""
+        t = self.tolerated[_level_key(1.0)]
+        worst = ", ".join(f"{d:g}" for d in t["worst_directions"])
+        return (
+            f"tolerates {t['tilt']:.2f} deg of misalignment in any direction (every start "
+            f"phase snaps within one turn; worst direction {worst} deg)"
+        )
+
+
+class _Search:
+    """The evaluated held tilts and the bisection's brackets, direction by direction."""
+
+    def __init__(self, grid: PolarGrid, tolerance: float) -> None:
+        self.grid = grid
+        self.tolerance = tolerance
+        self.sizes = [t for t in grid.tilt if t > 0]
+        self.outcomes: dict[tuple[float, float | None], pd.DataFrame] = {}
+
+    @staticmethod
+    def key(size: float, direction: float) -> tuple[float, float | None]:
+        size = round(size, 9) + 0.0
+        return (0.0, _UP) if size == 0 else (size, direction)
+
+    def evaluated(self, direction: float) -> list[tuple[float, float]]:
+        """``(size, share)`` of the sizes evaluated in ``direction``, ascending."""
+        out = []
+        for (size, d), rows in self.outcomes.items():
+            if d is _UP or d == direction:
+                out.append((size, _share(rows)))
+        return sorted(out)
+
+    @staticmethod
+    def bracket(known: list[tuple[float, float]], level: float) -> tuple[float, float | None]:
+        """The last size up to which the level holds at every size evaluated, and the
+        next size evaluated (where it fails; None when none does)."""
+        lo = 0.0
+        for size, share in known:
+            if share + 1e-12 < level:
+                return lo, size
+            lo = size
+        return lo, None
+
+    def needed(self, direction: float) -> set[float]:
+        """The sizes to evaluate next in ``direction`` (empty: located)."""
+        known = self.evaluated(direction)
+        if not known or known[0][0] != 0:
+            # Upright first, and the grid's first size with it: it is almost always
+            # needed, and the upright tilt alone would leave every worker but one idle.
+            return {0.0, *self.sizes[:1]}
+        done = {s for s, _ in known}
+        lowest = min(LEVELS)
+        need = set()
+        if all(share + 1e-12 >= lowest for _, share in known):
+            # The walk outward along the grid's sizes, beside the bisections below (a
+            # bracket holds whatever lies further out).
+            need.update(next(([s] for s in self.sizes if s not in done), []))
+        for level in LEVELS:
+            lo, hi = self.bracket(known, level)
+            if hi is not None and hi - lo > self.tolerance and lo != hi:
+                need.add(round(0.5 * (lo + hi), 9) + 0.0)
+        return need
+
+
+def _library_source(path: Path) -> tuple[ThreadSpec, dict[str, Any], PolarGrid, pd.DataFrame]:
+    """A polar mechanics library: its spec, metadata, grid and rows."""
+    doc = info(path)
+    meta = doc["metadata"]
+    if meta["model"] != "mechanics":
+        raise InputError(
+            f"{path} holds the thesis's fixed-pivot rows: the envelope stands on the "
+            "mechanics (sweep again with the mechanics model, the default)"
+        )
+    grid = read_grid(meta["grid"])
+    if not isinstance(grid, PolarGrid):
+        raise InputError(
+            f"{path} holds a roll/pitch grid: the envelope searches along directions; sweep "
+            "a polar grid (tilt and direction), or give the spec"
+        )
+    if meta["mesh"].get("bolt") or meta["mesh"].get("nut"):
+        raise InputError(
+            f"{path} was swept with meshes from CAD, which the envelope's probes would need "
+            "again: give the spec and the mesh files"
+        )
+    return ThreadSpec.from_dict(meta["spec"]), meta, grid, load(path)
+
+
+def _outcomes(rows: pd.DataFrame) -> pd.DataFrame:
+    """Every start's passive search (the network's reading of a library's rows)."""
+    from ..network import build_network, start_outcomes
+
+    return start_outcomes(build_network(rows))
+
+
+def envelope(
+    source: ThreadSpec | str | os.PathLike[str],
+    *,
+    compliance: Compliance | None = None,
+    tilt: Any = None,
+    direction: Any = None,
+    phase: Any = None,
+    tolerance: float = TOLERANCE,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    chord: float | None = None,
+    step: float = CONTINUATION_STEP,
+    phase_tolerance: float = PHASE_TOLERANCE,
+    progress: EnvelopeProgress | None = None,
+) -> Envelope:
+    """The capture envelope of a compliance (module docstring).
+
+    Parameters
+    ----------
+    source : ThreadSpec or path-like
+        A thread pair (swept along the directions on demand), or a mechanics library of a
+        polar grid (``threadmate sweep --tilt ... --direction ...``), whose held tilts are
+        read and whose compliance, phases and settings the probes between its sizes use.
+    compliance : Compliance, optional
+        From a spec: the compliance (default :class:`~threadmate.contact.Compliance()`).
+        A library's is its own.
+    tilt, direction, phase : str, float or sequence, optional
+        From a spec: the polar grid's sizes (default ``0:4:0.5``), directions (default
+        ``0:360:22.5``) and start phases (default :data:`ENVELOPE_PHASES`), degrees, as
+        :class:`threadmate.library.PolarGrid` takes them. A library's are its own.
+    tolerance : float
+        Width in tilt size to which each envelope is bisected (degrees, default
+        :data:`TOLERANCE`).
+    workers, scheduler, chord, step, phase_tolerance
+        As :func:`threadmate.library.sweep` (a library's chord and continuation settings
+        are its own).
+    progress : callable, optional
+        ``progress(done, asked)``: held tilts computed and asked for so far.
+
+    Returns
+    -------
+    Envelope
+
+    Raises
+    ------
+    InputError
+        A bad grid or value, grid or compliance arguments with a library, a library of the
+        thesis's model, of a roll/pitch grid or of CAD meshes.
+    """
+    start = time.perf_counter()
+    tolerance = check_range("tolerance (degrees)", tolerance, MIN_TOLERANCE, 1.0)
+    if isinstance(source, ThreadSpec):
+        spec = source
+        grid = PolarGrid.parse(
+            DEFAULT_POLAR_RANGES["tilt"] if tilt is None else tilt,
+            DEFAULT_POLAR_RANGES["direction"] if direction is None else direction,
+            ENVELOPE_PHASES if phase is None else phase,
+        )
+        compliance = Compliance() if compliance is None else compliance
+        base_meta = None
+        rows = None
+        where = "spec"
+    elif isinstance(source, str | os.PathLike):
+        path = Path(source)
+        if not (path / METADATA_FILE).is_file():
+            raise InputError(f"{path} is not a threadmate library (no {METADATA_FILE})")
+        given = [
+            n
+            for n, v in (("tilt", tilt), ("direction", direction), ("phase", phase))
+            if v is not None
+        ]
+        if compliance is not None:
+            given.insert(0, "compliance")
+        if chord is not None:
+            given.append("chord")
+        if given:
+            raise InputError(
+                f"{given[0]} is the library's own: an envelope from a library keeps its "
+                "grid, compliance and mesh (give the spec to choose them)"
+            )
+        spec, base_meta, grid, rows = _library_source(path)
+        compliance = Compliance.from_dict(base_meta["compliance"])
+        chord = float(base_meta["mesh"]["chord"])
+        cont = base_meta.get("continuation") or {}
+        step = float(cont.get("step", step))
+        phase_tolerance = float(cont.get("phase_tolerance", phase_tolerance))
+        where = str(path)
+    else:
+        raise InputError(
+            f"source must be a ThreadSpec or a library directory, got {type(source).__name__}"
+        )
+    search = _Search(grid, tolerance)
+    directions = [float(d) for d in grid.direction]
+    if rows is not None and not rows.empty:
+        outcomes = _outcomes(rows)
+        polar = dict(zip(grid.held_tilts, grid.polar_tilts, strict=True))
+        for (r, p), group in outcomes.groupby(["held_roll", "held_pitch"], sort=False):
+            size, d = polar[(float(r), float(p))]  # type: ignore[arg-type]
+            search.outcomes[search.key(size, d)] = group
+    asked = done = 0
+    with HeldTiltProbe(
+        spec,
+        grid.phase,
+        compliance=compliance,
+        chord=chord,
+        step=step,
+        phase_tolerance=phase_tolerance,
+        workers=workers,
+        scheduler=scheduler,
+        base_metadata=base_meta,
+    ) as probe:
+        # Each direction's next size is asked as soon as the sizes it depends on are in:
+        # the workers stay busy while directions bisect at their own pace.
+        in_flight: dict[tuple[float, float | None], tuple[float, float]] = {}
+        while True:
+            for d in directions:
+                for size in sorted(search.needed(d)):
+                    k = search.key(size, d)
+                    if k not in search.outcomes and k not in in_flight:
+                        in_flight[k] = (k[0], d if k[1] is not _UP else directions[0])
+                        probe.submit(*in_flight[k])
+                        asked += 1
+            if not in_flight:
+                break
+            if progress is not None:
+                progress(done, asked)
+            at, found = probe.next_done()
+            k = next(key for key, value in in_flight.items() if value == at)
+            del in_flight[k]
+            search.outcomes[k] = _outcomes(found)
+            done += 1
+        if progress is not None:
+            progress(done, asked)
+        probes = probe.computed
+    return _result(search, directions, spec, compliance, grid, where, probes, start)
+
+
+def _result(
+    search: _Search,
+    directions: list[float],
+    spec: ThreadSpec,
+    compliance: Compliance,
+    grid: PolarGrid,
+    source: str,
+    probes: int,
+    start: float,
+) -> Envelope:
+    """The envelope from the evaluated sizes."""
+    per_direction: list[dict[str, Any]] = []
+    notes: list[str] = []
+    for d in directions:
+        known = search.evaluated(d)
+        tilts: dict[str, float] = {}
+        failures: dict[str, float | None] = {}
+        beyond: dict[str, bool] = {}
+        for level in LEVELS:
+            lo, hi = search.bracket(known, level)
+            tilts[_level_key(level)] = lo
+            failures[_level_key(level)] = hi
+            beyond[_level_key(level)] = hi is None
+        lo100 = tilts[_level_key(1.0)]
+        inside = [
+            rows
+            for (size, dd), rows in search.outcomes.items()
+            if (dd is _UP or dd == d) and size <= lo100 + 1e-12
+        ]
+        per_direction.append(
+            {
+                "direction": d,
+                "tilt": tilts,
+                "first_failure": failures,
+                "beyond_range": beyond,
+                "shares": [[s, sh] for s, sh in known],
+                "inside": _figures(pd.concat(inside)) if inside else _figures(_empty()),
+            }
+        )
+    tolerated = {}
+    for level in LEVELS:
+        k = _level_key(level)
+        low = min(x["tilt"][k] for x in per_direction)
+        tolerated[k] = {
+            "tilt": low,
+            "worst_directions": [x["direction"] for x in per_direction if x["tilt"][k] == low],
+            "beyond_range": all(x["beyond_range"][k] for x in per_direction),
+        }
+    limit = tolerated[_level_key(1.0)]["tilt"]
+    inside_all = [
+        rows
+        for (size, dd), rows in search.outcomes.items()
+        if size <= limit + 1e-12 and (dd is _UP or dd in directions)
+    ]
+    upright = search.outcomes.get(search.key(0.0, 0.0))
+    if upright is not None and _share(upright) < 1.0:
+        notes.append(
+            f"even upright only {_share(upright):.0%} of start phases snap within one turn: "
+            "the compliance tolerates no misalignment"
+        )
+    wide = [x["direction"] for x in per_direction if x["beyond_range"][_level_key(1.0)]]
+    if wide:
+        notes.append(
+            f"in {len(wide)} direction(s) every start phase snaps up to the largest size "
+            f"searched ({grid.tilt[-1]:g} deg): the envelope lies beyond it there; search "
+            "larger sizes"
+        )
+    rises = [
+        x["direction"]
+        for x in per_direction
+        if x["first_failure"]["100%"] is not None
+        and any(s > x["first_failure"]["100%"] and sh >= 1.0 for s, sh in x["shares"])
+    ]
+    if rises:
+        notes.append(
+            "in direction(s) "
+            + ", ".join(f"{d:g}" for d in rises)
+            + " every phase snaps again at a size above the first failure: the envelope is "
+            "the first crossing from upright outward"
+        )
+    return Envelope(
+        directions=per_direction,
+        tolerated=tolerated,
+        inside=_figures(pd.concat(inside_all)) if inside_all else _figures(_empty()),
+        compliance=compliance.to_dict(),
+        spec=spec.to_dict(),
+        grid=grid.to_dict(),
+        tolerance=search.tolerance,
+        units=spec.units,
+        probes=probes,
+        seconds=time.perf_counter() - start,
+        source=source,
+        notes=notes,
+    )
+
+
+def _empty() -> pd.DataFrame:
+    return pd.DataFrame(
+        {
+            "snapped": pd.Series(dtype=bool),
+            "failed": pd.Series(dtype=bool),
+            "turn": pd.Series(dtype=float),
+            "work": pd.Series(dtype=float),
+            "click": pd.Series(dtype=float),
+            "torque_peak": pd.Series(dtype=float),
+        }
+    )
+
+
+def directions_of(env: Envelope) -> np.ndarray:
+    """The directions of an envelope (degrees), in order."""
+    return np.asarray([x["direction"] for x in env.directions], dtype=float)
+
+
+def levels_of(env: Envelope, level: float) -> np.ndarray:
+    """The envelope at one level, direction by direction (degrees)."""
+    return np.asarray([x["tilt"][_level_key(level)] for x in env.directions], dtype=float)
