@@ -29,6 +29,8 @@ STARTS_CSV_COLUMNS = [
     "node",
     "held_roll_deg",
     "held_pitch_deg",
+    "held_tilt_deg",
+    "held_direction_deg",
     "phase_deg",
     "classification",
     "snapped",

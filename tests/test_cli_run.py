@@ -138,6 +138,8 @@ def test_report_says_what_to_set_and_with_what(job):
 STARTS_UNITS = {
     "held_roll": "held_roll_deg",
     "held_pitch": "held_pitch_deg",
+    "held_tilt": "held_tilt_deg",
+    "held_direction": "held_direction_deg",
     "phase": "phase_deg",
     "turn": "turn_deg",
     "work": "work_mJ",

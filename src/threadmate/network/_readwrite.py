@@ -64,6 +64,8 @@ LIST_ATTRIBUTES = ("contact_regions", "contact_forces", *GEOMETRY_ATTRIBUTES)
 START_COLUMN_UNITS = {
     "held_roll": "deg",
     "held_pitch": "deg",
+    "held_tilt": "deg",
+    "held_direction": "deg",
     "phase": "deg",
     "turn": "deg",
     "work": "mJ",
