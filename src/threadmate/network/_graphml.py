@@ -1,7 +1,8 @@
 """GraphML as a stream: written and read one element at a time, in bounded memory.
 
-The writer puts each node and edge in the file as it is produced; the whole document is
-never held. GraphML declares its keys (``<key for="node" attr.name=... attr.type=...>``)
+The writer puts the nodes and edges in the file a block at a time, each attribute of a
+block converted as a column (the per-value work is then a comprehension over one type);
+the whole document is never held. GraphML declares its keys (``<key for="node" attr.name=... attr.type=...>``)
 before the graph, as Gephi and yEd read them, but a key's type is known only once every
 value of it has been seen: so the graph's body is written first to an anonymous temporary
 file beside the destination, and the file is then its header, the keys and that body.
@@ -31,7 +32,7 @@ from typing import IO, Any
 
 import networkx as nx
 
-__all__ = ["KEY_TYPES", "read_graphml_stream", "write_graphml_stream"]
+__all__ = ["KEY_TYPES", "EdgeBlock", "NodeBlock", "read_graphml_stream", "write_graphml_stream"]
 
 _NS = "http://graphml.graphdrawing.org/xmlns"
 _HEADER = (
@@ -73,6 +74,23 @@ def _attribute(value: str) -> str:
         .replace("\r", "&#13;")
         .replace("\t", "&#9;")
     )
+
+
+def _texts(values: list[str]) -> list[str]:
+    """:func:`_text` of each value; the values themselves when none needs escaping (one
+    scan of the whole column instead of three per value)."""
+    whole = "".join(values)
+    if "&" in whole or "<" in whole or ">" in whole:
+        return [_text(v) for v in values]
+    return values
+
+
+def _attributes(values: list[str]) -> list[str]:
+    """:func:`_attribute` of each value, as :func:`_texts`."""
+    whole = "".join(values)
+    if any(c in whole for c in '&<>"\n\r\t'):
+        return [_attribute(v) for v in values]
+    return values
 
 
 def _plain(value: Any) -> tuple[str, int] | None:
@@ -132,44 +150,84 @@ class _Keys:
         return "".join(lines)
 
 
-def _data(keys: _Keys, attributes: Iterable[tuple[Any, Any]], convert: Callable[[Any], Any]) -> str:
-    """The ``<data>`` elements of one element's attributes (missing values left out)."""
-    slots = keys.slots
-    parts = []
-    for key, value in attributes:
-        slot = slots.get(key, _NEW)
-        if slot is _NEW:
-            slot = keys.slot(key)
-        if slot is None:
-            continue
-        t = type(value)  # the common cases inline: this runs once per attribute
-        if t is str:
-            text, kind = _text(value), _STRING
-        elif t is float:
-            if value - value != 0.0:  # NaN or infinity: missing
-                continue
-            text, kind = repr(value), _FLOAT
-        else:
-            plain = _plain(convert(value))
+def _column(
+    keys: _Keys, key: Any, values: list[Any], convert: Callable[[list[Any]], list[Any]]
+) -> list[str] | None:
+    """The ``<data>`` element of one attribute for each element of a block ("" where the
+    value is missing); None when the attribute is not written.
+
+    A whole column at a time, because the per-value work is then a comprehension over one
+    type: the writer's cost is this loop."""
+    slot = keys.slots.get(key, _NEW)
+    if slot is _NEW:
+        slot = keys.slot(key)
+    if slot is None:
+        return None
+    tag = slot[0]
+    types = set(map(type, values))
+    if not types <= {float, str, bool, int}:
+        values = convert(values)
+        types = set(map(type, values))
+    if types == {float}:
+        kind = _FLOAT
+        texts = [f"{tag}{v!r}</data>" if v - v == 0.0 else "" for v in values]
+    elif types == {str}:
+        kind = _STRING
+        texts = [f"{tag}{v}</data>" for v in _texts(values)]
+    elif types == {bool}:
+        kind = _BOOL
+        texts = [f"{tag}true</data>" if v else f"{tag}false</data>" for v in values]
+    elif types == {int}:
+        kind = _INT
+        texts = [f"{tag}{v}</data>" for v in values]
+    else:  # a mix, missing values, numpy's scalars: one by one
+        kind = 0
+        texts = []
+        for value in values:
+            plain = _plain(value)
             if plain is None:
-                continue
-            text, kind = plain
+                texts.append("")
+            else:
+                texts.append(f"{tag}{plain[0]}</data>")
+                kind |= plain[1]
+    if any(texts):
         slot[1] |= kind
-        parts.append(f"{slot[0]}{text}</data>")
-    return "".join(parts)
+    return texts
+
+
+def _elements(
+    keys: _Keys,
+    opening: list[str],
+    columns: Iterable[tuple[Any, list[Any]]],
+    closing: str,
+    convert: Callable[[list[Any]], list[Any]],
+) -> str:
+    """A block of elements: each opening tag, its ``<data>`` elements, the closing tag."""
+    texts = [t for key, values in columns if (t := _column(keys, key, values, convert)) is not None]
+    rows = zip(*texts, strict=True) if texts else [()] * len(opening)
+    return "".join(
+        f"{head}{''.join(data)}{closing}" for head, data in zip(opening, rows, strict=True)
+    )
+
+
+#: A block of nodes: their ids, and each attribute's values in that order (None:
+#: missing).
+NodeBlock = tuple[list[str], list[tuple[Any, list[Any]]]]
+#: A block of edges: their sources, targets, and each attribute's values.
+EdgeBlock = tuple[list[str], list[str], list[tuple[Any, list[Any]]]]
 
 
 def write_graphml_stream(
     out: IO[bytes],
     graph: Iterable[tuple[Any, Any]],
-    nodes: Iterable[tuple[str, Iterable[tuple[Any, Any]]]],
-    edges: Iterable[tuple[str, str, Iterable[tuple[Any, Any]]]],
+    nodes: Iterable[NodeBlock],
+    edges: Iterable[EdgeBlock],
     *,
-    convert: Callable[[Any], Any],
+    convert: Callable[[list[Any]], list[Any]],
     keep: Callable[[str], bool],
     spool_dir: str | Path,
 ) -> None:
-    """Write a directed graph as GraphML to ``out``, each node and edge as it comes.
+    """Write a directed graph as GraphML to ``out``, a block of nodes or edges at a time.
 
     Parameters
     ----------
@@ -177,13 +235,15 @@ def write_graphml_stream(
         Destination, open for writing.
     graph : iterable of (key, value)
         The graph's attributes.
-    nodes : iterable of (id, iterable of (key, value))
-        Each node's id and attributes, in the order they are to be written.
-    edges : iterable of (source, target, iterable of (key, value))
-        Each edge's end nodes and attributes.
+    nodes : iterable of :data:`NodeBlock`
+        Blocks of nodes in the order they are to be written: their ids and their
+        attributes as columns (None where a node has no value).
+    edges : iterable of :data:`EdgeBlock`
+        Blocks of edges: their end nodes and their attributes as columns.
     convert : callable
-        Makes a value that is not a str, bool, int or finite float one of those, or None
-        (missing: left out of the element's data).
+        Makes each value of a column that is not a str, bool, int or finite float one of
+        those, or None (missing: left out of the element's data); given and giving a
+        list.
     keep : callable
         Whether an attribute of this name is written.
     spool_dir : path-like
@@ -196,15 +256,17 @@ def write_graphml_stream(
     with tempfile.TemporaryFile(buffering=_BUFFER, dir=spool_dir) as raw:
         body = io.TextIOWrapper(raw, encoding="utf-8")
         write = body.write
-        write(f'<graph edgedefault="directed">{_data(graph_keys, graph, convert)}\n')
-        for node, attributes in nodes:
-            data = _data(node_keys, attributes, convert)
-            write(f'<node id="{_attribute(node)}">{data}</node>\n')
-        for source, target, attributes in edges:
-            data = _data(edge_keys, attributes, convert)
-            write(
-                f'<edge source="{_attribute(source)}" target="{_attribute(target)}">{data}</edge>\n'
-            )
+        own = [(key, [value]) for key, value in graph]
+        write(_elements(graph_keys, ['<graph edgedefault="directed">'], own, "\n", convert))
+        for node_ids, columns in nodes:
+            heads = [f'<node id="{n}">' for n in _attributes(node_ids)]
+            write(_elements(node_keys, heads, columns, "</node>\n", convert))
+        for sources, targets, columns in edges:
+            heads = [
+                f'<edge source="{u}" target="{v}">'
+                for u, v in zip(_attributes(sources), _attributes(targets), strict=True)
+            ]
+            write(_elements(edge_keys, heads, columns, "</edge>\n", convert))
         write("</graph>\n</graphml>\n")
         body.detach()  # flushed into raw, which stays open
         out.write(_HEADER.encode("utf-8"))

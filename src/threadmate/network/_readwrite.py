@@ -28,6 +28,7 @@ from __future__ import annotations
 import itertools
 import json
 import math
+import operator
 import os
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
@@ -41,7 +42,7 @@ from .._errors import InputError
 from .._io import atomic_path, atomic_write_text
 from .._json import json_text, to_jsonable
 from ..library import load
-from ._graphml import read_graphml_stream, write_graphml_stream
+from ._graphml import EdgeBlock, NodeBlock, read_graphml_stream, write_graphml_stream
 
 __all__ = [
     "GEOMETRY_ATTRIBUTES",
@@ -78,6 +79,8 @@ START_COLUMN_UNITS = {
 Library = str | os.PathLike[str] | pd.DataFrame
 #: The types of a GraphML attribute's scalar value.
 _SCALARS = (str, bool, int, float, np.bool_, np.integer, np.floating)
+#: Nodes or edges written at a time: the writer's memory is a block's text.
+_BLOCK = 512
 
 
 def _scalar(value: Any) -> Any:
@@ -90,6 +93,29 @@ def _scalar(value: Any) -> Any:
     if value is None or isinstance(value, _SCALARS):
         return to_jsonable(value)
     raise TypeError(f"attribute value {value!r} is not a scalar")
+
+
+def _scalars(values: list[Any]) -> list[Any]:
+    """:func:`_scalar` of each value of a column. A column of flat arrays (a state's
+    forces, regions, rotation, points, normals) is written as one JSON document and cut
+    into its rows: the same text at a fraction of the cost of one document per row."""
+    if values and all(type(v) is np.ndarray and v.ndim == 1 for v in values):
+        numeric = all(v.dtype.kind in "biuf" for v in values)
+        try:
+            text = json.dumps([v.tolist() for v in values])
+        except TypeError:  # a value JSON does not know: each row by to_jsonable
+            text = ""
+        if text and ("N" in text or "I" in text):
+            if not numeric:  # "NaN" may be text inside a string: each row by json_text
+                text = ""
+            else:  # NaN, Infinity: null, as json_text writes them
+                text = text.replace("-Infinity", "null").replace("Infinity", "null")
+                text = text.replace("NaN", "null")
+        rows = text[1:-1].split("], [")
+        if text and len(rows) == len(values):  # else "], [" inside a string
+            rows[0], rows[-1] = rows[0][1:], rows[-1][:-1]
+            return [f"[{row}]" for row in rows]
+    return [_scalar(v) for v in values]
 
 
 def _public(name: str) -> bool:
@@ -137,8 +163,53 @@ def _nodes(graph: nx.DiGraph, library: Library | None) -> Iterator[tuple[Any, It
         yield n, itertools.chain(geometry.items(str(n), d), d.items())
 
 
+def _columns(dicts: list[dict[Any, Any]], skip: Iterable[Any] = ()) -> list[tuple[Any, list[Any]]]:
+    """The attributes of a block of nodes or edges as columns, in the order the block
+    first gives them (None where an element has no value)."""
+    names = dict.fromkeys(dicts[0]) if dicts else {}
+    same = all(d.keys() == names.keys() for d in dicts)  # the common case: one layout
+    if not same:
+        names = dict.fromkeys(key for d in dicts for key in d)
+    for key in skip:
+        names.pop(key, None)
+    if same:
+        return [(key, list(map(operator.itemgetter(key), dicts))) for key in names]
+    return [(key, [d.get(key) for d in dicts]) for key in names]
+
+
+def _node_blocks(graph: nx.DiGraph, library: Library | None) -> Iterator[NodeBlock]:
+    """The graph's nodes in blocks of :data:`_BLOCK`, each state's geometry from
+    ``library`` first (a node's own value, where it holds one, instead)."""
+    geometry = _Geometry(library)
+    nodes = iter(graph.nodes(data=True))
+    while block := list(itertools.islice(nodes, _BLOCK)):
+        ids = [str(n) for n, _ in block]
+        dicts = [d for _, d in block]
+        columns = []
+        if geometry.columns:
+            rows = [geometry.row.get(n) for n in ids]
+            for key, column in zip(GEOMETRY_ATTRIBUTES, geometry.columns, strict=True):
+                values = [
+                    d[key] if key in d else (None if i is None else column[i])
+                    for d, i in zip(dicts, rows, strict=True)
+                ]
+                columns.append((key, values))
+        yield ids, columns + _columns(dicts, skip=GEOMETRY_ATTRIBUTES if geometry.columns else ())
+
+
+def _edge_blocks(graph: nx.DiGraph) -> Iterator[EdgeBlock]:
+    """The graph's edges in blocks of :data:`_BLOCK`."""
+    edges = iter(graph.edges(data=True))
+    while block := list(itertools.islice(edges, _BLOCK)):
+        yield (
+            [str(u) for u, _, _ in block],
+            [str(v) for _, v, _ in block],
+            _columns([d for _, _, d in block]),
+        )
+
+
 def write_graphml(graph: nx.DiGraph, path: str | Path, *, library: Library | None = None) -> Path:
-    """Write the network as GraphML, atomically, one node and edge at a time.
+    """Write the network as GraphML, atomically, a block of nodes and edges at a time.
 
     Parameters
     ----------
@@ -155,15 +226,13 @@ def write_graphml(graph: nx.DiGraph, path: str | Path, *, library: Library | Non
     pathlib.Path
     """
     path = Path(path)
-    nodes = ((str(n), items) for n, items in _nodes(graph, library))
-    edges = ((str(u), str(v), d.items()) for u, v, d in graph.edges(data=True))
     with atomic_path(path) as tmp, open(tmp, "wb") as fh:
         write_graphml_stream(
             fh,
             graph.graph.items(),
-            nodes,
-            edges,
-            convert=_scalar,
+            _node_blocks(graph, library),
+            _edge_blocks(graph),
+            convert=_scalars,
             keep=_public,
             spool_dir=tmp.parent,
         )
