@@ -106,7 +106,7 @@ def test_report_embeds_every_figure_it_lists(job):
     assert listed == set(embedded)
     on_disk = {f"figures/{p.name}" for p in (out / "figures").iterdir()}
     assert on_disk == set(embedded)
-    assert {"click_signature", "click_vs_tilt", "recommendation"} <= set(doc["figures"])
+    assert {"click_signature", "click_vs_tilt", "recommendation", "envelope"} <= set(doc["figures"])
 
 
 def test_report_says_what_to_set_and_with_what(job):
@@ -132,6 +132,57 @@ def test_report_says_what_to_set_and_with_what(job):
     assert len(paragraphs) == len(set(paragraphs)), "a paragraph twice"
     if json.loads((out / "recommendation.json").read_text())["at_edge"]:
         assert "edge of the range searched" in report
+
+
+def _lean_direction(roll: float, pitch: float) -> float:
+    """The azimuth (deg, from +X toward +Y) toward which ``Rx(roll) Ry(pitch) e_z`` leans."""
+    r, p = np.radians(roll), np.radians(pitch)
+    axis = np.array([[1, 0, 0], [0, np.cos(r), -np.sin(r)], [0, np.sin(r), np.cos(r)]]) @ (
+        np.array([np.sin(p), 0.0, np.cos(p)])
+    )
+    return float(np.degrees(np.arctan2(axis[1], axis[0])) % 360.0)
+
+
+def test_report_leads_with_what_to_buy_and_what_it_tolerates(job):
+    """The first section names the force and stiffness, held upright, and the misalignment
+    every start phase tolerates, read off the grid: recomputed from starts.csv with the
+    tilt's direction from explicit rotation matrices."""
+    out, doc, _ = job
+    report = (out / "report.md").read_text()
+    sections = re.findall(r"^## (.+)$", report, flags=re.M)
+    assert sections[0] == "What to buy and set", sections
+    assert sections.index("The pre-tilt, where the nut's azimuth is known") > sections.index(
+        "The snap a sensor sees"
+    )
+    assert "- **F = 10 N, k = 1 N m/rad, held upright**: every start phase snaps" in report
+    assert "![envelope](figures/envelope.png)" in report
+    starts = pd.read_csv(out / "starts.csv")
+    by_direction: dict[float, list[tuple[float, float]]] = {}
+    for (roll, pitch), group in starts.groupby(["held_roll_deg", "held_pitch_deg"]):
+        share = float((group["snapped"] & ~group["failed"]).mean())
+        if roll == 0 and pitch == 0:
+            upright = share
+            continue
+        size = float(np.hypot(roll, pitch))  # within 1e-3 deg at these tilts: order only
+        d = round(_lean_direction(roll, pitch), 1)
+        by_direction.setdefault(d, []).append((size, share))
+    assert upright == 1.0
+    # Each direction holds every phase up to the last size before its first failure; the
+    # grid here has one size per direction.
+    holds = {d: 0.0 if sizes[0][1] < 1 else None for d, sizes in by_direction.items()}
+    tolerated = doc["tolerated"]
+    assert tolerated["located"] is False and tolerated["force"] == 10
+    if any(v == 0.0 for v in holds.values()):
+        assert tolerated["tilt"] == 0.0
+        assert "**but not at the smallest misalignment the grid holds**" in report
+        worst = sorted(d for d, v in holds.items() if v == 0.0)
+        assert sorted(round(d, 1) for d in tolerated["worst_directions"]) == worst
+    else:
+        assert tolerated["tilt"] > 0
+        assert f"up to **{tolerated['tilt']:.2f} deg** of misalignment" in report
+    env = json.loads((out / "envelope.json").read_text())
+    assert env["units"]["angle"] == "deg" and len(env["settings"]) == 1
+    assert len(env["settings"][0]["directions"]) == len(by_direction)
 
 
 #: starts.csv's columns with their units, by the outcome's name (spec lengths in inches).
@@ -203,7 +254,7 @@ def test_run_from_scratch_on_one_tilt(tmp_path, capsys):
         "1",
     )
     assert rc == 0, err
-    assert "recommended pre-tilt: held pitch +0 deg" in stdout
+    assert "recommended pre-tilt (nut azimuth known): held pitch +0 deg" in stdout
     rows = library_rows(out / "library")
     assert int((rows["role"] == "start").sum()) == 2
     rec = json.loads((out / "recommendation.json").read_text())

@@ -453,7 +453,7 @@ def default_run(stamp: Stamp, run_dir: Path) -> list[str]:
     if not report.is_file():
         raise SystemExit(f"validation: no report.md in {run_dir}")
     text = report.read_text(encoding="utf-8").splitlines()
-    wanted = ("- **Pre-tilt", "- With it,", "Starts:", "**")
+    wanted = ("- **F =", "- Inside it", "- Upright", "- **Pre-tilt", "- With it,", "Starts:")
     keep = [ln for ln in text if ln.startswith(wanted) and "did not reach" not in ln[:40]]
     not_at_rest = [ln for ln in text if "did not reach a rest state" in ln]
     return [
@@ -461,7 +461,7 @@ def default_run(stamp: Stamp, run_dir: Path) -> list[str]:
         "",
         "Its report's lines:",
         "",
-        *(ln if ln.startswith("-") else f"- {ln}" for ln in keep[:3]),
+        *(ln if ln.startswith("-") else f"- {ln}" for ln in keep[:5]),
         *(f"- {ln.split(':', 1)[0].strip('*- ')}" for ln in not_at_rest[:1]),
     ]
 

@@ -208,12 +208,24 @@ def run_command(
     click.echo(
         f"wrote {result.out}/: {len(result.libraries)} librar"
         f"{'y' if len(result.libraries) == 1 else 'ies'}, network.graphml, "
-        f"network.json, starts.csv, recommendation.json, sensor.json, program.json, figures/ "
+        f"network.json, starts.csv, recommendation.json, "
+        f"{', '.join(p.name for p in result.design.values())}, figures/ "
         f"({len(result.figures)}), report.md, report.html"
         + (f", views/ ({len(result.pages) - 1})" if len(result.pages) > 1 else "")
     )
+    tol = result.tolerated
+    if tol is not None:
+        k = tol["stiffness"]
+        fails = tol["first_failure"]
+        click.echo(
+            f"F = {tol['force']:g} N, k = {k['roll']:g}/{k['pitch']:g} N m/rad, held upright: "
+            f"every start phase snaps up to {tol['tilt']:.2f} deg of misalignment in the "
+            "grid's directions"
+            + (f" (less than {fails:.2f} deg in the worst)" if fails is not None else "")
+            + "; read off the grid (threadmate envelope locates it)"
+        )
     click.echo(
-        f"recommended pre-tilt: held pitch {best['held_pitch']:+g} deg; "
+        f"recommended pre-tilt (nut azimuth known): held pitch {best['held_pitch']:+g} deg; "
         f"{best['share_snap']:.0%} of starts snap within one turn"
     )
     for note in result.notes:

@@ -6,7 +6,8 @@
   size along the direction; the tolerated misalignment is its worst direction. It reads a
   polar library (``threadmate sweep --tilt ... --direction ...``) or sweeps a spec's held
   tilts on demand, with the library's own machinery (docs/design.md, "The capture
-  envelope").
+  envelope"). :func:`grid_envelope` reads the same off any mechanics library's grid,
+  with no new search (the lead of ``threadmate run``'s report).
 - :func:`snap_detection`: from a library's network, with no new search, whether a sensor
   can tell the snap from the other jumps of the same searches (the click, the tilt
   spring's moment, the driver's torque, the lateral force), with the threshold that
@@ -46,10 +47,12 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
     from ._envelope import (
         ENVELOPE_PHASES as ENVELOPE_PHASES,
         LEVELS as LEVELS,
+        SAME_DIRECTION as SAME_DIRECTION,
         TOLERANCE as TOLERANCE,
         Envelope as Envelope,
         EnvelopeProgress as EnvelopeProgress,
         envelope as envelope,
+        grid_envelope as grid_envelope,
     )
     from ._figures import plot_envelope as plot_envelope
     from ._searches import (
@@ -75,10 +78,12 @@ _SOURCES = {
     "._envelope": (
         "ENVELOPE_PHASES",
         "LEVELS",
+        "SAME_DIRECTION",
         "TOLERANCE",
         "Envelope",
         "EnvelopeProgress",
         "envelope",
+        "grid_envelope",
     ),
     "._figures": ("plot_envelope",),
     "._searches": ("EVENT_SIGNALS", "SearchEvents", "search_events"),

@@ -36,10 +36,11 @@ import pandas as pd
 from .._errors import InputError
 from .._validate import check_range
 from ..contact import CONTINUATION_STEP, PHASE_TOLERANCE, Compliance
-from ..geometry import ThreadSpec
+from ..geometry import ThreadSpec, polar_from_held_tilt
 from ..library import (
     DEFAULT_POLAR_RANGES,
     METADATA_FILE,
+    Grid,
     HeldTiltProbe,
     PolarGrid,
     info,
@@ -50,10 +51,12 @@ from ..library import (
 __all__ = [
     "ENVELOPE_PHASES",
     "LEVELS",
+    "SAME_DIRECTION",
     "TOLERANCE",
     "Envelope",
     "EnvelopeProgress",
     "envelope",
+    "grid_envelope",
 ]
 
 #: The shares of start phases whose envelopes are located: every phase, 95 %, 50 %.
@@ -143,6 +146,10 @@ class Envelope:
         Wall time.
     notes : list of str
         What the figures do not say by themselves.
+    located : bool
+        True: each envelope is bisected to ``tolerance``; False: read off a library's
+        grid (:func:`grid_envelope`), each between the sizes the grid holds in its
+        direction.
     """
 
     directions: list[dict[str, Any]]
@@ -157,6 +164,7 @@ class Envelope:
     seconds: float
     source: str
     notes: list[str] = field(default_factory=list)
+    located: bool = True
 
     @property
     def tolerated_tilt(self) -> float:
@@ -191,6 +199,7 @@ class Envelope:
             "spec": self.spec,
             "grid": self.grid,
             "tolerance": self.tolerance,
+            "located": self.located,
             "levels": [_level_key(v) for v in LEVELS],
             "source": self.source,
             "probes": self.probes,
@@ -202,6 +211,12 @@ class Envelope:
         """One sentence: what the compliance tolerates."""
         t = self.tolerated[_level_key(1.0)]
         worst = ", ".join(f"{d:g}" for d in t["worst_directions"])
+        if not self.located:
+            return (
+                f"every start phase snaps within one turn up to {t['tilt']:.2f} deg of "
+                f"misalignment in each of the {len(self.directions)} directions the grid "
+                f"holds (worst direction {worst} deg; read off the grid, not located)"
+            )
         return (
             f"tolerates {t['tilt']:.2f} deg of misalignment in any direction (every start "
             f"phase snaps within one turn; worst direction {worst} deg)"
@@ -429,15 +444,88 @@ def envelope(
     return _result(search, directions, spec, compliance, grid, where, probes, start)
 
 
+#: Held tilts of a grid whose directions differ by less than this (degrees) lie on one
+#: direction: a square grid's diagonal tilts (1, 1) and (2, 2) lean toward directions
+#: a hundredth of a degree apart.
+SAME_DIRECTION = 0.1
+
+
+def grid_envelope(library: str | os.PathLike[str]) -> Envelope:
+    """The capture envelope as a mechanics library's grid shows it, with no new search.
+
+    Every held tilt of the library (a polar grid's, or a roll/pitch grid's turned into
+    size and direction by :func:`threadmate.geometry.polar_from_held_tilt`, directions
+    within :data:`SAME_DIRECTION` taken as one) is read as :func:`envelope` reads its
+    probes; each envelope then lies between the last size the grid holds in its direction
+    where the level holds and the next (``first_failure``), not located by bisection
+    (``located`` False). A square grid holds few sizes per direction, and none between its
+    directions: :func:`envelope` locates the envelope from the spec.
+
+    Raises
+    ------
+    InputError
+        Not a library, or a library of the thesis's fixed-pivot model.
+    """
+    start = time.perf_counter()
+    path = Path(library)
+    if not (path / METADATA_FILE).is_file():
+        raise InputError(f"{path} is not a threadmate library (no {METADATA_FILE})")
+    meta = info(path)["metadata"]
+    if meta["model"] != "mechanics":
+        raise InputError(
+            f"{path} holds the thesis's fixed-pivot rows: the envelope stands on the "
+            "mechanics (sweep again with the mechanics model, the default)"
+        )
+    grid = read_grid(meta["grid"])
+    outcomes = _outcomes(load(path))
+    search = _Search(PolarGrid((0.0,), (0.0,), (0.0,)), 0.0)
+    keyed: list[tuple[float, float, pd.DataFrame]] = []
+    for held, group in outcomes.groupby(["held_roll", "held_pitch"], sort=False):
+        tilt, azimuth = polar_from_held_tilt(*np.asarray(held, dtype=float))
+        keyed.append((float(tilt), float(azimuth), group))
+    directions: list[float] = []
+    for _, d, _ in sorted(keyed, key=lambda k: (np.isnan(k[1]), k[1])):
+        if not np.isnan(d) and not any(abs(d - x) < SAME_DIRECTION for x in directions):
+            directions.append(d)
+    for size, d, group in keyed:
+        if search.key(size, 0.0)[1] is _UP or np.isnan(d):
+            search.outcomes[(0.0, _UP)] = group
+        else:
+            at = next(x for x in directions if abs(d - x) < SAME_DIRECTION)
+            search.outcomes[search.key(size, at)] = group
+    if not directions:
+        raise InputError(f"{path} holds no tilted start: the envelope needs directions")
+    env = _result(
+        search,
+        directions,
+        ThreadSpec.from_dict(meta["spec"]),
+        Compliance.from_dict(meta["compliance"]),
+        grid,
+        str(path),
+        0,
+        start,
+        located=False,
+    )
+    env.directions = [{**x, "direction": round(x["direction"], 3)} for x in env.directions]
+    env.notes.append(
+        "read off the library's grid: each envelope lies between the last size the grid "
+        "holds in its direction where its level holds and the next (first_failure); the "
+        "directions between are not computed (threadmate envelope locates it)"
+    )
+    return env
+
+
 def _result(
     search: _Search,
     directions: list[float],
     spec: ThreadSpec,
     compliance: Compliance,
-    grid: PolarGrid,
+    grid: PolarGrid | Grid,
     source: str,
     probes: int,
     start: float,
+    *,
+    located: bool = True,
 ) -> Envelope:
     """The envelope from the evaluated sizes."""
     per_direction: list[dict[str, Any]] = []
@@ -489,11 +577,12 @@ def _result(
             f"even upright only {_share(upright):.0%} of start phases snap within one turn: "
             "the compliance tolerates no misalignment"
         )
-    wide = [x["direction"] for x in per_direction if x["beyond_range"][_level_key(1.0)]]
+    wide = [x for x in per_direction if x["beyond_range"][_level_key(1.0)]]
     if wide:
+        largest = min(x["shares"][-1][0] for x in wide)
         notes.append(
             f"in {len(wide)} direction(s) every start phase snaps up to the largest size "
-            f"searched ({grid.tilt[-1]:g} deg): the envelope lies beyond it there; search "
+            f"searched there ({largest:g} deg or more): the envelope lies beyond it; search "
             "larger sizes"
         )
     rises = [
@@ -522,6 +611,7 @@ def _result(
         seconds=time.perf_counter() - start,
         source=source,
         notes=notes,
+        located=located,
     )
 
 

@@ -51,7 +51,8 @@ def plot_envelope(env: Envelope, path: str | os.PathLike[str]) -> Path:
         ls="-.",
         label=f"tolerated: {tolerated:.2f} deg",
     )
-    ax.set_rlim(0, max(top, tolerated, env.grid["tilt"][-1]) * 1.05 or 1.0)
+    largest = max((x["shares"][-1][0] for x in env.directions if x["shares"]), default=0.0)
+    ax.set_rlim(0, max(top, tolerated, largest) * 1.05 or 1.0)
     ax.set_theta_zero_location("E")
     ax.set_theta_direction(1)
     c = env.compliance
@@ -59,7 +60,7 @@ def plot_envelope(env: Envelope, path: str | os.PathLike[str]) -> Path:
     ax.set_title(
         f"capture envelope (tilt, deg) against direction\nF {c['force']:g} N, k "
         f"{k['roll']:g}/{k['pitch']:g} N m/rad, friction {c['friction']:g}; "
-        f"bisected to {env.tolerance:g} deg",
+        + (f"bisected to {env.tolerance:g} deg" if env.located else "read off the grid"),
         fontsize="medium",
     )
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=8)

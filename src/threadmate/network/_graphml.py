@@ -1,11 +1,12 @@
-"""GraphML as a stream: written and read one element at a time, in bounded memory.
+"""GraphML as a stream: written a block and read one element at a time, in bounded memory.
 
 The writer puts the nodes and edges in the file a block at a time, each attribute of a
 block converted as a column (the per-value work is then a comprehension over one type);
-the whole document is never held. GraphML declares its keys (``<key for="node" attr.name=... attr.type=...>``)
-before the graph, as Gephi and yEd read them, but a key's type is known only once every
-value of it has been seen: so the graph's body is written first to an anonymous temporary
-file beside the destination, and the file is then its header, the keys and that body.
+the whole document is never held. GraphML declares its keys
+(``<key for="node" attr.name=... attr.type=...>``) before the graph, as Gephi and yEd
+read them, but a key's type is known only once every value of it has been seen: so the
+graph's body is written first to an anonymous temporary file beside the destination, and
+the file is then its header, the keys and that body.
 
 One type per key, as Gephi and yEd type their columns (:data:`KEY_TYPES`): a key whose
 values are all booleans is ``boolean``, all integers ``long``, integers and floats

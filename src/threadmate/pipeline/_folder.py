@@ -25,6 +25,7 @@ RUN_FILES = (
     "network.json",
     "starts.csv",
     "recommendation.json",
+    "envelope.json",
     "sensor.json",
     "program.json",
     "figures",

@@ -47,9 +47,13 @@ from ..contact import (
     search,
 )
 from ..design import (
+    Envelope,
+    SnapDetection,
     controller_program,
     format_controller_program,
     format_snap_detection,
+    grid_envelope,
+    plot_envelope,
     plot_snap_detection,
     snap_detection,
 )
@@ -100,8 +104,12 @@ class RunResult:
     meshes: dict[str, Any] = field(default_factory=dict)
     #: ``report.html`` and the start pages written into ``views/``.
     pages: list[Path] = field(default_factory=list)
-    #: ``sensor.json`` and ``program.json`` (the design stage's documents).
+    #: ``envelope.json`` (when the grid holds a misalignment), ``sensor.json`` and
+    #: ``program.json``: the design stage's documents.
     design: dict[str, Path] = field(default_factory=dict)
+    #: The most tolerant compliance's envelope read off the grid (``tilt``,
+    #: ``worst_directions``, ``first_failure``, ``force``, ``stiffness``), or None.
+    tolerated: dict[str, Any] | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready mapping of paths and figures (``threadmate run --json``)."""
@@ -128,6 +136,7 @@ class RunResult:
             "notes": self.notes,
             "mesh": self.meshes,
             "design": {k: str(v) for k, v in self.design.items()},
+            "tolerated": self.tolerated,
         }
 
 
@@ -255,14 +264,38 @@ def run_pipeline(
     figures["click_vs_tilt"] = plot_click_vs_tilt(
         outcomes, figdir / "click-vs-tilt.png", spec.units
     )
+    lib_info = info(libs[0])
+    run_grid = Grid.from_dict(lib_info["metadata"]["grid"])
     # The design stage, from the libraries' rows alone (no new search): the snap a sensor
     # sees per compliance, and the controller's program for the first.
     # One library's rows in memory at a time (they hold the contact forces the lateral
     # force needs, which the network leaves in the library).
     detections = [snap_detection(g, load(lib)) for g, lib in zip(graphs, libs, strict=True)]
     figures["snap_detection"] = plot_snap_detection(detections, figdir / "snap-detection.png")
+    # What each compliance tolerates, read off its library's grid (no new search); a grid
+    # of the upright bolt alone has no direction to read.
+    lead_text = ""
+    design_files: dict[str, Path] = {}
+    if any(r or p for r, p in run_grid.held_tilts):
+        envelopes = [grid_envelope(lib) for lib in libs]
+        lead = _most_tolerant(envelopes)
+        figures["envelope"] = plot_envelope(envelopes[lead], figdir / "envelope.png")
+        lead_text = _lead_section(envelopes, lead, detections[lead], spec)
+        design_files["envelope"] = atomic_write_text(
+            out / "envelope.json",
+            json_text(
+                {
+                    "units": envelopes[lead].to_dict()["units"],
+                    "most_tolerant": lead,
+                    "settings": [
+                        {"library": str(lib), **e.to_dict()}
+                        for lib, e in zip(libs, envelopes, strict=True)
+                    ],
+                }
+            ),
+        )
     program = controller_program(build_network(load(libs[0]), active=True), detections[0])
-    design_files = {
+    design_files |= {
         "sensor": atomic_write_text(
             out / "sensor.json",
             json_text(
@@ -289,14 +322,13 @@ def run_pipeline(
     figures["region_disk"] = plot_region_disk(spec, figdir / "planar-region-disk.png")
     figures["pivot_axes"] = plot_pivot_axes(spec, figdir / "planar-pivot-axes.png")
 
-    lib_info = info(libs[0])
     meshes = dict(lib_info["metadata"].get("mesh") or {})
     counts = {f"starts {k}": v for k, v in lib_info["classifications"].items()}
     counts.update({f"states {k}": v for k, v in lib_info["states"].get("by_class", {}).items()})
     report = _report(
         spec,
         compliances,
-        Grid.from_dict(lib_info["metadata"]["grid"]),
+        run_grid,
         step,
         rec,
         outcomes,
@@ -308,6 +340,7 @@ def run_pipeline(
         map_phase,
         traced or failed,
         _design_sections(detections, program, len(compliances) > 1),
+        lead_text,
     )
     if clockwise:
         report += "\n" + _clockwise_section(load(libs[0]))
@@ -329,7 +362,131 @@ def run_pipeline(
         meshes,
         pages,
         design_files,
+        _tolerated(envelopes[lead]) if lead_text else None,
     )
+
+
+def _tolerated(env: Envelope) -> dict[str, Any]:
+    """The headline of an envelope read off a grid: what ``run --json`` gives."""
+    t = env.tolerated["100%"]
+    fails = [
+        x["first_failure"]["100%"]
+        for x in env.directions
+        if x["direction"] in t["worst_directions"] and x["first_failure"]["100%"]
+    ]
+    return {
+        "tilt": t["tilt"],
+        "worst_directions": t["worst_directions"],
+        "first_failure": min(fails) if fails else None,
+        "located": env.located,
+        "force": env.compliance["force"],
+        "stiffness": env.compliance["stiffness"],
+    }
+
+
+def _most_tolerant(envelopes: list[Envelope]) -> int:
+    """The compliance that tolerates the most misalignment (then the least mean turn to
+    the snap, work and peak torque inside it)."""
+
+    def rank(i: int) -> tuple[float, ...]:
+        inside = envelopes[i].inside
+        return (
+            -envelopes[i].tolerated_tilt,
+            *(math.inf if inside[k] is None else inside[k] for k in _TIES),
+        )
+
+    return min(range(len(envelopes)), key=rank)
+
+
+_TIES = ("turn_mean", "work_mean", "torque_peak")
+
+
+def _lead_section(
+    envelopes: list[Envelope], lead: int, detection: SnapDetection, spec: ThreadSpec
+) -> str:
+    """The report's first section: what to buy and set, and what it tolerates."""
+    env = envelopes[lead]
+    c = env.compliance
+    u = spec.units
+    k = c["stiffness"]
+    stiffness = f"{k['roll']:g}" if k["roll"] == k["pitch"] else f"{k['roll']:g}/{k['pitch']:g}"
+    t = env.tolerated["100%"]
+    worst = [x for x in env.directions if x["direction"] in t["worst_directions"]]
+    fails = [x["first_failure"]["100%"] for x in worst if x["first_failure"]["100%"]]
+    if t["tilt"] > 0:
+        tolerates = (
+            f"every start phase snaps within one turn up to **{t['tilt']:.2f} deg** of "
+            f"misalignment in each of the {len(env.directions)} directions the grid holds"
+        )
+    else:
+        tolerates = (
+            "every start phase snaps within one turn when upright, **but not at the "
+            "smallest misalignment the grid holds** in the worst direction(s)"
+        )
+    if fails:
+        where = ", ".join(
+            f"{x['direction']:g}" for x in worst if x["first_failure"]["100%"] == min(fails)
+        )
+        bound = (
+            f"; toward {where} deg the grid's next size, {min(fails):.2f} deg, already "
+            "fails, so the misalignment tolerated in every direction is less than that"
+        )
+    else:
+        bound = "; every size the grid holds passes there, so the envelope lies beyond it"
+    inside = env.inside
+    lines = [
+        "## What to buy and set",
+        "",
+        f"- **F = {c['force']:g} N, k = {stiffness} N m/rad, held upright**: {tolerates}{bound}.",
+    ]
+    if inside["snapped"]:
+        lines.append(
+            f"- {'Inside it' if t['tilt'] > 0 else 'Upright'} the bolt snaps within "
+            f"{inside['turn_worst']:.0f} deg of turn (mean "
+            f"{inside['turn_mean']:.0f} deg), for {inside['work_mean']:.3g} mJ of driver work "
+            f"on average and a peak torque of {number_text(inside['torque_peak'], '.3g')} N m."
+        )
+    click = detection.signals.get("click")
+    if click is not None and click.separates and click.threshold is not None:
+        lines.append(
+            f"- Detect the snap by a drop of at least {click.threshold:.4g} {u} within a "
+            "degree of turn: every snap of these searches falls further, every other jump "
+            'less ("The snap a sensor sees").'
+        )
+    elif inside["click_min"] is not None:
+        lines.append(
+            f"- The snap drops the compliance centre by {inside['click_min']:.4g} {u} or "
+            f"more {'inside it' if t['tilt'] > 0 else 'upright'}, but no drop threshold "
+            'tells it from the other jumps of these searches ("The snap a sensor sees" '
+            'and "What to program" below).'
+        )
+    if len(envelopes) > 1:
+        lines.append(
+            f"- Of the {len(envelopes)} compliances compared, this one tolerates the most; "
+            "the others: "
+            + "; ".join(
+                f"{e.compliance['force']:g} N, {e.compliance['stiffness']['roll']:g} N m/rad: "
+                f"{e.tolerated_tilt:.2f} deg"
+                for i, e in enumerate(envelopes)
+                if i != lead
+            )
+            + "."
+        )
+    lines += [
+        "- Read off the run's grid, not located: the directions between the grid's are not "
+        "computed, nor the sizes between its steps. `threadmate envelope SPEC --force "
+        f"{c['force']:g} --stiffness {stiffness}` locates the envelope in every direction "
+        "(docs/design.md), and `threadmate design` finds the compliance that tolerates the "
+        "most.",
+        "",
+        "![envelope](figures/envelope.png)",
+        "",
+        "*The misalignment every start phase (solid), 95 % and 50 % of them tolerate, by "
+        "direction (the azimuth toward which the bolt leans, from the nut's +X toward +Y, "
+        "relative to its thread start), read off the grid.*",
+        "",
+    ]
+    return "\n".join(lines) + "\n"
 
 
 def _design_sections(detections: list[Any], program: Any, many: bool) -> str:
@@ -611,6 +768,7 @@ def _report(
     map_phase: tuple[float, int, int] | None = None,
     traced: SearchResult | str = "",
     design: str = "",
+    lead: str = "",
 ) -> str:
     name = spec.designation or "custom spec"
     u = spec.units
@@ -624,7 +782,13 @@ def _report(
         "stiffness in N m/rad, torques in N m, work in mJ. Frames, poses and regions follow "
         "the conventions (docs/conventions.md); the physical model is docs/mechanics.md.",
         "",
-        "## What to set on the robot",
+        *([lead] if lead else []),
+        *([design] if design else []),
+        "## The pre-tilt, where the nut's azimuth is known",
+        "",
+        "A pre-tilt helps only a robot that knows where the nut's thread starts (the held "
+        "pitch is about the nut's Y axis, fixed by that start); the ranking of every "
+        "setting is further down.",
         "",
         f"- **Pre-tilt (held pitch): {best['held_pitch']:+g} deg**, that is "
         f"{_lean(best['held_pitch'])}.",
@@ -737,7 +901,6 @@ def _report(
         "",
         _not_at_rest_line(unsettled),
         "",
-        *([design] if design else []),
         "## Figures",
         "",
     ]
@@ -754,8 +917,8 @@ def _report(
         "pivot_axes": "The planar analysis: pivot axes against phase." + _planar_note(spec),
     }
     for key, path in figures.items():
-        if key == "snap_detection":
-            continue  # shown in its section
+        if key in ("snap_detection", "envelope"):
+            continue  # shown in their sections
         rel = path.relative_to(out).as_posix()
         lines += [f"![{key.replace('_', ' ')}]({rel})", "", f"*{captions.get(key, key)}*", ""]
     lines += [
