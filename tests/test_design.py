@@ -306,3 +306,27 @@ def test_design_refuses_a_bad_pretilt_grid(capsys, tmp_path, monkeypatch):
     )
     assert code == 2 and out == "" and one_line(err).startswith("threadmate: error:")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_envelope_around_a_pretilt_probes_the_pretilted_hold(flat_pair):
+    """Measured around a pre-tilt of 2 degrees toward -X, the envelope's first probe (no
+    misalignment) is the pre-tilted hold itself: its start snaps exactly when a direct
+    search from that held tilt does (a stiff compliance, where it does not)."""
+    from threadmate.design import envelope
+
+    stiff = Compliance(force=10, stiffness=10)
+    roll, pitch = held_tilt_from_polar(2.0, 180.0)
+    direct = search(flat_pair, roll, pitch, 300.0, compliance=stiff)
+    env = envelope(
+        flat_pair,
+        compliance=stiff,
+        tilt="0",
+        direction="0",
+        phase="300",
+        tolerance=1.0,
+        workers=1,
+        pretilt=(2.0, 180.0),
+    )
+    share = env.directions[0]["shares"][0]
+    assert share == [0.0, 1.0 if direct.snap is not None else 0.0]
+    assert env.to_dict()["pretilt"] == {"size": 2.0, "direction": 180.0}
