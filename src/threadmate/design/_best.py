@@ -730,7 +730,22 @@ def plot_compliance_design(design: ComplianceDesign, path: str | os.PathLike[str
     ax.set_xscale("log")
     ax.set_xlabel("k/F (m/rad): stiffness over force")
     ax.set_ylabel("tolerated misalignment (deg)")
-    ax.set_title(f"{design.summary_line()}\ncoarse envelopes; dashed: the bounds", fontsize="small")
+    beyond = [r for r in design.settings if r["tolerated_beyond_range"]]
+    if beyond:
+        ax.plot(
+            [r["ratio"] for r in beyond],
+            [r["tolerated_tilt"] for r in beyond],
+            "^",
+            ms=9,
+            mfc="none",
+            color="0.3",
+            label="at least (largest size searched)",
+        )
+    ax.set_title(
+        f"optimum F {o['force']:.3g} N, k {o['stiffness']:.3g} N m/rad: "
+        f"{o['tolerated_tilt']:.2f} deg (coarse envelopes)\ndashed: the bounds of k/F",
+        fontsize="medium",
+    )
     ax.legend(fontsize=8)
     return save_figure(fig, path)
 
