@@ -475,6 +475,12 @@ def best_compliance(
     x, best = search.best()
     notes: list[str] = []
     at_bound = _at_bound(search, x, best, may_exceed, notes)
+    if lateral_stiffness is not None:
+        notes.append(
+            "with a lateral stiffness the envelope depends on its ratio to the force too, "
+            "which the search does not hold fixed: the least force at a ratio is then not "
+            "proved best"
+        )
     if best.envelope.tolerated["100%"]["beyond_range"]:
         notes.append(
             "every start phase snaps up to the largest tilt size searched in every "
