@@ -37,17 +37,18 @@ def test_same_ratio_same_search_forces_scaled(flat_pair):
     """10 N with 1 N m/rad and 20 N with 2 N m/rad (the same k/F) from a tilted start:
     the same states (phase, tilt), the same snap and click; the driver's torque and work
     doubled. The rest states minimise U/F, which depends on k/F alone."""
-    roll, pitch = held_tilt_from_polar(1.0, 180.0)
-    a = search(flat_pair, roll, pitch, 300.0, compliance=Compliance(force=10, stiffness=1))
-    b = search(flat_pair, roll, pitch, 300.0, compliance=Compliance(force=20, stiffness=2))
+    roll, pitch = held_tilt_from_polar(2.0, 300.0)
+    a = search(flat_pair, roll, pitch, 270.0, compliance=Compliance(force=10, stiffness=1))
+    b = search(flat_pair, roll, pitch, 270.0, compliance=Compliance(force=20, stiffness=2))
     assert a.snap is not None and b.snap is not None
     assert len(a.states) == len(b.states) > 1
     assert b.snap.phase == pytest.approx(a.snap.phase, abs=1e-6)
     assert b.snap.click == pytest.approx(a.snap.click, rel=1e-6)
     for x, y in zip(a.states, b.states, strict=True):
         assert y.phase == pytest.approx(x.phase, abs=1e-6)
-        assert y.roll == pytest.approx(x.roll, abs=1e-5)  # degrees
-        assert y.pitch == pytest.approx(x.pitch, abs=1e-5)
+        # Degrees: a rest state's tilt is converged to the meshes' travel tolerance.
+        assert y.roll == pytest.approx(x.roll, abs=1e-4)
+        assert y.pitch == pytest.approx(x.pitch, abs=1e-4)
         assert y.driver_torque == pytest.approx(2 * x.driver_torque, rel=1e-4, abs=1e-12)
     assert a.work > 0
     assert b.work == pytest.approx(2 * a.work, rel=1e-4)
