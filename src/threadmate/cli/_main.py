@@ -45,6 +45,7 @@ def _register() -> None:
     from . import _network  # noqa: F401  (registers: network, path, recommend)
     from . import _design  # noqa: F401  (registers: sensor, program)
     from . import _envelope  # noqa: F401  (registers: envelope)
+    from . import _design_search  # noqa: F401  (registers: design)
     from . import _run  # noqa: F401  (registers: run)
     from . import _view  # noqa: F401  (registers: view)
 

@@ -94,6 +94,11 @@ FLAGS: dict[str, str] = {
     # the design stage
     "turn_margin": "--turn-margin",
     "torque_margin": "--torque-margin",
+    "may_exceed": "--may-exceed",
+    "ratios": "--ratios",
+    "refinements": "--refinements",
+    "azimuth_known": "--azimuth-known",
+    "pretilt_sizes": "--pretilt-sizes",
     # the parts (threadmate.geometry.with_parts)
     "condition": "--condition",
     "point": "--point",

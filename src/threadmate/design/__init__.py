@@ -8,6 +8,11 @@
   tilts on demand, with the library's own machinery (docs/design.md, "The capture
   envelope"). :func:`grid_envelope` reads the same off any mechanics library's grid,
   with no new search (the lead of ``threadmate run``'s report).
+- :func:`best_compliance`: the force and stiffness within the designer's bounds that
+  tolerate the most misalignment, by a coarse-to-fine search over the ratio k/F (on which
+  alone the envelope depends), with the settings evaluated, the fall-off around the
+  optimum and its :func:`robustness` over the parts' material conditions and the friction
+  range (docs/design.md, "The design search", "Robust to what varies").
 - :func:`snap_detection`: from a library's network, with no new search, whether a sensor
   can tell the snap from the other jumps of the same searches (the click, the tilt
   spring's moment, the driver's torque, the lateral force), with the threshold that
@@ -39,6 +44,14 @@ from typing import TYPE_CHECKING
 from .._lazy import lazy_exports
 
 if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
+    from ._best import (
+        COARSE as COARSE,
+        ComplianceDesign as ComplianceDesign,
+        DesignProgress as DesignProgress,
+        best_compliance as best_compliance,
+        format_compliance_design as format_compliance_design,
+        plot_compliance_design as plot_compliance_design,
+    )
     from ._controller import (
         ControllerProgram as ControllerProgram,
         controller_program as controller_program,
@@ -55,6 +68,13 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         grid_envelope as grid_envelope,
     )
     from ._figures import plot_envelope as plot_envelope
+    from ._robust import (
+        FRICTION_RANGE as FRICTION_RANGE,
+        Robustness as Robustness,
+        format_robustness as format_robustness,
+        material_specs as material_specs,
+        robustness as robustness,
+    )
     from ._searches import (
         EVENT_SIGNALS as EVENT_SIGNALS,
         SearchEvents as SearchEvents,
@@ -74,6 +94,14 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
 #: __all__ is made from it. tests/test_cli_contract.py checks it against the re-exports
 #: above.
 _SOURCES = {
+    "._best": (
+        "COARSE",
+        "ComplianceDesign",
+        "DesignProgress",
+        "best_compliance",
+        "format_compliance_design",
+        "plot_compliance_design",
+    ),
     "._controller": ("ControllerProgram", "controller_program", "format_controller_program"),
     "._envelope": (
         "ENVELOPE_PHASES",
@@ -86,6 +114,13 @@ _SOURCES = {
         "grid_envelope",
     ),
     "._figures": ("plot_envelope",),
+    "._robust": (
+        "FRICTION_RANGE",
+        "Robustness",
+        "format_robustness",
+        "material_specs",
+        "robustness",
+    ),
     "._searches": ("EVENT_SIGNALS", "SearchEvents", "search_events"),
     "._sensor": (
         "Separation",

@@ -15,7 +15,9 @@ the first where it does not, until the bracket is no wider than the tolerance. E
 probed is one held tilt with every phase of the grid, computed by the library's sweep
 machinery (:class:`threadmate.library.HeldTiltProbe`) and read as the network reads a
 library (:func:`threadmate.network.start_outcomes`). A start whose drop failed, or whose
-search does not snap within one turn for any reason, counts as not snapping.
+search does not snap within one turn for any reason, counts as not snapping; so does,
+when a torque limit is given, a start whose driver torque passes it on the way (the
+driver would stop it).
 
 Angles in degrees, forces in N, stiffness in N m/rad, work in mJ, torque in N m, lengths
 in the spec's units.
@@ -150,6 +152,12 @@ class Envelope:
         True: each envelope is bisected to ``tolerance``; False: read off a library's
         grid (:func:`grid_envelope`), each between the sizes the grid holds in its
         direction.
+    torque_limit : float or None
+        The driver's torque limit (N m) past which a start counts as not snapping; None:
+        none.
+    pretilt : (float, float) or None
+        The pre-tilt ``(size, direction)`` (degrees) around which the misalignment is
+        measured; None: upright.
     """
 
     directions: list[dict[str, Any]]
@@ -165,6 +173,8 @@ class Envelope:
     source: str
     notes: list[str] = field(default_factory=list)
     located: bool = True
+    torque_limit: float | None = None
+    pretilt: tuple[float, float] | None = None
 
     @property
     def tolerated_tilt(self) -> float:
@@ -200,6 +210,10 @@ class Envelope:
             "grid": self.grid,
             "tolerance": self.tolerance,
             "located": self.located,
+            "torque_limit": self.torque_limit,
+            "pretilt": None
+            if self.pretilt is None
+            else {"size": self.pretilt[0], "direction": self.pretilt[1]},
             "levels": [_level_key(v) for v in LEVELS],
             "source": self.source,
             "probes": self.probes,
@@ -300,11 +314,16 @@ def _library_source(path: Path) -> tuple[ThreadSpec, dict[str, Any], PolarGrid, 
     return ThreadSpec.from_dict(meta["spec"]), meta, grid, load(path)
 
 
-def _outcomes(rows: pd.DataFrame) -> pd.DataFrame:
-    """Every start's passive search (the network's reading of a library's rows)."""
+def _outcomes(rows: pd.DataFrame, torque_limit: float | None = None) -> pd.DataFrame:
+    """Every start's passive search (the network's reading of a library's rows); with a
+    torque limit (N m), a start whose peak driver torque passes it does not snap."""
     from ..network import build_network, start_outcomes
 
-    return start_outcomes(build_network(rows))
+    out = start_outcomes(build_network(rows))
+    if torque_limit is not None and not out.empty:
+        out = out.copy()
+        out.loc[out["torque_peak"] > torque_limit, "snapped"] = False
+    return out
 
 
 def envelope(
@@ -320,6 +339,8 @@ def envelope(
     chord: float | None = None,
     step: float = CONTINUATION_STEP,
     phase_tolerance: float = PHASE_TOLERANCE,
+    torque_limit: float | None = None,
+    pretilt: tuple[float, float] | None = None,
     progress: EnvelopeProgress | None = None,
 ) -> Envelope:
     """The capture envelope of a compliance (module docstring).
@@ -343,6 +364,14 @@ def envelope(
     workers, scheduler, chord, step, phase_tolerance
         As :func:`threadmate.library.sweep` (a library's chord and continuation settings
         are its own).
+    torque_limit : float, optional
+        The driver's torque limit (N m, > 0): a start whose peak driver torque passes it
+        counts as not snapping (the driver stops it). None: no limit.
+    pretilt : (float, float), optional
+        From a spec: a deliberate pre-tilt, as a polar held tilt ``(size, direction)``
+        (degrees), around which the misalignment is measured: each held tilt probed is the
+        misalignment's rotation (in F) applied to the pre-tilted axis
+        (:func:`compose_tilts`). None: upright.
     progress : callable, optional
         ``progress(done, asked)``: held tilts computed and asked for so far.
 
@@ -358,6 +387,8 @@ def envelope(
     """
     start = time.perf_counter()
     tolerance = check_range("tolerance (degrees)", tolerance, MIN_TOLERANCE, 1.0)
+    if torque_limit is not None:
+        torque_limit = check_range("torque_limit", torque_limit, 1e-9, 1e6, units="N m")
     if isinstance(source, ThreadSpec):
         spec = source
         grid = PolarGrid.parse(
@@ -370,6 +401,8 @@ def envelope(
         rows = None
         where = "spec"
     elif isinstance(source, str | os.PathLike):
+        if pretilt is not None:
+            raise InputError("pretilt: an envelope from a library is measured around upright")
         path = Path(source)
         if not (path / METADATA_FILE).is_file():
             raise InputError(f"{path} is not a threadmate library (no {METADATA_FILE})")
@@ -401,7 +434,7 @@ def envelope(
     search = _Search(grid, tolerance)
     directions = [float(d) for d in grid.direction]
     if rows is not None and not rows.empty:
-        outcomes = _outcomes(rows)
+        outcomes = _outcomes(rows, torque_limit)
         polar = dict(zip(grid.held_tilts, grid.polar_tilts, strict=True))
         for (r, p), group in outcomes.groupby(["held_roll", "held_pitch"], sort=False):
             size, d = polar[(float(r), float(p))]  # type: ignore[arg-type]
@@ -426,7 +459,8 @@ def envelope(
                 for size in sorted(search.needed(d)):
                     k = search.key(size, d)
                     if k not in search.outcomes and k not in in_flight:
-                        in_flight[k] = (k[0], d if k[1] is not _UP else directions[0])
+                        at = (k[0], d if k[1] is not _UP else directions[0])
+                        in_flight[k] = at if pretilt is None else compose_tilts(pretilt, at)
                         probe.submit(*in_flight[k])
                         asked += 1
             if not in_flight:
@@ -436,12 +470,34 @@ def envelope(
             at, found = probe.next_done()
             k = next(key for key, value in in_flight.items() if value == at)
             del in_flight[k]
-            search.outcomes[k] = _outcomes(found)
+            search.outcomes[k] = _outcomes(found, torque_limit)
             done += 1
         if progress is not None:
             progress(done, asked)
         probes = probe.computed
-    return _result(search, directions, spec, compliance, grid, where, probes, start)
+    env = _result(search, directions, spec, compliance, grid, where, probes, start)
+    env.torque_limit = torque_limit
+    if pretilt is not None:
+        env.pretilt = (float(pretilt[0]), float(pretilt[1]))
+    return env
+
+
+def compose_tilts(
+    pretilt: tuple[float, float], misalignment: tuple[float, float]
+) -> tuple[float, float]:
+    """The held tilt ``(size, direction)`` (degrees) of a pre-tilted hold misaligned by
+    ``misalignment`` ``(size, direction)``: the pre-tilted bolt axis rotated by the
+    misalignment's size about the horizontal axis of F perpendicular to its direction
+    (the rotation that leans an upright axis toward that direction by that size). Upright
+    pre-tilt: the misalignment itself."""
+    t, d = np.radians(misalignment[0]), np.radians(misalignment[1])
+    pt, pd = np.radians(pretilt[0]), np.radians(pretilt[1])
+    axis = np.array([np.sin(pt) * np.cos(pd), np.sin(pt) * np.sin(pd), np.cos(pt)])
+    u = np.array([-np.sin(d), np.cos(d), 0.0])  # Rodrigues' rotation about u by t
+    axis = axis * np.cos(t) + np.cross(u, axis) * np.sin(t) + u * (u @ axis) * (1 - np.cos(t))
+    size = float(np.degrees(np.arccos(np.clip(axis[2], -1.0, 1.0))))
+    direction = float(np.degrees(np.arctan2(axis[1], axis[0]))) % 360.0 if size > 1e-12 else 0.0
+    return round(size, 12) + 0.0, round(direction, 12) + 0.0
 
 
 #: Held tilts of a grid whose directions differ by less than this (degrees) lie on one

@@ -1,0 +1,240 @@
+"""Whether a compliance's envelope holds over what varies (docs/design.md, "Robust to
+what varies"; docs/mechanics.md, "Recommendations").
+
+The chosen compliance is re-evaluated on the parts at the designation's maximum and
+minimum material condition (the same point and countersink) and at the ends of the
+thread friction range of VDI 2230 (0.08 and 0.20). Each case is a capture envelope at the
+same grid and tolerance as the nominal one. The recommendation holds when every case
+tolerates at least the nominal tolerated misalignment less the envelope's tolerance (the
+resolution to which it is known).
+
+Friction enters only the driver's torque and work (the equilibrium is frictionless), so
+without a torque limit the friction cases share the nominal envelope; with one, a higher
+friction can stop more starts.
+
+Angles in degrees, work in mJ, torque in N m.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from .._errors import InputError
+from ..contact import Compliance
+from ..geometry import BoltPoint, Countersink, ThreadSpec, spec_from_designation
+from ._best import DesignProgress
+from ._envelope import Envelope, envelope
+
+__all__ = ["FRICTION_RANGE", "Robustness", "format_robustness", "material_specs", "robustness"]
+
+#: The thread friction coefficients of VDI 2230's range, its low and high end.
+FRICTION_RANGE = (0.08, 0.20)
+
+
+@dataclass
+class Robustness:
+    """A compliance's envelope over the parts' tolerance band and the friction range.
+
+    Attributes
+    ----------
+    nominal : Envelope
+        The envelope of the spec and friction given.
+    cases : list of dict
+        One per case: ``case`` (e.g. ``"maximum material"``, ``"friction 0.08"``),
+        ``condition``, ``friction``, ``tolerated_tilt`` (degrees), the turn, work and
+        torque of the starts inside, and ``envelope`` (the :class:`Envelope`).
+    holds : bool
+        Every case tolerates at least the nominal tolerated tilt less the tolerance.
+    verdict : str
+        The plain sentence.
+    notes : list of str
+        Cases not evaluated and why.
+    """
+
+    nominal: Envelope
+    cases: list[dict[str, Any]]
+    holds: bool
+    verdict: str
+    notes: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON part (``robustness`` of ``threadmate design --json``)."""
+        return {
+            "units": {"angle": "deg", "work": "mJ", "torque": "N m"},
+            "nominal_tolerated_tilt": self.nominal.tolerated_tilt,
+            "tolerance": self.nominal.tolerance,
+            "holds": self.holds,
+            "verdict": self.verdict,
+            "cases": [
+                {
+                    **{k: v for k, v in c.items() if k != "envelope"},
+                    "envelope": c["envelope"].to_dict(),
+                }
+                for c in self.cases
+            ],
+            "notes": list(self.notes),
+        }
+
+
+def material_specs(spec: ThreadSpec) -> dict[str, ThreadSpec]:
+    """The spec's designation at maximum and minimum material (``{"max": ..., "min":
+    ...}``), with the same point form (and chamfer angle) and the same countersink choice
+    (and angle); the lengths and the diameters of tip and countersink the designation's
+    defaults at that condition. Empty when the spec names no designation."""
+    if not spec.designation:
+        return {}
+    p = spec.bolt.point
+    point = BoltPoint(form=p.form, angle=p.angle if p.form == "chamfer" else None)
+    sink = spec.nut.countersink
+    countersink: bool | Countersink = False if sink is None else Countersink(angle=sink.angle)
+    return {
+        c: spec_from_designation(spec.designation, c, point=point, countersink=countersink)
+        for c in ("max", "min")
+    }
+
+
+def _row(case: str, condition: str, friction: float, env: Envelope) -> dict[str, Any]:
+    inside = env.inside
+    return {
+        "case": case,
+        "condition": condition,
+        "friction": friction,
+        "tolerated_tilt": env.tolerated_tilt,
+        "turn_mean": inside["turn_mean"],
+        "work_mean": inside["work_mean"],
+        "torque_peak": inside["torque_peak"],
+        "envelope": env,
+    }
+
+
+def robustness(
+    spec: ThreadSpec,
+    compliance: Compliance,
+    *,
+    nominal: Envelope | None = None,
+    material: Mapping[str, ThreadSpec] | None = None,
+    frictions: Sequence[float] = FRICTION_RANGE,
+    torque_limit: float | None = None,
+    pretilt: tuple[float, float] | None = None,
+    workers: int | None = None,
+    chord: float | None = None,
+    progress: DesignProgress | None = None,
+    **grid: Any,
+) -> Robustness:
+    """The envelope of ``compliance`` at maximum and minimum material and at each friction
+    (module docstring).
+
+    Parameters
+    ----------
+    spec : ThreadSpec
+        The nominal thread pair (its designation gives the material conditions).
+    compliance : Compliance
+        The compliance chosen.
+    nominal : Envelope, optional
+        Its envelope on ``spec`` at the same grid (computed when None).
+    material : mapping, optional
+        ``{"max": spec, "min": spec}``; default :func:`material_specs`.
+    frictions : sequence of float
+        Friction coefficients (default :data:`FRICTION_RANGE`).
+    pretilt : (float, float), optional
+        The pre-tilt ``(size, direction)`` (degrees) around which every envelope is
+        measured (:func:`threadmate.design.envelope`); None: upright.
+    torque_limit, workers, chord, progress
+        As :func:`threadmate.design.best_compliance`.
+    **grid
+        ``tilt``, ``direction``, ``phase``, ``tolerance`` of every envelope, as
+        :func:`threadmate.design.envelope` takes them.
+
+    Returns
+    -------
+    Robustness
+    """
+    if not isinstance(compliance, Compliance):
+        raise InputError(f"compliance must be a Compliance, got {type(compliance).__name__}")
+    unknown = set(grid) - {"tilt", "direction", "phase", "tolerance"}
+    if unknown:
+        raise InputError(f"robustness: unknown grid setting {sorted(unknown)[0]!r}")
+    grid = {k: v for k, v in grid.items() if v is not None}
+    common = {
+        "workers": workers,
+        "chord": chord,
+        "torque_limit": torque_limit,
+        "pretilt": pretilt,
+        **grid,
+    }
+
+    def run(label: str, s: ThreadSpec, c: Compliance) -> Envelope:
+        if progress is not None:
+            progress(f"robustness: {label}")
+        return envelope(s, compliance=c, **common)
+
+    if nominal is None:
+        nominal = run("nominal", spec, compliance)
+    notes: list[str] = []
+    specs = material_specs(spec) if material is None else dict(material)
+    if not specs:
+        notes.append(
+            "the spec names no designation: the maximum and minimum material conditions "
+            "are not evaluated"
+        )
+    cases = []
+    for condition, words in (("max", "maximum material"), ("min", "minimum material")):
+        if condition in specs:
+            env = run(words, specs[condition], compliance)
+            cases.append(_row(words, condition, compliance.friction, env))
+    for mu in frictions:
+        c = replace(compliance, friction=float(mu))
+        env = run(f"friction {mu:g}", spec, c)
+        cases.append(_row(f"friction {mu:g}", "nominal", float(mu), env))
+    holds, verdict = _verdict(nominal, cases)
+    return Robustness(nominal=nominal, cases=cases, holds=holds, verdict=verdict, notes=notes)
+
+
+def _verdict(nominal: Envelope, cases: list[dict[str, Any]]) -> tuple[bool, str]:
+    """Whether every case tolerates the nominal tilt (to the tolerance), in one sentence."""
+    want = nominal.tolerated_tilt
+    tol = nominal.tolerance
+    short = [c for c in cases if c["tolerated_tilt"] < want - tol - 1e-9]
+    if not cases:
+        return True, "No case beside the nominal one was evaluated."
+    if not short:
+        low = min(c["tolerated_tilt"] for c in cases)
+        return True, (
+            f"The recommendation holds: every case tolerates at least {low:.2f} deg against "
+            f"{want:.2f} deg nominal (known to {tol:g} deg)."
+        )
+    worst = min(short, key=lambda c: c["tolerated_tilt"])
+    names = ", ".join(f"{c['case']} ({c['tolerated_tilt']:.2f} deg)" for c in short)
+    return False, (
+        f"The recommendation does not hold over what varies: {names} against {want:.2f} deg "
+        f"nominal; count on {worst['tolerated_tilt']:.2f} deg."
+    )
+
+
+def format_robustness(rob: Robustness) -> str:
+    """The robustness as text: the sentence and the table of cases."""
+    lines = [
+        rob.verdict,
+        "",
+        "| case | tolerated deg | turn mean deg | work mean mJ | peak torque N m |",
+        "|---|---|---|---|---|",
+        f"| nominal (friction {rob.nominal.compliance['friction']:g}) | "
+        f"{rob.nominal.tolerated_tilt:.2f} | {_num(rob.nominal.inside['turn_mean'], '.0f')} | "
+        f"{_num(rob.nominal.inside['work_mean'], '.3g')} | "
+        f"{_num(rob.nominal.inside['torque_peak'], '.3g')} |",
+    ]
+    for c in rob.cases:
+        lines.append(
+            f"| {c['case']} | {c['tolerated_tilt']:.2f} | {_num(c['turn_mean'], '.0f')} | "
+            f"{_num(c['work_mean'], '.3g')} | {_num(c['torque_peak'], '.3g')} |"
+        )
+    lines += [f"note: {n}" for n in rob.notes]
+    return "\n".join(lines)
+
+
+def _num(value: float | None, fmt: str) -> str:
+    from .._text import number_text
+
+    return number_text(value, fmt)
