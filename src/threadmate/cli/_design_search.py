@@ -13,7 +13,13 @@ from .._validate import FIGURE_FORMATS, check_workers
 from ..geometry import SpecParts
 from ._common import SPEC_HELP, echo_err, emit_json, resolve_spec, writable_output, write_failed
 from ._main import cli
-from ._options import RANGE_HELP, chord_option, condition_option, parts_option
+from ._options import (
+    RANGE_HELP,
+    chord_option,
+    condition_option,
+    envelope_grid_options,
+    parts_option,
+)
 
 __all__ = ["design_command"]
 
@@ -123,30 +129,7 @@ Progress goes to stderr.
     default=None,
     help="Halvings of the grid step around the best (default 2).",
 )
-@click.option(
-    "--tilt",
-    default=None,
-    metavar="RANGE",
-    help=f"Coarse envelope: held tilt sizes: {RANGE_HELP} (default 0:4:1).",
-)
-@click.option(
-    "--direction",
-    default=None,
-    metavar="RANGE",
-    help=f"Coarse envelope: directions: {RANGE_HELP} (default 0:360:45).",
-)
-@click.option(
-    "--phase",
-    default=None,
-    metavar="RANGE",
-    help=f"Coarse envelope: start phases: {RANGE_HELP} (default 0:340:40).",
-)
-@click.option(
-    "--tolerance",
-    type=float,
-    default=None,
-    help="Coarse envelope: bisection tolerance in degrees (default 0.25).",
-)
+@envelope_grid_options("Coarse envelope", "0:4:1", "0:360:45", "0:340:40", None)
 @click.option(
     "--fine",
     is_flag=True,

@@ -16,11 +16,11 @@ from ._options import (
     COMPLIANCE_PARAMETERS,
     DEFAULTS_NOTE,
     DIRECTION_HELP,
-    RANGE_HELP,
     chord_option,
     compliance_from_options,
     compliance_options,
     condition_option,
+    envelope_grid_options,
     parts_option,
 )
 from ._progress import progress_bar
@@ -61,31 +61,7 @@ forces in N, stiffness in N m/rad, work in mJ, torque in N m.
 )
 @click.argument("source", metavar="LIBRARY|DESIGNATION|SPEC")
 @compliance_options
-@click.option(
-    "--tilt",
-    default=None,
-    metavar="RANGE",
-    help=f"Spec: held tilt sizes of the grid: {RANGE_HELP} (default 0:4:0.5).",
-)
-@click.option(
-    "--direction",
-    default=None,
-    metavar="RANGE",
-    help=f"Spec: directions, modulo 360: {RANGE_HELP} (default 0:360:22.5).",
-)
-@click.option(
-    "--phase",
-    default=None,
-    metavar="RANGE",
-    help=f"Spec: start phases, modulo 360: {RANGE_HELP} (default 0:340:20).",
-)
-@click.option(
-    "--tolerance",
-    type=float,
-    default=0.05,
-    show_default=True,
-    help="How closely each envelope is located in tilt size (degrees).",
-)
+@envelope_grid_options("Spec", "0:4:0.5", "0:360:22.5", "0:340:20", 0.05)
 @click.option(
     "--workers",
     type=int,

@@ -39,6 +39,7 @@ __all__ = [
     "parts_option",
     "roll_spread_option",
     "RANGE_HELP",
+    "envelope_grid_options",
     "DIRECTION_HELP",
     "polar_grid_options",
     "held_tilt_from_options",
@@ -178,6 +179,50 @@ def polar_grid_options(func: Callable[..., Any]) -> Callable[..., Any]:
         f"{MAX_TILT:g}: {RANGE_HELP} (default {DEFAULT_POLAR_RANGES['tilt']} with "
         "--direction). Size 0 is one held tilt, upright. Not with --roll/--pitch.",
     )(func)
+
+
+def envelope_grid_options(
+    what: str, tilt: str, direction: str, phase: str, tolerance: float | None
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``--tilt``, ``--direction``, ``--phase`` and ``--tolerance`` of an envelope's polar
+    grid (``envelope``, ``design``): ``what`` names the grid in the help, the other
+    arguments give the defaults it states (``tolerance`` None: the option's default is
+    None and the API's applies)."""
+    options = [
+        click.option(
+            "--tilt",
+            default=None,
+            metavar="RANGE",
+            help=f"{what}: held tilt sizes: {RANGE_HELP} (default {tilt}).",
+        ),
+        click.option(
+            "--direction",
+            default=None,
+            metavar="RANGE",
+            help=f"{what}: directions, modulo 360: {RANGE_HELP} (default {direction}).",
+        ),
+        click.option(
+            "--phase",
+            default=None,
+            metavar="RANGE",
+            help=f"{what}: start phases, modulo 360: {RANGE_HELP} (default {phase}).",
+        ),
+        click.option(
+            "--tolerance",
+            type=float,
+            default=tolerance,
+            show_default=tolerance is not None,
+            help=f"{what}: how closely each envelope is located in tilt size (degrees)"
+            + ("." if tolerance is not None else ", default 0.25."),
+        ),
+    ]
+
+    def decorate(func: Callable[..., Any]) -> Callable[..., Any]:
+        for option in reversed(options):
+            func = option(func)
+        return func
+
+    return decorate
 
 
 def check_grid_kind(
