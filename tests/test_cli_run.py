@@ -416,4 +416,4 @@ def test_report_has_the_sensor_and_the_program(job):
     snaps = rows.loc[rows["transition"] == "snap", "click"].to_numpy()
     smallest = sensor["settings"][0]["signals"]["click"]["smallest_snap"]
     assert np.isclose(snaps, smallest, rtol=0, atol=1e-15).any()
-    assert set(doc["design"]) == {"sensor", "program"}
+    assert set(doc["design"]) == {"envelope", "sensor", "program"}
