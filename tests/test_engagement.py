@@ -23,7 +23,17 @@ import numpy as np
 import pytest
 
 from _cli import run_cli
-from threadmate.contact import CLICK_SPAN, Compliance, Continuation, Mechanics, screw, search
+from threadmate.contact import (
+    CLICK_SPAN,
+    PROOF_FOLD_TOLERANCE,
+    SCREW_IN,
+    Compliance,
+    Continuation,
+    Mechanics,
+    screw,
+    search,
+)
+from threadmate.contact.mechanics import engagement
 from threadmate.geometry import spec_from_designation
 from threadmate.library import sweep
 
@@ -147,6 +157,40 @@ def test_a_state_in_phase_moves_along_the_helix(mech, held, phase):
     down = mech.settle(*held, phase - 1.0, start=rest).state
     assert 0.5 * lead < _rate(rest, up) <= 1.02 * lead
     assert 0.5 * lead < -_rate(rest, down) <= 1.02 * lead
+
+
+def test_the_proof_locates_a_jump_down_to_a_degree_with_the_same_verdict():
+    """The screw-in proof locates a fold the bolt leaves downward to
+    ``PROOF_FOLD_TOLERANCE``, not to the phase tolerance (docs/mechanics.md, "The snap
+    proved"): on a landing of the default parts whose screw-in jumps, the verdict is that
+    of the proof locating it to the phase tolerance, the jump within the coarser
+    tolerance of it, the descent within 1 % of the lead and the tilt at the end within
+    0.05 degree."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    mech = Mechanics(spec, Compliance())
+    start = mech.settle(1.0, -1.0, 140.0).state
+    assert start.classification == "in-phase"
+    proofs, jumps = [], []
+    for fold in (PROOF_FOLD_TOLERANCE, None):
+        walk = Continuation(
+            mech, 1.0, -1.0, sense="tighten", contact_changes=False, fold_tolerance=fold
+        )
+        legs, events, states = walk.advance(start, 140.0, SCREW_IN)
+        proofs.append(engagement(walk, start, legs, events, states, SCREW_IN))
+        jumps.append([e.phase for e in events if e.kind == "jump"])
+    coarse, fine = proofs
+    assert len(jumps[1]) >= 1 and len(jumps[0]) == len(jumps[1])
+    assert np.allclose(jumps[0], jumps[1], atol=PROOF_FOLD_TOLERANCE)
+    assert coarse.engaged == fine.engaged
+    assert abs(coarse.descent - fine.descent) <= 0.01 * spec.lead
+    assert abs(coarse.tilt - fine.tilt) <= 0.05
+    # The search's own proof is the coarse one.
+    proof = Continuation(mech, 1.0, -1.0).prove(start, 140.0)
+    assert (proof.engaged, proof.descent, proof.tilt) == (
+        coarse.engaged,
+        coarse.descent,
+        coarse.tilt,
+    )
 
 
 def test_screw_engages_from_a_start_out_of_phase(flat):

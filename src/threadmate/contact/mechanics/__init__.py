@@ -50,6 +50,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         MAX_STEP as MAX_STEP,
         MAX_TURNS as MAX_TURNS,
         PHASE_TOLERANCE as PHASE_TOLERANCE,
+        PROOF_FOLD_TOLERANCE as PROOF_FOLD_TOLERANCE,
         SCREW_IN as SCREW_IN,
         check_continuation as check_continuation,
         check_screw as check_screw,
@@ -104,6 +105,7 @@ _SOURCES = {
         "MAX_STEP",
         "MAX_TURNS",
         "PHASE_TOLERANCE",
+        "PROOF_FOLD_TOLERANCE",
         "SCREW_IN",
     ),
     "._descent": (

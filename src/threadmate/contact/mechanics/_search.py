@@ -52,7 +52,14 @@ from ._rest_state import (
     SearchResult,
     tightening_torque,
 )
-from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE, SCREW_IN, check_continuation, check_screw
+from ._settings import (
+    CONTINUATION_STEP,
+    PHASE_TOLERANCE,
+    PROOF_FOLD_TOLERANCE,
+    SCREW_IN,
+    check_continuation,
+    check_screw,
+)
 from ._settle import Mechanics, mechanics
 
 __all__ = [
@@ -316,6 +323,12 @@ class Continuation:
         the driver's work along it, are the same either way: a located contact change
         adds the states either side of it to :meth:`advance`'s states, not to the
         work's nodes.
+    fold_tolerance : float, optional
+        How closely a fold is located when the bolt leaves it downward, not continuous
+        with the branch (degrees; default ``phase_tolerance``): the screw-in proof's
+        :data:`PROOF_FOLD_TOLERANCE`. A fold whose landing is continuous with the branch
+        or lies above it is then located on to ``phase_tolerance``, by the same bisection,
+        so that it is told and judged where it was.
     """
 
     def __init__(
@@ -330,6 +343,7 @@ class Continuation:
         sense: str = "unscrew",
         screw_in: float = SCREW_IN,
         torque_limit: float | None = None,
+        fold_tolerance: float | None = None,
     ) -> None:
         if sense not in SENSES:
             raise InputError(f"sense must be one of {', '.join(SENSES)}, got {sense!r}")
@@ -341,6 +355,9 @@ class Continuation:
         # short enough that it falls less than a jump's threshold (a ninth of a turn).
         self.step = min(float(step), TIGHTEN_STEP) if self.tightening else float(step)
         self.phase_tolerance = float(phase_tolerance)
+        self.fold_tolerance = max(
+            self.phase_tolerance, self.phase_tolerance if fold_tolerance is None else fold_tolerance
+        )
         self.contact_changes = contact_changes
         # +1: counter-clockwise (increasing phase), the unscrewing sense of a right-hand
         # thread; tightening turns the other way.
@@ -426,6 +443,8 @@ class Continuation:
         same: Callable[[MechanicalState, MechanicalState], bool],
         hi_from: MechanicalState,
         ride: list[MechanicalState] | None = None,
+        *,
+        fold: bool = False,
     ) -> tuple[float, float, MechanicalState, MechanicalState]:
         """Close in on where ``same(s_lo, state)`` stops holding, from the side before
         (``lo``, ``hi``: turns from ``phase``; ``s_hi`` was settled from ``hi_from``).
@@ -436,19 +455,30 @@ class Continuation:
         the side before, turned on to ``hi``: settled in full from ``s_lo``. A state at
         ``hi`` settled from an earlier one (or a probe stopped once departed) answers
         only whether a longer turn leaves the branch; from further back a descent can
-        fall past a rest state that continues it."""
-        while hi - lo > self.phase_tolerance:
-            mid = 0.5 * (lo + hi)
-            s_mid = self._settle(phase + self.sign * mid, s_lo)
-            if same(s_lo, s_mid):
-                lo, s_lo = mid, s_mid
-                if ride is not None:
-                    ride.append(s_mid)
-            else:
-                hi, s_hi, hi_from = mid, s_mid, s_lo
-        if s_hi.kind == "departed" or hi_from is not s_lo:
-            s_hi = self._settle(phase + self.sign * hi, s_lo, probe=False)
-        return lo, hi, s_lo, s_hi
+        fall past a rest state that continues it.
+
+        A ``fold`` stops at :attr:`fold_tolerance` when the state returned there leaves
+        the branch downward; otherwise the bisection goes on to the phase tolerance from
+        where it stopped, as if it had not (the same halvings, the same states)."""
+        tolerance = self.fold_tolerance if fold else self.phase_tolerance
+        while True:
+            while hi - lo > tolerance:
+                mid = 0.5 * (lo + hi)
+                s_mid = self._settle(phase + self.sign * mid, s_lo)
+                if same(s_lo, s_mid):
+                    lo, s_lo = mid, s_mid
+                    if ride is not None:
+                        ride.append(s_mid)
+                else:
+                    hi, s_hi, hi_from = mid, s_mid, s_lo
+            landing = s_hi
+            if s_hi.kind == "departed" or hi_from is not s_lo:
+                landing = self._settle(phase + self.sign * hi, s_lo, probe=False)
+            if tolerance <= self.phase_tolerance or (
+                not same(s_lo, landing) and landing.potential <= s_lo.potential
+            ):
+                return lo, hi, s_lo, landing
+            tolerance = self.phase_tolerance
 
     def torque(self, s: MechanicalState) -> tuple[float, float]:
         """The driver's torque at ``s`` in this continuation's sense, and its friction
@@ -525,6 +555,7 @@ class Continuation:
             contact_changes=False,
             sense="tighten",
             torque_limit=self.torque_limit,
+            fold_tolerance=PROOF_FOLD_TOLERANCE,
         )
         legs, events, states = walk.advance(state, phase, self.screw_in)
         return engagement(walk, state, legs, events, states, self.screw_in)
@@ -654,7 +685,7 @@ class Continuation:
                 continue
             # A fold within (at, nxt]: close in on it from the side before.
             lo, hi, s_lo, s_hi = self._bisect(
-                phase, at, nxt, prev, cur, self._continuous, prev, ride
+                phase, at, nxt, prev, cur, self._continuous, prev, ride, fold=True
             )
             # The branch up to the last state on it (``prev`` itself when the fold lies
             # within the tolerance of it), its contact changes located.

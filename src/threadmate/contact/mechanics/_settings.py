@@ -19,6 +19,7 @@ __all__ = [
     "MAX_STEP",
     "MAX_TURNS",
     "PHASE_TOLERANCE",
+    "PROOF_FOLD_TOLERANCE",
     "SCREW_IN",
     "check_continuation",
     "check_screw",
@@ -36,6 +37,11 @@ MAX_TURNS = 10.0
 #: How closely jumps, contact changes and the snap are located in phase (degrees, default;
 #: at most the step).
 PHASE_TOLERANCE = 0.01
+#: How closely the screw-in proof locates a fold that the bolt leaves downward (degrees):
+#: where such a jump lies within the turn changes neither whether the turn wedges nor its
+#: descent over the second half, only the phase its note quotes; a fold whose landing lies
+#: above the branch (a wedge, or none) is located to the phase tolerance as any other.
+PROOF_FOLD_TOLERANCE = 1.0
 #: Default turn of the screw-in that proves a snap (degrees).
 SCREW_IN = 180.0
 #: Longest screw-in that proves a snap (degrees: two turns).
