@@ -1,8 +1,8 @@
 """The design stage's sensor and controller figures, recomputed from a library's rows.
 
 A small real library (the 1/4-20 pair with its standard parts, a chamfered point in a
-countersunk nut; held roll -1 and +1 at pitch 0, three start phases) is swept once: at
-roll -1 the searches land in phase and jam (non-snap jumps), at +1 they snap. Every
+countersunk nut; held roll 1 and 2 at pitch -2, three start phases) is swept once: at
+roll 2 the searches land in phase and jam (non-snap jumps), at 1 they snap. Every
 figure of :func:`threadmate.design.snap_detection` and
 :func:`threadmate.design.controller_program` is checked against a walk of the Parquet
 rows with pandas alone (next_id to next_id), never against the code's own output; the
@@ -24,7 +24,7 @@ from threadmate.geometry import spec_from_designation
 from threadmate.library import load, sweep
 from threadmate.network import from_library
 
-GRID = {"roll": "-1,1", "pitch": "0", "phase": "0:240:120"}
+GRID = {"roll": "1,2", "pitch": "-2", "phase": "0:240:120"}
 PHASE_STEP = 120.0
 FRICTION, HIGH_FRICTION = 0.15, 0.20
 

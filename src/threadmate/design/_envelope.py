@@ -562,7 +562,11 @@ def grid_envelope(library: str | os.PathLike[str]) -> Envelope:
         start,
         located=False,
     )
+    # Directions computed from a grid's roll and pitch, to a thousandth of a degree: the
+    # worst directions name the same values.
     env.directions = [{**x, "direction": round(x["direction"], 3)} for x in env.directions]
+    for t in env.tolerated.values():
+        t["worst_directions"] = [round(d, 3) for d in t["worst_directions"]]
     env.notes.append(
         "read off the library's grid: each envelope lies between the last size the grid "
         "holds in its direction where its level holds and the next (first_failure); the "

@@ -17,7 +17,7 @@ from typing import Any
 from .._errors import LibraryError
 from .._io import remove_stale_temporaries
 from .._version import __version__
-from ..contact import PROOF_FOLD_TOLERANCE, SCREW_IN
+from ..contact import PROOF_FOLD_TOLERANCE, PROOF_TURN_LIMIT, SCREW_IN
 from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_FOLLOW_TURNS
 from ._store import (
     FORMAT,
@@ -61,6 +61,7 @@ def request_metadata(job: Job) -> dict[str, Any]:
             "step": job.step,
             "phase_tolerance": job.phase_tolerance,
             "screw_in": SCREW_IN,
+            "proof_turn_limit": PROOF_TURN_LIMIT,
             "proof_fold_tolerance": PROOF_FOLD_TOLERANCE,
             "clockwise": job.clockwise,
             "max_turns": MAX_FOLLOW_TURNS,

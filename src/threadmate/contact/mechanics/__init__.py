@@ -51,6 +51,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         MAX_TURNS as MAX_TURNS,
         PHASE_TOLERANCE as PHASE_TOLERANCE,
         PROOF_FOLD_TOLERANCE as PROOF_FOLD_TOLERANCE,
+        PROOF_TURN_LIMIT as PROOF_TURN_LIMIT,
         SCREW_IN as SCREW_IN,
         check_continuation as check_continuation,
         check_screw as check_screw,
@@ -106,6 +107,7 @@ _SOURCES = {
         "MAX_TURNS",
         "PHASE_TOLERANCE",
         "PROOF_FOLD_TOLERANCE",
+        "PROOF_TURN_LIMIT",
         "SCREW_IN",
     ),
     "._descent": (

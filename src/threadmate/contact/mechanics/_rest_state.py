@@ -62,8 +62,8 @@ class Engagement:
     turn : float
         How far it was turned (degrees).
     descent : float
-        Descent of the compliance centre per turn over the second half of the turn
-        (spec units per 360 degrees).
+        Descent of the compliance centre per turn over the last half-screw-in of the
+        turn (spec units per 360 degrees).
     lead : float
         The thread's lead (spec units per turn).
     tilt : float
@@ -72,6 +72,9 @@ class Engagement:
         Largest tightening torque the driver applied (N m).
     reason : str
         Why it is not engaged ('' when it is).
+    jammed : bool
+        It is not engaged because it wedged or its torque passed the limit (not because
+        it descends at another rate).
     """
 
     engaged: bool
@@ -81,6 +84,7 @@ class Engagement:
     tilt: float
     torque_peak: float
     reason: str = ""
+    jammed: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""
@@ -91,6 +95,7 @@ class Engagement:
             "lead": self.lead,
             "tilt_at_end": self.tilt,
             "torque_peak": self.torque_peak,
+            "jammed": self.jammed,
             "reason": self.reason,
         }
 

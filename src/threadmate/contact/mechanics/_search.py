@@ -56,6 +56,7 @@ from ._settings import (
     CONTINUATION_STEP,
     PHASE_TOLERANCE,
     PROOF_FOLD_TOLERANCE,
+    PROOF_TURN_LIMIT,
     SCREW_IN,
     check_continuation,
     check_screw,
@@ -243,16 +244,18 @@ def engagement(
     events: list[SearchEvent],
     states: list[MechanicalState],
     turn: float,
+    window: float | None = None,
 ) -> Engagement:
     """Judge a tightening continuation from ``start`` over ``turn`` degrees: engaged when
-    the compliance centre descends at the lead over its second half (after any settling
-    into the thread: a jump there is allowed) and the driver's torque stays within its
-    limit."""
+    the compliance centre descends at the lead over the last ``window`` degrees (default
+    the second half: after any settling into the thread, where a jump is allowed) and the
+    driver's torque stays within its limit."""
     lead = walk.mech.spec.lead
     path = [start, *states]
     end = path[-1]
     turned = abs(end.phase - start.phase)
-    half = min(path, key=lambda s: abs(abs(s.phase - start.phase) - 0.5 * turned))
+    judged = 0.5 * turned if window is None else min(window, turned)
+    half = min(path, key=lambda s: abs(abs(s.phase - start.phase) - (turned - judged)))
     span = abs(end.phase - half.phase)
     descent = (half.centre[2] - end.centre[2]) * 360.0 / span if span > 0 else math.nan
     tilt = axis_angle(np.abs(np.asarray(end.rotation)[:, 2]), Z_AXIS)  # either way up
@@ -273,14 +276,15 @@ def engagement(
             f"the tightening torque reaches {walk.torque(at)[0]:.3g} N m at phase "
             f"{at.phase:.2f} deg, past the limit {walk.torque_limit:.3g} N m (jammed)"
         )
-    elif not math.isfinite(descent) or abs(descent - lead) > LEAD_TOLERANCE * lead:
+    jammed = bool(reason)
+    if not jammed and (not math.isfinite(descent) or abs(descent - lead) > LEAD_TOLERANCE * lead):
         jumps = [e for e in events if e.kind == "jump"]
         reason = (
             f"turned clockwise {turned:g} deg it descends {descent:.4g} {units} per turn, "
             f"not the lead {lead:.4g} {units}"
             + (f" (it jumps at phase {jumps[0].phase:.2f} deg)" if jumps else "")
         )
-    return Engagement(not reason, turned, descent, lead, tilt, peak, reason)
+    return Engagement(not reason, turned, descent, lead, tilt, peak, reason, jammed)
 
 
 def wedged(legs: list[Leg], events: list[SearchEvent]) -> tuple[SearchEvent, Leg] | None:
@@ -543,7 +547,13 @@ class Continuation:
     def prove(self, state: MechanicalState, phase: float) -> Engagement:
         """Whether ``state`` (at ``phase``, degrees as turned) is engaged: turned
         clockwise (tightening) by :attr:`screw_in` degrees from it, the bolt descends at
-        the lead (:func:`engagement`)."""
+        the lead over the second half (:func:`engagement`).
+
+        A bolt that lands in the thread tilted straightens as the thread draws it in, and
+        meanwhile descends by less than the lead. While it still descends, neither at the
+        lead nor jammed, the turn goes on by half the screw-in at a time, judged over the
+        last half, up to :data:`PROOF_TURN_LIMIT` in all: it is engaged once it descends
+        at the lead."""
         if self.screw_in <= 0.0:
             return Engagement(True, 0.0, math.nan, self.mech.spec.lead, math.nan, math.nan)
         walk = Continuation(
@@ -558,7 +568,20 @@ class Continuation:
             fold_tolerance=PROOF_FOLD_TOLERANCE,
         )
         legs, events, states = walk.advance(state, phase, self.screw_in)
-        return engagement(walk, state, legs, events, states, self.screw_in)
+        turned, piece = self.screw_in, 0.5 * self.screw_in
+        proof = engagement(walk, state, legs, events, states, turned, piece)
+        while (
+            not (proof.engaged or proof.jammed)
+            and proof.descent > LEAD_TOLERANCE * proof.lead
+            and turned + piece <= PROOF_TURN_LIMIT + 1e-9
+        ):
+            more_legs, more_events, more = walk.advance(states[-1], states[-1].phase, piece)
+            legs += more_legs
+            events += more_events
+            states += more
+            turned += piece
+            proof = engagement(walk, state, legs, events, states, turned, piece)
+        return proof
 
     def _click(self, passed: list[MechanicalState], jump: float, landing: MechanicalState) -> float:
         """The click of the jump at phase ``jump`` onto ``landing`` (:func:`sensor_click`),

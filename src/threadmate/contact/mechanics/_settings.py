@@ -20,6 +20,7 @@ __all__ = [
     "MAX_TURNS",
     "PHASE_TOLERANCE",
     "PROOF_FOLD_TOLERANCE",
+    "PROOF_TURN_LIMIT",
     "SCREW_IN",
     "check_continuation",
     "check_screw",
@@ -46,6 +47,10 @@ PROOF_FOLD_TOLERANCE = 1.0
 SCREW_IN = 180.0
 #: Longest screw-in that proves a snap (degrees: two turns).
 MAX_SCREW_IN = 720.0
+#: Longest turn of a proof that goes on while the bolt still rights itself in the thread
+#: (degrees): a tilted landing comes upright within a turn, and a turn keeps the proof
+#: within the shortest parts' thread (the thesis's bolt and nut are a pitch long).
+PROOF_TURN_LIMIT = 360.0
 
 
 def check_screw(*, screw_in: float = SCREW_IN, torque_limit: float | None = None) -> None:
