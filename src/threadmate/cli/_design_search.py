@@ -19,6 +19,7 @@ from ._options import (
     condition_option,
     envelope_grid_options,
     parts_option,
+    workers_option,
 )
 
 __all__ = ["design_command"]
@@ -158,12 +159,7 @@ Progress goes to stderr.
     is_flag=True,
     help="Skip the re-evaluation over material conditions and friction.",
 )
-@click.option(
-    "--workers",
-    type=int,
-    default=None,
-    help="Worker processes (default: the CPUs available; 1 runs in-process).",
-)
+@workers_option
 @chord_option
 @condition_option
 @parts_option

@@ -22,6 +22,7 @@ from ._options import (
     condition_option,
     envelope_grid_options,
     parts_option,
+    workers_option,
 )
 from ._progress import progress_bar
 
@@ -62,12 +63,7 @@ forces in N, stiffness in N m/rad, work in mJ, torque in N m.
 @click.argument("source", metavar="LIBRARY|DESIGNATION|SPEC")
 @compliance_options
 @envelope_grid_options("Spec", "0:4:0.5", "0:360:22.5", "0:340:20", 0.05)
-@click.option(
-    "--workers",
-    type=int,
-    default=None,
-    help="Worker processes (default: the CPUs available; 1 runs in-process).",
-)
+@workers_option
 @chord_option
 @condition_option
 @parts_option

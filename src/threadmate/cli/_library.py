@@ -36,6 +36,7 @@ from ._options import (
     mesh_files_option,
     parts_option,
     polar_grid_options,
+    workers_option,
 )
 from ._progress import progress_bar
 from ._render_library import (
@@ -190,12 +191,7 @@ N/m, lengths in the spec's units, angles in degrees.
     help="Mechanics: also turn every start clockwise directly (threadmate screw, one turn) "
     "and record whether it engages, rides or jams (columns clockwise, clockwise_phase).",
 )
-@click.option(
-    "--workers",
-    type=int,
-    default=None,
-    help="Worker processes (default: the CPUs available; 1 runs in-process).",
-)
+@workers_option
 @click.option(
     "--scheduler",
     default=None,

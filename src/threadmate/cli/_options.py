@@ -402,6 +402,17 @@ def chord_option(func: Callable[..., Any]) -> Callable[..., Any]:
     )(func)
 
 
+def workers_option(func: Callable[..., Any]) -> Callable[..., Any]:
+    """``--workers N``: the worker processes of every command that sweeps (checked by
+    :func:`threadmate._validate.check_workers`)."""
+    return click.option(
+        "--workers",
+        type=int,
+        default=None,
+        help="Worker processes (default: the CPUs available; 1 runs in-process).",
+    )(func)
+
+
 def max_starts_option(func: Callable[..., Any]) -> Callable[..., Any]:
     """``--max-starts N``: the most configurations a grid may hold, for every command that
     sweeps (the API's limit, :func:`threadmate._validate.check_starts`)."""

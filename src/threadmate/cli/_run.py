@@ -28,6 +28,7 @@ from ._options import (
     mesh_files_option,
     parts_option,
     roll_spread_option,
+    workers_option,
 )
 from ._progress import progress_bar
 
@@ -105,7 +106,7 @@ phase {RUN_GRID["phase"]} (degrees). {SPEC_HELP} {DEFAULTS_NOTE}""",
     help="Also turn every start clockwise directly (threadmate screw); the report gives "
     "the share that engages against the held tilt.",
 )
-@click.option("--workers", type=int, default=None, help="Worker processes (default: all cores).")
+@workers_option
 @click.option("--scheduler", default=None, help="Dask scheduler address, or 'local'.")
 @chord_option
 @roll_spread_option

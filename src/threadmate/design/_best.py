@@ -43,6 +43,7 @@ from pathlib import Path
 from typing import Any
 
 from .._errors import InputError
+from .._units import json_units
 from .._validate import check_range
 from ..contact import Compliance
 from ..geometry import ThreadSpec
@@ -202,16 +203,11 @@ class ComplianceDesign:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document (``threadmate design --json``)."""
         return {
-            "units": {
-                "angle": "deg",
-                "force": "N",
-                "stiffness": "N m/rad",
-                "ratio": "m/rad (stiffness over force)",
-                "work": "mJ",
-                "torque": "N m",
-                "length": self.units,
-                "seconds": "s",
-            },
+            "units": json_units(
+                self.units,
+                *("angle", "force", "stiffness", "work", "torque", "seconds"),
+                ratio="m/rad (stiffness over force)",
+            ),
             "summary": self.summary_line(),
             "optimum": self.optimum,
             "held": self.held,

@@ -33,6 +33,7 @@ import networkx as nx
 from .._angles import FULL_TURN
 from .._errors import InputError, NoPathError
 from .._text import number_text
+from .._units import json_units
 from .._validate import check_range
 from ..contact import SCREW_IN
 from ..network import least_resistance_path
@@ -80,14 +81,7 @@ class ControllerProgram:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document (``threadmate program --json``)."""
         return {
-            "units": {
-                "length": self.units,
-                "angle": "deg",
-                "torque": "N m",
-                "moment": "N m",
-                "force": "N",
-                "share": "1",
-            },
+            "units": json_units(self.units, "angle", "torque", "moment", "force", "share"),
             "compliance": self.compliance,
             "turn_limit": self.turn_limit,
             "torque_limit": self.torque_limit,

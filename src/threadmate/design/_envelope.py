@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -36,6 +36,7 @@ import numpy as np
 import pandas as pd
 
 from .._errors import InputError
+from .._units import json_units
 from .._validate import check_range
 from ..contact import CONTINUATION_STEP, PHASE_TOLERANCE, Compliance
 from ..geometry import ThreadSpec, polar_from_held_tilt
@@ -185,16 +186,10 @@ class Envelope:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document (``threadmate envelope --json``)."""
         return {
-            "units": {
-                "angle": "deg",
-                "force": "N",
-                "stiffness": "N m/rad",
-                "lateral_stiffness": "N/m",
-                "work": "mJ",
-                "torque": "N m",
-                "length": self.units,
-                "share": "1",
-            },
+            "units": json_units(
+                self.units,
+                *("angle", "force", "stiffness", "lateral_stiffness", "work", "torque", "share"),
+            ),
             "definition": (
                 "per direction (azimuth in F from +X toward +Y toward which the bolt's axis "
                 "leans) and level L: the largest held tilt size up to which, at every size, "
@@ -240,10 +235,10 @@ class Envelope:
 class _Search:
     """The evaluated held tilts and the bisection's brackets, direction by direction."""
 
-    def __init__(self, grid: PolarGrid, tolerance: float) -> None:
-        self.grid = grid
+    def __init__(self, sizes: Sequence[float], tolerance: float) -> None:
         self.tolerance = tolerance
-        self.sizes = [t for t in grid.tilt if t > 0]
+        #: The grid's tilted sizes, walked outward along each direction.
+        self.sizes = [t for t in sizes if t > 0]
         self.outcomes: dict[tuple[float, float | None], pd.DataFrame] = {}
 
     @staticmethod
@@ -431,7 +426,7 @@ def envelope(
         raise InputError(
             f"source must be a ThreadSpec or a library directory, got {type(source).__name__}"
         )
-    search = _Search(grid, tolerance)
+    search = _Search(grid.tilt, tolerance)
     directions = [float(d) for d in grid.direction]
     if rows is not None and not rows.empty:
         outcomes = _outcomes(rows, torque_limit)
@@ -534,7 +529,7 @@ def grid_envelope(library: str | os.PathLike[str]) -> Envelope:
         )
     grid = read_grid(meta["grid"])
     outcomes = _outcomes(load(path))
-    search = _Search(PolarGrid((0.0,), (0.0,), (0.0,)), 0.0)
+    search = _Search((), 0.0)
     keyed: list[tuple[float, float, pd.DataFrame]] = []
     for held, group in outcomes.groupby(["held_roll", "held_pitch"], sort=False):
         tilt, azimuth = polar_from_held_tilt(*np.asarray(held, dtype=float))

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from .._errors import InputError
+from .._units import json_units
 from ..contact import Compliance
 from ..geometry import BoltPoint, Countersink, ThreadSpec, spec_from_designation
 from ._best import DesignProgress
@@ -62,7 +63,7 @@ class Robustness:
     def to_dict(self) -> dict[str, Any]:
         """The JSON part (``robustness`` of ``threadmate design --json``)."""
         return {
-            "units": {"angle": "deg", "work": "mJ", "torque": "N m"},
+            "units": json_units(None, "angle", "work", "torque"),
             "nominal_tolerated_tilt": self.nominal.tolerated_tilt,
             "tolerance": self.nominal.tolerance,
             "holds": self.holds,

@@ -52,6 +52,7 @@ from .._figures import new_figure, save_figure
 from .._io import atomic_write_text
 from .._json import json_text
 from .._text import number_text
+from .._units import json_units
 from .._validate import check_roll_spread
 from ..contact import UNSTABLE
 from ._paths import start_outcomes
@@ -184,15 +185,9 @@ class Recommendation:
     def to_dict(self) -> dict[str, Any]:
         """The JSON document (``threadmate recommend --json``)."""
         return {
-            "units": {
-                "length": self.units,
-                "angle": "deg",
-                "work": "mJ",
-                "torque": "N m",
-                "force": "N",
-                "stiffness": "N m/rad",
-                "share": "1",
-            },
+            "units": json_units(
+                self.units, "angle", "work", "torque", "force", "stiffness", "share"
+            ),
             "metrics": METRICS,
             "roll_spread": self.roll_spread,
             "pitch_range": list(self.pitch_range),

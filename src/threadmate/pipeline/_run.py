@@ -33,6 +33,7 @@ from typing import Any
 from .._io import atomic_write_text, remove_stale_temporaries
 from .._json import json_text
 from .._text import number_text
+from .._units import json_units
 from .._validate import check_roll_spread
 from .._version import __version__
 from ..contact import (
@@ -114,14 +115,9 @@ class RunResult:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready mapping of paths and figures (``threadmate run --json``)."""
         return {
-            "units": {
-                "length": self.recommended.get("units", ""),
-                "angle": "deg",
-                "work": "mJ",
-                "torque": "N m",
-                "force": "N",
-                "stiffness": "N m/rad",
-            },
+            "units": json_units(
+                self.recommended.get("units", ""), "angle", "work", "torque", "force", "stiffness"
+            ),
             "out": str(self.out),
             "libraries": [str(p) for p in self.libraries],
             "graphml": str(self.graphml),

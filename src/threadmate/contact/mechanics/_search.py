@@ -359,9 +359,7 @@ class Continuation:
         # short enough that it falls less than a jump's threshold (a ninth of a turn).
         self.step = min(float(step), TIGHTEN_STEP) if self.tightening else float(step)
         self.phase_tolerance = float(phase_tolerance)
-        self.fold_tolerance = max(
-            self.phase_tolerance, self.phase_tolerance if fold_tolerance is None else fold_tolerance
-        )
+        self.fold_tolerance = max(self.phase_tolerance, fold_tolerance or 0.0)
         self.contact_changes = contact_changes
         # +1: counter-clockwise (increasing phase), the unscrewing sense of a right-hand
         # thread; tightening turns the other way.
