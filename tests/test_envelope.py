@@ -234,7 +234,7 @@ def test_the_bisection_brackets_each_level_within_the_tolerance():
         return pd.DataFrame({"snapped": snapped, "failed": [False] * n})
 
     grid = PolarGrid.parse("0:4:0.5", "0,90", "0")
-    search = _Search(grid, tolerance=0.05)
+    search = _Search(grid.tilt, tolerance=0.05)
     probes = 0
     while True:
         wanted = {search.key(s, d) for d in (0.0, 90.0) for s in search.needed(d)}
