@@ -42,20 +42,17 @@ from ..contact import (
     MechanicalState,
     Mechanics,
     blank_row,
+    same_pose,
     screw,
     state_id,
     state_row,
     state_schema,
 )
 
-__all__ = ["states_of_held_tilt", "MAX_FOLLOW_TURNS", "JOIN_TILT"]
+__all__ = ["states_of_held_tilt", "MAX_FOLLOW_TURNS"]
 
 #: Turns after which a continuation that neither snapped nor joined another stops.
 MAX_FOLLOW_TURNS = 2.0
-#: Largest angle between bolt axes (degrees) of two states taken as one.
-JOIN_TILT = 0.05
-#: Largest distance between compliance centres, in pitches, of two states taken as one.
-JOIN_DISTANCE = 1e-3
 
 
 def engaged(s: MechanicalState) -> bool:
@@ -76,7 +73,6 @@ class _Tilt:
         self.states: dict[str, MechanicalState] = {}
         self.serial = 0
         self.floor = mech.load_carrying
-        self.join_distance = JOIN_DISTANCE * mech.spec.pitch
         self.events: list[str] = []  # states either side of a jump between grid phases
 
     def add(self, state: MechanicalState, role: str, config_id: int) -> str:
@@ -143,12 +139,9 @@ class _Tilt:
         return a.classification == b.classification and self._joins(a, b)
 
     def _joins(self, a: MechanicalState, b: MechanicalState) -> bool:
-        """Same load-carrying contacts, pose within the join tolerances."""
-        if self.carrying(a) != self.carrying(b):
-            return False
-        if math.dist(a.centre, b.centre) > self.join_distance:
-            return False
-        return axis_angle(_axis(a), _axis(b)) <= JOIN_TILT
+        """Same load-carrying contacts, pose within the join tolerances
+        (:data:`threadmate.contact.JOIN_DISTANCE`, :data:`threadmate.contact.JOIN_TILT`)."""
+        return self.carrying(a) == self.carrying(b) and same_pose(a, b, self.mech.spec.pitch)
 
     def arrival(self, known: list[str]) -> Callable[[MechanicalState], MechanicalState | None]:
         """For a continuation's last descent to a grid phase: the rest state among

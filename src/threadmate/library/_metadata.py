@@ -17,8 +17,8 @@ from typing import Any
 from .._errors import LibraryError
 from .._io import remove_stale_temporaries
 from .._version import __version__
-from ..contact import PROOF_FOLD_TOLERANCE, PROOF_TURN_LIMIT, SCREW_IN
-from ._held_tilt import JOIN_DISTANCE, JOIN_TILT, MAX_FOLLOW_TURNS
+from ..contact import JOIN_DISTANCE, JOIN_TILT, PROOF_FOLD_TOLERANCE, PROOF_TURN_LIMIT, SCREW_IN
+from ._held_tilt import MAX_FOLLOW_TURNS
 from ._store import (
     FORMAT,
     FORMAT_VERSION,

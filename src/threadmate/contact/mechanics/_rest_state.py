@@ -62,8 +62,8 @@ class Engagement:
     turn : float
         How far it was turned (degrees).
     descent : float
-        Descent of the compliance centre per turn over the last half-screw-in of the
-        turn (spec units per 360 degrees).
+        Descent of the compliance centre per turn over the turn's last half screw-in
+        (by default its last 90 degrees; spec units per 360 degrees).
     lead : float
         The thread's lead (spec units per turn).
     tilt : float

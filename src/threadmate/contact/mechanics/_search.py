@@ -54,6 +54,8 @@ from ._rest_state import (
 )
 from ._settings import (
     CONTINUATION_STEP,
+    JOIN_DISTANCE,
+    JOIN_TILT,
     PHASE_TOLERANCE,
     PROOF_FOLD_TOLERANCE,
     PROOF_TURN_LIMIT,
@@ -72,6 +74,7 @@ __all__ = [
     "begin_turn",
     "default_torque_limit",
     "engagement",
+    "same_pose",
     "search",
     "sensor_click",
     "wedged",
@@ -244,17 +247,17 @@ def engagement(
     events: list[SearchEvent],
     states: list[MechanicalState],
     turn: float,
-    window: float | None = None,
+    window: float,
 ) -> Engagement:
     """Judge a tightening continuation from ``start`` over ``turn`` degrees: engaged when
-    the compliance centre descends at the lead over the last ``window`` degrees (default
-    the second half: after any settling into the thread, where a jump is allowed) and the
-    driver's torque stays within its limit."""
+    the compliance centre descends at the lead over the last ``window`` degrees (after any
+    settling into the thread, where a jump is allowed) and the driver's torque stays
+    within its limit."""
     lead = walk.mech.spec.lead
     path = [start, *states]
     end = path[-1]
     turned = abs(end.phase - start.phase)
-    judged = 0.5 * turned if window is None else min(window, turned)
+    judged = min(window, turned)
     half = min(path, key=lambda s: abs(abs(s.phase - start.phase) - (turned - judged)))
     span = abs(end.phase - half.phase)
     descent = (half.centre[2] - end.centre[2]) * 360.0 / span if span > 0 else math.nan
@@ -285,6 +288,59 @@ def engagement(
             + (f" (it jumps at phase {jumps[0].phase:.2f} deg)" if jumps else "")
         )
     return Engagement(not reason, turned, descent, lead, tilt, peak, reason, jammed)
+
+
+def same_pose(a: MechanicalState, b: MechanicalState, pitch: float) -> bool:
+    """Whether two states have one pose: compliance centres within :data:`JOIN_DISTANCE`
+    pitches (``pitch`` in spec units) and axes within :data:`JOIN_TILT`."""
+    if math.dist(a.centre, b.centre) > JOIN_DISTANCE * pitch:
+        return False
+    axes = (np.asarray(s.rotation, dtype=float)[:, 2] for s in (a, b))
+    return axis_angle(*axes) <= JOIN_TILT
+
+
+@dataclass(frozen=True)
+class _Walked:
+    """A proof's clockwise walk: its start, and the legs, events and states
+    :meth:`Continuation.advance` gave."""
+
+    start: MechanicalState
+    legs: list[Leg]
+    events: list[SearchEvent]
+    states: list[MechanicalState]
+
+    def beyond(
+        self, s: MechanicalState, phase: float, reach: float, sign: int, pitch: float
+    ) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]] | None:
+        """Its legs, events and states after ``s`` (at ``phase``) up to ``reach``
+        degrees further in the sense ``sign``, when ``s`` is one of its states (the
+        same class and pose, :func:`same_pose`, at that phase); None otherwise."""
+        path = [self.start, *self.states]
+        at = next(
+            (
+                k
+                for k, o in enumerate(path)
+                if abs(o.phase - phase) <= 1e-9
+                and o.classification == s.classification
+                and same_pose(o, s, pitch)
+            ),
+            None,
+        )
+        if at is None:
+            return None
+
+        def within(x: float) -> bool:
+            return 1e-9 < sign * (x - phase) <= reach + 1e-9
+
+        states = [o for o in self.states[at:] if within(o.phase)]
+        if not states:
+            return None
+        legs = [
+            leg
+            for leg in self.legs
+            if within(leg.after.phase) and sign * (leg.before.phase - phase) >= -1e-9
+        ]
+        return legs, [e for e in self.events if within(e.phase)], states
 
 
 def wedged(legs: list[Leg], events: list[SearchEvent]) -> tuple[SearchEvent, Leg] | None:
@@ -369,6 +425,8 @@ class Continuation:
         #: Turn of the clockwise continuation that proves a snap (degrees; 0: none).
         self.screw_in = float(screw_in)
         self.torque_limit = default_torque_limit(mech) if torque_limit is None else torque_limit
+        #: The proofs' clockwise walks so far (:meth:`_tighten` joins them).
+        self._screwed: list[_Walked] = []
 
     def _settle(
         self,
@@ -565,7 +623,7 @@ class Continuation:
             torque_limit=self.torque_limit,
             fold_tolerance=PROOF_FOLD_TOLERANCE,
         )
-        legs, events, states = walk.advance(state, phase, self.screw_in)
+        legs, events, states = self._tighten(walk, state, phase, self.screw_in)
         turned, piece = self.screw_in, 0.5 * self.screw_in
         proof = engagement(walk, state, legs, events, states, turned, piece)
         while (
@@ -573,13 +631,56 @@ class Continuation:
             and proof.descent > LEAD_TOLERANCE * proof.lead
             and turned + piece <= PROOF_TURN_LIMIT + 1e-9
         ):
-            more_legs, more_events, more = walk.advance(states[-1], states[-1].phase, piece)
+            more_legs, more_events, more = self._tighten(walk, states[-1], states[-1].phase, piece)
             legs += more_legs
             events += more_events
             states += more
             turned += piece
             proof = engagement(walk, state, legs, events, states, turned, piece)
+        self._screwed.append(_Walked(state, legs, events, states))
         return proof
+
+    def _tighten(
+        self, walk: Continuation, state: MechanicalState, phase: float, turn: float
+    ) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]]:
+        """``walk.advance(state, phase, turn)`` (a clockwise walk), taken from an earlier
+        proof's walk where it can.
+
+        The landings and the starts in phase of one held tilt often lie on one branch in
+        the thread. A walk that reaches a state of an earlier one (the same class and
+        pose at the same phase, :meth:`_Walked.beyond`) joins it, for the quasi-static
+        dynamics are deterministic: from there on the two are one. So the walk is turned
+        on to where it may join: the start of an earlier walk further on, or (once, for
+        a state between an earlier walk's phases) the next of that walk's states within
+        a step; beyond what the earlier walks hold, it goes on by itself."""
+        sign, pitch = walk.sign, self.mech.spec.pitch
+        legs: list[Leg] = []
+        events: list[SearchEvent] = []
+        states: list[MechanicalState] = []
+        at, s, ph, aligned = 0.0, state, phase, False
+        while at < turn - 1e-9:
+            reach = turn - at
+            piece = next(
+                (p for w in self._screwed if (p := w.beyond(s, ph, reach, sign, pitch))), None
+            )
+            if piece is None:
+                ahead = [
+                    o.phase
+                    for w in self._screwed
+                    for o, near in [(w.start, False), *((o, True) for o in w.states)]
+                    if 1e-9 < sign * (o.phase - ph) <= (min(walk.step, reach) if near else reach)
+                    and not (near and aligned)
+                ]
+                aligned = True
+                to = min((sign * (x - ph) for x in ahead), default=reach)
+                piece = walk.advance(s, ph, to)
+            legs += piece[0]
+            events += piece[1]
+            states += piece[2]
+            s = piece[2][-1]
+            at += sign * (s.phase - ph)
+            ph = s.phase
+        return legs, events, states
 
     def _click(self, passed: list[MechanicalState], jump: float, landing: MechanicalState) -> float:
         """The click of the jump at phase ``jump`` onto ``landing`` (:func:`sensor_click`),

@@ -15,6 +15,8 @@ from ..._validate import check_open_range, check_search_steps
 
 __all__ = [
     "CONTINUATION_STEP",
+    "JOIN_DISTANCE",
+    "JOIN_TILT",
     "MAX_SCREW_IN",
     "MAX_STEP",
     "MAX_TURNS",
@@ -43,6 +45,13 @@ PHASE_TOLERANCE = 0.01
 #: descent over the second half, only the phase its note quotes; a fold whose landing lies
 #: above the branch (a wedge, or none) is located to the phase tolerance as any other.
 PROOF_FOLD_TOLERANCE = 1.0
+#: Largest angle between bolt axes (degrees) of two rest states taken as one: a
+#: continuation that reaches a state already known joins it, for the quasi-static dynamics
+#: are deterministic and from there on the paths are one.
+JOIN_TILT = 0.05
+#: Largest distance between compliance centres, in pitches, of two rest states taken as
+#: one (with :data:`JOIN_TILT`).
+JOIN_DISTANCE = 1e-3
 #: Default turn of the screw-in that proves a snap (degrees).
 SCREW_IN = 180.0
 #: Longest screw-in that proves a snap (degrees: two turns).
