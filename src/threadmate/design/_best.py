@@ -205,7 +205,12 @@ class ComplianceDesign:
         return {
             "units": json_units(
                 self.units,
-                *("angle", "force", "stiffness", "work", "torque", "seconds"),
+                "angle",
+                "force",
+                "stiffness",
+                "work",
+                "torque",
+                "seconds",
                 ratio="m/rad (stiffness over force)",
             ),
             "summary": self.summary_line(),

@@ -188,7 +188,13 @@ class Envelope:
         return {
             "units": json_units(
                 self.units,
-                *("angle", "force", "stiffness", "lateral_stiffness", "work", "torque", "share"),
+                "angle",
+                "force",
+                "stiffness",
+                "lateral_stiffness",
+                "work",
+                "torque",
+                "share",
             ),
             "definition": (
                 "per direction (azimuth in F from +X toward +Y toward which the bolt's axis "
@@ -537,7 +543,8 @@ def grid_envelope(library: str | os.PathLike[str]) -> Envelope:
     directions: list[float] = []
     for _, d, _ in sorted(keyed, key=lambda k: (np.isnan(k[1]), k[1])):
         if not np.isnan(d) and not any(abs(d - x) < SAME_DIRECTION for x in directions):
-            directions.append(d)
+            # To a thousandth of a degree: computed from a grid's roll and pitch.
+            directions.append(round(d, 3) + 0.0)
     for size, d, group in keyed:
         if search.key(size, 0.0)[1] is _UP or np.isnan(d):
             search.outcomes[(0.0, _UP)] = group
@@ -557,11 +564,6 @@ def grid_envelope(library: str | os.PathLike[str]) -> Envelope:
         start,
         located=False,
     )
-    # Directions computed from a grid's roll and pitch, to a thousandth of a degree: the
-    # worst directions name the same values.
-    env.directions = [{**x, "direction": round(x["direction"], 3)} for x in env.directions]
-    for t in env.tolerated.values():
-        t["worst_directions"] = [round(d, 3) for d in t["worst_directions"]]
     env.notes.append(
         "read off the library's grid: each envelope lies between the last size the grid "
         "holds in its direction where its level holds and the next (first_failure); the "
