@@ -85,7 +85,7 @@ MAX_STARTS = 100_000
 #: the network, and its configuration numbers are listed in memory.
 MAX_STARTS_CEILING = 10_000_000
 #: Configurations a sweep computes per second and per worker (mechanics; thesis model).
-SWEEP_RATE = {"mechanics": 0.35, "thesis": 20.0}
+SWEEP_RATE = {"mechanics": 0.6, "thesis": 20.0}
 #: Most continuation steps a search or screw-in takes: turns x 360 / step (one turn at
 #: 0.01 deg, the resolution the search locates its events to).
 MAX_SEARCH_STEPS = 36_000
