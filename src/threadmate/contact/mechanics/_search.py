@@ -293,10 +293,9 @@ def engagement(
 def same_pose(a: MechanicalState, b: MechanicalState, pitch: float) -> bool:
     """Whether two states have one pose: compliance centres within :data:`JOIN_DISTANCE`
     pitches (``pitch`` in spec units) and axes within :data:`JOIN_TILT`."""
-    if math.dist(a.centre, b.centre) > JOIN_DISTANCE * pitch:
-        return False
-    axes = (np.asarray(s.rotation, dtype=float)[:, 2] for s in (a, b))
-    return axis_angle(*axes) <= JOIN_TILT
+    return math.dist(a.centre, b.centre) <= JOIN_DISTANCE * pitch and (
+        _tilt_between(a, b) <= JOIN_TILT
+    )
 
 
 @dataclass(frozen=True)
