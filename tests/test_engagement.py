@@ -338,6 +338,28 @@ def test_a_proof_joins_the_walk_of_an_earlier_one_on_its_branch():
     assert cost_joined < 0.5 * cost_fresh
 
 
+@pytest.mark.slow
+def test_a_proof_halves_the_steps_that_leave_its_branch():
+    """The standard 1/4-20 parts held at roll -2 degrees, in phase at 140 degrees: screwed
+    in, the bolt is pinched between the flanks and a 5-degree step's settle leaves the
+    branch where shorter ones stay on it. The proof halves such steps; the same walk as a
+    search takes it (every step that leaves the branch closed in on by bisection to the
+    phase tolerance) reaches the same verdict, its descent over the last half screw-in
+    within 1 % of the lead and its tilt within 0.05 degree."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    mech = Mechanics(spec)
+    start = mech.settle(-2.0, 0.0, 140.0).state
+    assert start.classification == "in-phase"
+    proof = Continuation(mech, -2.0, 0.0).prove(start, 140.0)
+    walk = Continuation(mech, -2.0, 0.0, contact_changes=False, sense="tighten")
+    legs, events, states = walk.advance(start, 140.0, proof.turn)
+    # Judged as the proof is: over the last half screw-in.
+    bisected = engagement(walk, start, legs, events, states, proof.turn, 0.5 * SCREW_IN)
+    assert proof.engaged and bisected.engaged
+    assert abs(proof.descent - bisected.descent) <= 0.01 * spec.lead
+    assert abs(proof.tilt - bisected.tilt) <= 0.05
+
+
 def test_forces_stay_within_what_the_load_and_spring_explain(flat):
     """Where two contacts' line passes near the compliance centre (held pitch -3, the tip
     rim against the bore's edge near 348.7 degrees) the rigid balance asks for hundreds of

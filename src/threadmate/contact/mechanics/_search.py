@@ -387,7 +387,9 @@ class Continuation:
         with the branch (degrees; default ``phase_tolerance``): the screw-in proof's
         :data:`PROOF_FOLD_TOLERANCE`. A fold whose landing is continuous with the branch
         or lies above it is then located on to ``phase_tolerance``, by the same bisection,
-        so that it is told and judged where it was.
+        so that it is told and judged where it was. Coarser than ``phase_tolerance``, the
+        walk halves a step that leaves the branch before it looks for a fold in it
+        (:meth:`_halves`).
     """
 
     def __init__(
@@ -483,14 +485,44 @@ class Continuation:
         fall = self.mech.spec.lead * turn / 360.0
         return fall if self.tightening else -fall
 
+    def _halves(self, a: MechanicalState, b: MechanicalState, turn: float) -> bool:
+        """Whether a walk that locates folds coarser than the phase tolerance (a proof's),
+        whose step of ``turn`` degrees from ``a`` left the branch at ``b``, takes half the
+        step again instead of looking for a fold in it.
+
+        A proof asks only whether and how the bolt goes in, not where its walk's steps
+        fall (a search's do: its legs' work and events are the library's). Where its
+        steps leave the branch, most often the predictor fell short, not the branch: a
+        bolt pinched between the flanks, turned that far at its tilt, meets the nut at
+        every height and the lowering climbs out; a descent from a long turn wanders off
+        along a nearly flat valley. A shorter step then stays on it, for one settle where
+        closing in on the step's end takes ten. A step is halved down to what the fold's
+        bisection would locate: a landing above the branch (no jump: a jump goes down) to
+        a few times the phase tolerance, any other to twice the fold tolerance. A step
+        whose landing left the branch by its class alone (into phase, as at a snap, where
+        the bisection stops at the fold tolerance) is not halved.
+        """
+        fall = self._fall(a, b)
+        if self.fold_tolerance <= self.phase_tolerance or (
+            abs(fall) <= self.drop_limit and _tilt_between(a, b) <= JUMP_TILT
+        ):
+            return False
+        return turn > (
+            8 * self.phase_tolerance if fall < -self.drop_limit else 2 * self.fold_tolerance
+        )
+
+    def _fall(self, a: MechanicalState, b: MechanicalState) -> float:
+        """How far ``b`` lies below the branch through ``a``: its compliance centre's drop
+        beyond the helix's share (negative above)."""
+        return a.centre[2] - b.centre[2] - self._helical_fall(a, abs(b.phase - a.phase))
+
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
         if b.classification == IN_PHASE and a.classification != IN_PHASE:
             return False
         # Either way: a rest state that climbs out of the thread within a step (turned at
         # a tilt where the thread pinches the bolt, the lowering leaves it) is no more
         # the branch than one that falls.
-        fall = a.centre[2] - b.centre[2] - self._helical_fall(a, abs(b.phase - a.phase))
-        return abs(fall) <= self.drop_limit and _tilt_between(a, b) <= JUMP_TILT
+        return abs(self._fall(a, b)) <= self.drop_limit and _tilt_between(a, b) <= JUMP_TILT
 
     def _bisect(
         self,
@@ -792,8 +824,9 @@ class Continuation:
 
         prev, at = state, 0.0
         # The step taken: shorter where a step's predictor fell short of a branch that
-        # goes on (see below), growing back on each continuous step.
-        stride = self.step
+        # goes on (see below, and :meth:`_halves` in a proof), growing back on each
+        # continuous step.
+        stride, grow = self.step, True
         while at < turn - 1e-12:
             if progress is not None:
                 progress(at)
@@ -802,7 +835,11 @@ class Continuation:
             if self._continuous(prev, cur):
                 follow(prev, at, cur, nxt)
                 prev, at = cur, nxt
-                stride = min(2 * stride, self.step)
+                # (Not at once after a halved step: the step's far end left the branch.)
+                stride, grow = min(2 * stride, self.step) if grow else stride, True
+                continue
+            if self._halves(prev, cur, nxt - at):
+                stride, grow = 0.5 * (nxt - at), False
                 continue
             # A fold within (at, nxt]: close in on it from the side before.
             lo, hi, s_lo, s_hi = self._bisect(
