@@ -390,6 +390,10 @@ class Continuation:
         so that it is told and judged where it was. Coarser than ``phase_tolerance``, the
         walk halves a step that leaves the branch before it looks for a fold in it
         (:meth:`_halves`).
+    clicks : bool
+        Measure each jump's click (:func:`sensor_click`, one settle more per jump).
+        False: a proof's walk, judged by its descent and torque alone; its jumps' clicks
+        are NaN.
     """
 
     def __init__(
@@ -405,6 +409,7 @@ class Continuation:
         screw_in: float = SCREW_IN,
         torque_limit: float | None = None,
         fold_tolerance: float | None = None,
+        clicks: bool = True,
     ) -> None:
         if sense not in SENSES:
             raise InputError(f"sense must be one of {', '.join(SENSES)}, got {sense!r}")
@@ -418,6 +423,7 @@ class Continuation:
         self.phase_tolerance = float(phase_tolerance)
         self.fold_tolerance = max(self.phase_tolerance, fold_tolerance or 0.0)
         self.contact_changes = contact_changes
+        self.clicks = clicks
         # +1: counter-clockwise (increasing phase), the unscrewing sense of a right-hand
         # thread; tightening turns the other way.
         self.sign = mech.spec.handedness * (-1 if self.tightening else 1)
@@ -517,7 +523,13 @@ class Continuation:
         return a.centre[2] - b.centre[2] - self._helical_fall(a, abs(b.phase - a.phase))
 
     def _continuous(self, a: MechanicalState, b: MechanicalState) -> bool:
-        if b.classification == IN_PHASE and a.classification != IN_PHASE:
+        # Into phase is a fold (the snap), but not screwing in from a pose in phase
+        # already whose descent stopped short of the balance: the thread held the bolt.
+        if (
+            b.classification == IN_PHASE
+            and a.classification != IN_PHASE
+            and not (self.tightening and a.kind == IN_PHASE)
+        ):
             return False
         # Either way: a rest state that climbs out of the thread within a step (turned at
         # a tilt where the thread pinches the bolt, the lowering leaves it) is no more
@@ -653,6 +665,7 @@ class Continuation:
             sense="tighten",
             torque_limit=self.torque_limit,
             fold_tolerance=PROOF_FOLD_TOLERANCE,
+            clicks=False,
         )
         legs, events, states = self._tighten(walk, state, phase, self.screw_in)
         turned, piece = self.screw_in, 0.5 * self.screw_in
@@ -875,7 +888,11 @@ class Continuation:
                 note = "" if proof.engaged else f"not a snap: {proof.reason}"
                 s_hi = replace(s_hi, engagement=proof)
             kind = "snap" if proof is not None and proof.engaged else "jump"
-            click = self._click([state, *states, *ride], phase + sign * hi, s_hi)
+            click = (
+                self._click([state, *states, *ride], phase + sign * hi, s_hi)
+                if self.clicks
+                else math.nan
+            )
             legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, UNSTABLE, proof, click))
             events.append(
                 SearchEvent(
