@@ -164,11 +164,10 @@ def test_a_state_in_phase_moves_along_the_helix(mech, held, phase):
 def test_the_proof_locates_a_jump_down_to_a_degree_with_the_same_verdict():
     """The screw-in proof locates a fold the bolt leaves downward to
     ``PROOF_FOLD_TOLERANCE``, not to the phase tolerance (docs/mechanics.md, "The snap
-    proved"): on a start in phase of the default parts whose screw-in jumps (held at
-    (-2, -2), in phase at 140 degrees: its screw-in jumps, then wedges), the
-    verdict is that of the proof locating it to the phase tolerance, the jump within the
-    coarser tolerance of it, the descent within 1 % of the lead and the tilt at the end
-    within 0.05 degree."""
+    proved"): on a start in phase of the default parts whose screw-in jumps, then wedges
+    (held at (-2, -2), at 140 degrees), the verdict is that of the proof locating it to the
+    phase tolerance, the jump within the coarser tolerance of it, the descent within 1 % of
+    the lead and the tilt at the end within 0.05 degree."""
     spec = spec_from_designation("1/4-20 UNC-2A/2B")
     mech = Mechanics(spec, Compliance())
     start = mech.settle(-2.0, -2.0, 140.0).state
