@@ -286,6 +286,18 @@ def test_settle_reaches_a_rest_state_soft_compliance(mech_soft, quarter_20, cfg)
     check_kkt(quarter_20, SOFT, mech_soft.settle(*cfg))
 
 
+@pytest.mark.parametrize("phase", [20.0, 280.0])
+def test_kkt_with_the_point_seated_round_the_countersink(phase):
+    """The standard 1/4-20 parts (chamfered point, countersunk nut) held at pitch 1.5
+    degrees: the point comes to rest in the countersink within a few hundredths of a degree
+    of upright, cone in cone, on contacts round the ring. The descent reaches a rest state
+    there, and docs/mechanics.md's KKT conditions hold, each recomputed from the state."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    rest = Mechanics(spec, DEFAULT).settle(0.0, 1.5, phase)
+    assert {c.regions for c in rest.state.touching} == {"chamfer/countersink"}
+    check_kkt(spec, DEFAULT, rest)
+
+
 @pytest.mark.parametrize("cfg", [(1, 4, 348.0), (2, 4, 347.5)])
 def test_kkt_where_the_thread_starts_meet_edge_to_edge(mech, quarter_20, cfg):
     """The bolt's thread start (a thin wedge on its tip face) lowered onto the nut's (one on

@@ -40,6 +40,10 @@ __all__ = ["HELICAL_FEATURES", "HELIX_ARC", "UPPER_BINS", "on_helix"]
 #: Arc (degrees about the axis) of a contact along the helices that one point of it stands
 #: for (:meth:`Mechanics._along_helix`).
 HELIX_ARC = 30.0
+#: (bolt, nut) regions of a ring of contact round the axis: a point in the countersink, a
+#: cone in a cone; known, as a contact along the helices is, by its least gap in each
+#: :data:`HELIX_ARC` of it (:meth:`Mechanics.contacts`).
+RING_REGIONS = frozenset({("chamfer", "countersink"), ("round", "countersink")})
 #: Pieces of its arc by which a contact with material above stands for a line of contact
 #: (:meth:`Mechanics.contacts`).
 UPPER_BINS = 5
@@ -193,7 +197,7 @@ class _ContactSet(_Lowering):
                     self._contact(d, pts[flat][c], float(gaps[flat][c]), refine=False)
                     for c in corners
                 )
-            if first.helical:
+            if first.helical or (first.bolt_region, first.nut_region) in RING_REGIONS:
                 out.extend(self._along_helix(d, pts, gaps, j))
         if d.over_pairs is None:
             # (Kept with the pose: its nudges re-evaluate the same pairs.)
@@ -240,10 +244,11 @@ class _ContactSet(_Lowering):
         self, d: _Drop, pts: NDArray[np.float64], gaps: NDArray[np.float64], j: int
     ) -> list[_Near]:
         """The rest of a contact along the helices: where one flank lies along the other
-        (the bolt in the thread), the pairs within ``near`` run round the axis as one
-        group; its least gap in each :data:`HELIX_ARC` of it (beyond the one holding
-        ``j``, the group's least) is a contact of its own, so that the descent knows
-        the whole line it may tip onto, not its lowest point alone."""
+        (the bolt in the thread), or round a ring (:data:`RING_REGIONS`), the pairs within
+        ``near`` run round the axis as one group; its least gap in each :data:`HELIX_ARC`
+        of it (beyond the one holding ``j``, the group's least) is a contact of its own,
+        so that the descent knows the whole line it may tip onto, not its lowest point
+        alone."""
         theta = np.arctan2(pts[:, 1], pts[:, 0])
         rel = phase_difference(theta, theta[j], TWO_PI)
         arc = math.radians(HELIX_ARC)
