@@ -37,8 +37,8 @@ from ._lowering import _Drop, _Lowering
 
 __all__ = ["HELICAL_FEATURES", "HELIX_ARC", "UPPER_BINS", "on_helix"]
 
-#: Arc (degrees about the axis) of a contact along the helices that one point of it stands
-#: for (:meth:`Mechanics._along_helix`).
+#: Arc (degrees about the axis) of a contact along the helices, or round a ring, that one
+#: point of it stands for (:meth:`Mechanics._round_the_axis`).
 HELIX_ARC = 30.0
 #: (bolt, nut) regions of a ring of contact round the axis: a point in the countersink, a
 #: cone in a cone; known, as a contact along the helices is, by its least gap in each
@@ -198,7 +198,7 @@ class _ContactSet(_Lowering):
                     for c in corners
                 )
             if first.helical or (first.bolt_region, first.nut_region) in RING_REGIONS:
-                out.extend(self._along_helix(d, pts, gaps, j))
+                out.extend(self._round_the_axis(d, pts, gaps, j))
         if d.over_pairs is None:
             # (Kept with the pose: its nudges re-evaluate the same pairs.)
             over = self._overhead(d)
@@ -240,7 +240,7 @@ class _ContactSet(_Lowering):
         _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
         return _single_linkage(points[first], self.separation)[inverse.reshape(-1)]
 
-    def _along_helix(
+    def _round_the_axis(
         self, d: _Drop, pts: NDArray[np.float64], gaps: NDArray[np.float64], j: int
     ) -> list[_Near]:
         """The rest of a contact along the helices: where one flank lies along the other
