@@ -188,6 +188,18 @@ def test_sector_queries_agree_with_the_whole_nut(analyzer):
     assert seen == {True, False}
 
 
+def test_lowest_bolt_point_is_the_least_over_every_vertex(analyzer):
+    """The bolt's lowest point, asked of its convex hull's vertices, is the least height of
+    all its vertices (brute force), to the last bit, at any attitude."""
+    eng = analyzer.engine
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        tilt = rng.uniform(-30, 30, 2) if rng.random() < 0.5 else rng.uniform(-180, 180, 2)
+        rotation = _rot(*tilt, rng.uniform(0, 360))
+        heights = eng.bolt_vertices @ rotation[2]
+        assert eng.lowest_bolt_z(rotation) == float(heights.min())
+
+
 # The exact reference (tests/_exact_geometry.py): exact_first_height, and _rot, the frame
 # composition written out.
 

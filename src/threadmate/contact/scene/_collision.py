@@ -43,7 +43,7 @@ import fcl
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
-from scipy.spatial import cKDTree
+from scipy.spatial import ConvexHull, cKDTree
 
 from ..._angles import TWO_PI
 from ...geometry import Pose
@@ -328,6 +328,10 @@ class CollisionPair:
         self.queries = 0
         # Bounding radius of the bolt about its origin: bounds the motion of any bolt point.
         self.bolt_radius = float(np.linalg.norm(self.bolt_vertices, axis=1).max())
+        # The lowest point of the bolt at any attitude is a vertex of its convex hull: a
+        # tenth of the vertices, asked at every lowering.
+        hull = ConvexHull(self.bolt_vertices).vertices
+        self._bolt_hull = np.ascontiguousarray(self.bolt_vertices[np.unique(hull)])
         self._solids: dict[str, MeshSolid] = {}
 
     def solid(self, body: str) -> MeshSolid:
@@ -434,4 +438,4 @@ class CollisionPair:
     def lowest_bolt_z(self, rotation: NDArray[np.float64]) -> float:
         """Lowest bolt vertex height (fixed frame) for a bolt at the origin turned by
         ``rotation``."""
-        return float((self.bolt_vertices @ rotation[2]).min())
+        return float((self._bolt_hull @ rotation[2]).min())
