@@ -188,6 +188,44 @@ def test_sector_queries_agree_with_the_whole_nut(analyzer):
     assert seen == {True, False}
 
 
+@pytest.mark.parametrize("point", ["flat", "chamfer"])
+def test_pairs_under_the_nuts_material_are_every_such_crossing_pair(analyzer, point):
+    """The pairs of a nut face turned down and a bolt face turned up, asked of those faces
+    alone, are every such pair of all the crossing pairs (brute force, normals from the
+    rotated face normals), at tilts either side of the limit where the query asks all."""
+    from threadmate.contact import Compliance, Mechanics
+    from threadmate.contact.scene._collision import UNDER_TILT
+    from threadmate.geometry import Pose, spec_from_designation
+
+    if point == "flat":
+        eng = analyzer.engine
+    else:  # the default parts: chamfered point, countersunk nut
+        eng = Mechanics(spec_from_designation("1/4-20 UNC-2A/2B"), Compliance()).scene.engine
+    tri = eng.bolt_vertices[eng.bolt_faces]
+    bolt_normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    bolt_normal /= np.linalg.norm(bolt_normal, axis=1)[:, None]
+    tri = eng.nut_vertices[eng.nut_faces]
+    nut_normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    nut_normal /= np.linalg.norm(nut_normal, axis=1)[:, None]
+    rng = np.random.default_rng(5)
+    found = 0
+    for _ in range(60):
+        size, direction = rng.uniform(0, 45), rng.uniform(0, 2 * np.pi)
+        rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
+        h = -eng.lowest_bolt_z(rotation) - rng.uniform(0, 0.1)
+        pose = Pose(rotation, np.array([0.0, 0.0, h]))
+        every = eng.pairs(pose)
+        up = (bolt_normal[every[:, 0]] @ rotation.T)[:, 2] > 1e-12
+        down = nut_normal[every[:, 1], 2] < -1e-12
+        expected = set(map(tuple, every[up & down].tolist()))
+        asked = set(map(tuple, eng.pairs_under_material(pose).tolist()))
+        assert expected <= asked <= set(map(tuple, every.tolist()))
+        if np.degrees(np.arccos(rotation[2, 2])) > UNDER_TILT:  # beyond it, all are asked
+            assert asked == set(map(tuple, every.tolist()))
+        found += len(expected)
+    assert found > 0
+
+
 def test_lowest_bolt_point_is_the_least_over_every_vertex(analyzer):
     """The bolt's lowest point, asked of its convex hull's vertices, is the least height of
     all its vertices (brute force), to the last bit, at any attitude."""

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..scene import pair_keys, vertical_rise, vertical_touch
+from ..scene import pair_keys, upward, vertical_rise, vertical_touch
 from ._held_bolt import _HeldBolt
 
 __all__: list[str] = []
@@ -191,7 +191,7 @@ class _Lowering(_HeldBolt):
         bolt, nut = eng.triangles(pose, pairs)
         # Bolt faces turned up, under the nut's material (its flank or the edge where its
         # thread meets the top face, whose faces either side both cross).
-        if not np.all(_facing(bolt) > 0):
+        if not np.all(upward(bolt) > 0):
             return None  # material below crosses too: no height here is free
         rise, _ = vertical_rise(bolt, nut)
         depth = -float(rise[np.isfinite(rise)].min(initial=math.inf))
@@ -344,11 +344,11 @@ class _Lowering(_HeldBolt):
             if d.zc >= self._clear_of_top(d.rotation):
                 pairs = np.empty((0, 2), dtype=np.int64)
             else:
-                found = eng.pairs(self._pose(d.rotation, d.xy, d.zc + self.near))
-                bolt, nut = eng.triangles(pose, found)
+                found = eng.pairs_under_material(self._pose(d.rotation, d.xy, d.zc + self.near))
+                bolt, _ = eng.triangles(pose, found)
                 # A nut face turned down over a bolt face turned up (outward normals): the
                 # pairs of the contacts below, which a lift only separates, are not these.
-                pairs = found[(_facing(bolt) > 0) & (_facing(nut) < 0)]
+                pairs = found[(upward(bolt) > 0) & (eng.nut_upward[found[:, 1]] < 0)]
         if len(pairs) == 0:
             return replace(d, over_pairs=pairs, rises=np.empty(0), over_points=np.empty((0, 3)))
         rise, points = vertical_rise(*eng.triangles(pose, pairs))
@@ -404,10 +404,3 @@ class _Lowering(_HeldBolt):
             ):
                 return True
         return False
-
-
-def _facing(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The Z part of each triangle's outward normal (unnormalised; the meshes wind their
-    triangles outward): positive for a face turned up."""
-    t = np.asarray(triangles, dtype=float)
-    return np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]

@@ -44,6 +44,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         CollisionPair as CollisionPair,
         MeshSolid as MeshSolid,
         pair_keys as pair_keys,
+        upward as upward,
     )
     from ._exact import (
         CREASE as CREASE,
@@ -111,6 +112,7 @@ _SOURCES = {
         "CollisionPair",
         "MeshSolid",
         "pair_keys",
+        "upward",
     ),
     "._exact": (
         "contact_normal",

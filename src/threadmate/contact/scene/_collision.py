@@ -24,7 +24,11 @@ Queries, each one yes/no question counted in :attr:`queries`:
 - :meth:`colliding_sectors`: which sectors (of those not excluded) the bolt intersects;
 - :meth:`pairs`: every intersecting bolt/nut triangle pair (python-fcl still reports the
   triangle ids ``b1``/``b2`` with ``enable_contact=False``; we compute the intersection
-  geometry ourselves, see :mod:`._triangles`).
+  geometry ourselves, see :mod:`._triangles`);
+- :meth:`pairs_under_material`: the same, of only the nut faces turned down and the bolt
+  faces that can face up at the bolt's tilt: every pair of the nut's material over the
+  bolt, without asking of the flanks that carry the bolt, close to the nut all round,
+  which a query spends most of its time proving apart.
 
 ``continuousCollide`` (wrong times on thread meshes, alters models in place) and
 ``penetration_depth`` (a per-triangle figure) are deliberately not used.
@@ -48,7 +52,7 @@ from scipy.spatial import ConvexHull, cKDTree
 from ..._angles import TWO_PI
 from ...geometry import Pose
 
-__all__ = ["CollisionPair", "MeshSolid", "pair_keys"]
+__all__ = ["CollisionPair", "MeshSolid", "pair_keys", "upward"]
 
 #: Pair enumeration stops here; far more than any contact the stages look at.
 MAX_PAIRS = 200_000
@@ -60,6 +64,9 @@ _KEY = 1 << 31
 _NEAREST = 8
 #: Size classes of a mesh's triangles (a factor of 2 each; the smallest take the rest).
 _CLASSES = 8
+#: Largest tilt of the bolt's axis from the nut's (degrees) at which
+#: :meth:`CollisionPair.pairs_under_material` asks only the bolt faces that can face up.
+UNDER_TILT = 20.0
 
 
 def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -72,15 +79,25 @@ def _pair_keys_of(
     nut: fcl.CollisionObject,
     request: fcl.CollisionRequest,
     nut_ids: NDArray[np.int64],
+    bolt_ids: NDArray[np.int64] | None = None,
 ) -> NDArray[np.int64]:
     """Keys (:func:`pair_keys`) of the intersecting (bolt face, nut face) pairs, with
-    repeats; ``nut_ids`` maps a sector's local face numbers to the nut's."""
+    repeats; ``nut_ids`` maps a sector's local face numbers to the nut's, ``bolt_ids``
+    (when the bolt object holds only some of its faces) the bolt's."""
     result = fcl.CollisionResult()
     fcl.collide(bolt, nut, request, result)
     if not result.contacts:
         return np.empty(0, dtype=np.int64)
     ids = np.array([(c.b1, c.b2) for c in result.contacts], dtype=np.int64)
-    return ids[:, 0] * _KEY + nut_ids[ids[:, 1]]
+    bolt_faces = ids[:, 0] if bolt_ids is None else bolt_ids[ids[:, 0]]
+    return bolt_faces * _KEY + nut_ids[ids[:, 1]]
+
+
+def upward(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The Z part of each triangle's outward normal, unnormalised (the meshes wind their
+    triangles outward): positive for a face turned up."""
+    t = np.asarray(triangles, dtype=float)
+    return np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]
 
 
 def _bvh(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> fcl.BVHModel:
@@ -310,18 +327,27 @@ class CollisionPair:
         self.nut_sector = sector % SECTORS
         self._sectors: dict[int, tuple[fcl.CollisionObject, NDArray[np.int64]]] = {}
         for k in range(SECTORS):
-            ids = np.flatnonzero(self.nut_sector == k)
-            if len(ids) == 0:
-                continue
-            used, local = np.unique(self.nut_faces[ids], return_inverse=True)
-            self._sectors[k] = (
-                fcl.CollisionObject(
-                    _bvh(self.nut_vertices[used], local.reshape(-1, 3)), fcl.Transform()
-                ),
-                ids,
-            )
+            if np.any(self.nut_sector == k):
+                self._sectors[k] = self._subset(
+                    self.nut_vertices, self.nut_faces, self.nut_sector == k
+                )
         #: The sectors in the order a yes/no query asks them: the last to collide first.
         self._order = list(self._sectors)
+        #: The Z part of each nut face's outward normal (unnormalised; F): the nut does
+        #: not move, so whether a face is turned down is known once.
+        self.nut_upward = upward(self.nut_vertices[self.nut_faces])
+        # The faces that can meet from either side of the nut's material over the bolt:
+        # the nut's turned down, and the bolt's whose normal lies within UNDER_TILT of
+        # horizontal or above it (in the bolt's frame), the only ones that can face up
+        # while the bolt's axis is tilted by no more than that. The threads' flanks that
+        # carry the bolt, close to the nut all round, are in neither.
+        bolt_tri = self.bolt_vertices[self.bolt_faces]
+        cross = np.cross(bolt_tri[:, 1] - bolt_tri[:, 0], bolt_tri[:, 2] - bolt_tri[:, 0])
+        steep = np.sin(np.radians(UNDER_TILT + 1.0)) * np.linalg.norm(cross, axis=1)
+        self._under_material = (
+            self._subset(self.bolt_vertices, self.bolt_faces, cross[:, 2] >= -steep),
+            self._subset(self.nut_vertices, self.nut_faces, self.nut_upward < 0),
+        )
         self._yes_no = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
         self._all = fcl.CollisionRequest(num_max_contacts=MAX_PAIRS, enable_contact=False)
         #: Collision queries spent since construction (or the last reset).
@@ -426,6 +452,36 @@ class CollisionPair:
         # sorts them as the rows' lexicographic unique would, at a fraction of its cost.
         key = np.unique(np.concatenate(found)) if found else np.empty(0, dtype=np.int64)
         return np.column_stack([key // _KEY, key % _KEY])
+
+    def pairs_under_material(self, pose: Pose) -> NDArray[np.int64]:
+        """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose`` of a nut face
+        turned down and a bolt face that can face up at the bolt's tilt (one query): every
+        pair :meth:`pairs` finds of a bolt face turned up and a nut face turned down, and
+        some more (bolt faces turned a little down). Tilted beyond :data:`UNDER_TILT`,
+        all pairs (:meth:`pairs`).
+
+        The nut's material over the bolt is looked for at every lowering in the thread,
+        and mostly not found: the flanks below, close to the nut all round, are what
+        python-fcl spends its time proving apart, and they are not asked.
+        """
+        if pose.rotation[2, 2] < np.cos(np.radians(UNDER_TILT)):
+            return self.pairs(pose)
+        (bolt, bolt_ids), (nut, nut_ids) = self._under_material
+        bolt.setTransform(fcl.Transform(pose.rotation, pose.origin))
+        self.queries += 1
+        key = np.unique(_pair_keys_of(bolt, nut, self._all, nut_ids, bolt_ids))
+        return np.column_stack([key // _KEY, key % _KEY])
+
+    @staticmethod
+    def _subset(
+        vertices: NDArray[np.float64], faces: NDArray[np.int64], keep: NDArray[np.bool_]
+    ) -> tuple[fcl.CollisionObject, NDArray[np.int64]]:
+        """The faces ``keep`` of a mesh as their own collision object, and their numbers
+        in the mesh."""
+        ids = np.flatnonzero(keep)
+        used, local = np.unique(faces[ids], return_inverse=True)
+        model = _bvh(vertices[used], local.reshape(-1, 3))
+        return fcl.CollisionObject(model, fcl.Transform()), ids
 
     def triangles(
         self, pose: Pose, pairs: NDArray[np.int64]
