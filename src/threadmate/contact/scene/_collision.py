@@ -336,18 +336,8 @@ class CollisionPair:
         #: The Z part of each nut face's outward normal (unnormalised; F): the nut does
         #: not move, so whether a face is turned down is known once.
         self.nut_upward = upward(self.nut_vertices[self.nut_faces])
-        # The faces that can meet from either side of the nut's material over the bolt:
-        # the nut's turned down, and the bolt's whose normal lies within UNDER_TILT of
-        # horizontal or above it (in the bolt's frame), the only ones that can face up
-        # while the bolt's axis is tilted by no more than that. The threads' flanks that
-        # carry the bolt, close to the nut all round, are in neither.
-        bolt_tri = self.bolt_vertices[self.bolt_faces]
-        cross = np.cross(bolt_tri[:, 1] - bolt_tri[:, 0], bolt_tri[:, 2] - bolt_tri[:, 0])
-        steep = np.sin(np.radians(UNDER_TILT + 1.0)) * np.linalg.norm(cross, axis=1)
-        self._under_material = (
-            self._subset(self.bolt_vertices, self.bolt_faces, cross[:, 2] >= -steep),
-            self._subset(self.nut_vertices, self.nut_faces, self.nut_upward < 0),
-        )
+        # The faces :meth:`pairs_under_material` asks, built on its first use.
+        self._under_material: tuple[tuple[fcl.CollisionObject, NDArray[np.int64]], ...] = ()
         self._yes_no = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
         self._all = fcl.CollisionRequest(num_max_contacts=MAX_PAIRS, enable_contact=False)
         #: Collision queries spent since construction (or the last reset).
@@ -466,6 +456,20 @@ class CollisionPair:
         """
         if pose.rotation[2, 2] < np.cos(np.radians(UNDER_TILT)):
             return self.pairs(pose)
+        if not self._under_material:
+            # The faces that can meet from either side of the nut's material over the
+            # bolt: the nut's turned down, and the bolt's whose normal lies within
+            # UNDER_TILT of horizontal or above it (in the bolt's frame), the only ones
+            # that can face up while the bolt's axis is tilted by no more than that. The
+            # threads' flanks that carry the bolt, close to the nut all round, are in
+            # neither.
+            tri = self.bolt_vertices[self.bolt_faces]
+            cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+            steep = np.sin(np.radians(UNDER_TILT + 1.0)) * np.linalg.norm(cross, axis=1)
+            self._under_material = (
+                self._subset(self.bolt_vertices, self.bolt_faces, cross[:, 2] >= -steep),
+                self._subset(self.nut_vertices, self.nut_faces, self.nut_upward < 0),
+            )
         (bolt, bolt_ids), (nut, nut_ids) = self._under_material
         bolt.setTransform(fcl.Transform(pose.rotation, pose.origin))
         self.queries += 1
