@@ -22,7 +22,10 @@ from threadmate.contact import (
     region_at,
 )
 from threadmate.contact.scene import Feature, feature_at, lowest_on_rim
-from threadmate.contact.scene._exact import _edge_points  # an internal with no public form
+from threadmate.contact.scene._exact import (  # internals with no public form
+    _edge_points,
+    _signed_distance,
+)
 from threadmate.geometry import (
     BoltPoint,
     BoltSpec,
@@ -40,6 +43,11 @@ NUT = dict(major=0.2500, pitch_diameter=0.21995, minor=0.2015)
 TIP = 0.17  # tip diameter, inside the bolt's minor diameter
 SINK = 0.27  # countersink diameter at the face, outside the nut's major diameter
 TOL = 1e-6
+
+
+def _polar(r: float, theta: float, z: float) -> np.ndarray:
+    """One point ``(1, 3)`` at radius ``r``, polar angle ``theta`` (radians), height ``z``."""
+    return np.array([[r * math.cos(theta), r * math.sin(theta), z]])
 
 
 def _spec(point: BoltPoint, sink: Countersink | None) -> ThreadSpec:
@@ -116,6 +124,51 @@ def test_chamfer_kink_lies_on_cone_and_thread(chamfered):
         # Its tangent is perpendicular to both surfaces' normals.
         n_cone = np.array([math.cos(theta), math.sin(theta), -1.0]) / math.sqrt(2)
         assert abs(f.edge_tangent @ n_cone) < 1e-9
+
+
+def test_signed_distance_is_the_meridian_distance_to_the_nearest_surface(chamfered):
+    """The exact bodies' signed distance (negative in the material), which the edge
+    refinement minimises, against the closed forms: on a flank, the distance in the axial
+    section to the flank line, half the radial offset (the 60-degree profile); on the
+    45-degree chamfer and the 90-degree countersink, the offset along the cone's normal;
+    beyond the end faces, the distance to the face's outline."""
+    bolt, nut = bolt_body(chamfered), nut_body(chamfered)
+    lead = PITCH
+    rng = np.random.default_rng(11)
+    u_flank = 0.012  # mid-flank: the sharp profile's flank spans |t| 0.0038 to 0.0200
+    for _ in range(40):
+        theta = rng.uniform(-np.pi, np.pi)
+        eps = rng.uniform(-1e-4, 1e-4)
+        t = u_flank * rng.choice([-1.0, 1.0])
+
+        z = t + lead * theta / (2 * math.pi)
+        r = _sharp_radius(t, "bolt") + eps
+        assert abs(_signed_distance(bolt, _polar(r, theta, z + 4 * PITCH))[0] - eps / 2) < 1e-12
+        r = _sharp_radius(t, "nut") + eps
+        assert abs(_signed_distance(nut, _polar(r, theta, z - 4 * PITCH))[0] + eps / 2) < 1e-12
+        # The chamfer r = TIP/2 + z and the countersink r = SINK/2 + z (z < 0).
+        zc = rng.uniform(0.001, 0.006)
+        d = _signed_distance(bolt, _polar(TIP / 2 + zc + eps, theta, zc))[0]
+        assert abs(d - eps / math.sqrt(2)) < 1e-12
+        zs = -rng.uniform(0.001, 0.004)
+        d = _signed_distance(nut, _polar(SINK / 2 + zs + eps, theta, zs))[0]
+        assert abs(d + eps / math.sqrt(2)) < 1e-12
+        # Beyond the tip face (z < 0) and the nut's top face (z > 0).
+        h, off = rng.uniform(1e-5, 1e-3), rng.uniform(0.0, 0.01)
+        assert abs(_signed_distance(bolt, _polar(TIP / 2 - off, theta, -h))[0] - h) < 1e-12
+        d = _signed_distance(bolt, _polar(TIP / 2 + off, theta, -h))[0]
+        assert abs(d - math.hypot(h, off)) < 1e-12
+        d = _signed_distance(nut, _polar(SINK / 2 - off, theta, h))[0]
+        assert abs(d - math.hypot(h, off)) < 1e-12
+        assert abs(_signed_distance(nut, _polar(SINK / 2 + off, theta, h))[0] - h) < 1e-12
+    # A flat tip: beyond it the outline is the thread's section at the tip face, here at
+    # a polar angle where that section is mid-flank.
+    flat = bolt_body(_spec(BoltPoint("flat"), None))
+    theta = -2 * math.pi * u_flank / lead
+    outline = _sharp_radius(u_flank, "bolt")
+    for off in (-0.003, 0.0, 0.002):
+        p = _polar(outline + off, theta, -1e-4)
+        assert abs(_signed_distance(flat, p)[0] - math.hypot(1e-4, max(off, 0.0))) < 1e-12
 
 
 def test_round_point_normal_is_radial_from_the_sphere_centre():

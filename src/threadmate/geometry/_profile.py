@@ -184,7 +184,7 @@ class Profile:
 
     def slope(self, t: ArrayLike) -> NDArray[np.float64] | np.float64:
         """``dR/dt`` of the exact profile."""
-        if np.ndim(t) == 0:
+        if isinstance(t, float) or np.ndim(t) == 0:  # (as :meth:`radius`)
             w = _wrap1(float(cast("SupportsFloat", t)), self.pitch)
             return np.float64(self._slope_at(abs(w)) * (-1.0 if w < 0 else 1.0))
         t = wrap_t(t, self.pitch)

@@ -52,7 +52,7 @@ from scipy.optimize import brentq
 
 from ..._angles import SQRT3, TWO_PI
 from ...geometry import Pose, ThreadBody
-from ._kernels import kink_height, kink_heights
+from ._kernels import kink_height, kink_heights, signed_distance
 
 __all__ = [
     "Feature",
@@ -206,26 +206,19 @@ def _radius(body: ThreadBody, t: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.where(u <= a1, prof.r_hi, out)
 
 
-def _slope(body: ThreadBody, t: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``body.profile.slope(t)`` of an array (see :func:`_radius`)."""
-    prof = body.profile
-    t = _wrap(t, prof.pitch)
-    u = np.abs(t)
-    a1, a2, a3, a4 = prof.breakpoints
-    hu, lu = prof.centre_hi[0], prof.centre_lo[0]
-    rh, rl = prof.fillet_hi, prof.fillet_lo
-    out = np.where(u <= a4, (u - lu) / np.sqrt(np.maximum(rl * rl - (u - lu) ** 2, 1e-300)), 0.0)
-    out = np.where(u <= a3, -SQRT3, out)
-    out = np.where(u <= a2, -(u - hu) / np.sqrt(np.maximum(rh * rh - (u - hu) ** 2, 1e-300)), out)
-    out = np.where(u <= a1, 0.0, out)
-    return np.where(t < 0, -1.0, 1.0) * out
-
-
 def _t_array(
     body: ThreadBody, theta: NDArray[np.float64], z: NDArray[np.float64] | float
 ) -> NDArray[np.float64]:
     """:meth:`ThreadBody.t_of` without its argument conversions."""
     return _wrap(z - body.hand * body.lead * theta / TWO_PI, body.profile.pitch)
+
+
+def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``np.cross`` of two 3-vectors by its formula (its axis handling costs more than the
+    products, and the edge code asks one pair at a time)."""
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
 
 
 def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -314,7 +307,7 @@ def _bevel_feature(
     bounds = math.isfinite(e) and (e < R if body.kind == "bolt" else e > R)
     if near_env and d_thread <= tol:
         n_env, n_thr = _bevel_normal(body, p), _helical_normal(body, p, t)
-        return Feature("kink", None, _unit(np.cross(n_env, n_thr)), _unit(n_env + n_thr))
+        return Feature("kink", None, _unit(_cross(n_env, n_thr)), _unit(n_env + n_thr))
     if near_env or (bounds and d_env < d_thread):
         n = _bevel_normal(body, p)
         return Feature("bevel", n, None, n)
@@ -406,7 +399,7 @@ def _common_normal(fn: Feature, fb: Feature, pose: Pose) -> NDArray[np.float64]:
         return -pose.vector_to_fixed(fb.face_normal)
     tb = pose.vector_to_fixed(fb.edge_tangent)
     side_b = pose.vector_to_fixed(fb.side)
-    n = np.cross(tb, fn.edge_tangent)
+    n = _cross(tb, fn.edge_tangent)
     if np.linalg.norm(n) < 1e-9:  # parallel edges: split the two sides
         n = fn.side - side_b
     n = _unit(n)
@@ -495,36 +488,16 @@ def turn_axis_tangent(
 def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray[np.float64]:
     """Signed distance (negative inside the material) of points in the body's frame.
 
-    Beyond the end face that meets the other body (above the nut's top face, below the
-    bolt's tip) the thread surface does not continue: there the distance is to the face's
-    outline, radially, combined with the height off its plane.
+    Within the slab of the body, the thread surface's radial offset along its normal
+    (first-order exact, exact on the surface), intersected with the end face's half-space
+    and trimmed by the point or countersink where it spans. Beyond the end face that meets
+    the other body (above the nut's top face, below the bolt's tip) the thread surface
+    does not continue: there the distance is to the face's outline, radially, combined
+    with the height off its plane. Computed by a compiled kernel
+    (:func:`._kernels.signed_distance`).
     """
-    p = np.asarray(points_b, dtype=float).reshape(-1, 3)
-    # Within the slab: the thread surface's radial offset along its normal (first-order
-    # exact, exact on the surface), intersected with the end face's half-space.
-    r = np.hypot(p[:, 0], p[:, 1])
-    t = _t_array(body, np.arctan2(p[:, 1], p[:, 0]), p[:, 2])
-    radial = (r - _radius(body, t)) / np.hypot(1.0, _slope(body, t))
-    thread = radial if body.kind == "bolt" else -radial
-    off = p[:, 2] - body.cap_z
-    d = np.maximum(thread, off if body.kind == "nut" else -off)
-    env = body.envelope
-    if env is not None:  # the point or countersink trims the thread where it spans
-        bevel = env.signed_distance(r, p[:, 2])
-        d = np.maximum(d, np.where(np.isfinite(env.radius(p[:, 2])), bevel, -np.inf))
-    beyond = off > 0 if body.kind == "nut" else off < 0
-    if beyond.any():
-        q = p[beyond]
-        r = np.hypot(q[:, 0], q[:, 1])
-        if env is not None:
-            outline = np.full(len(q), env.face_radius)
-        else:
-            outline = _radius(body, _t_array(body, np.arctan2(q[:, 1], q[:, 0]), body.cap_z))
-        radial = (
-            np.maximum(outline - r, 0.0) if body.kind == "nut" else np.maximum(r - outline, 0.0)
-        )
-        d[beyond] = np.hypot(off[beyond], radial)
-    return d
+    p = np.ascontiguousarray(points_b, dtype=float).reshape(-1, 3)
+    return signed_distance(body, p, np.arctan2(p[:, 1], p[:, 0]))
 
 
 def _edge_points(

@@ -1,4 +1,5 @@
-"""Compiled kernels of the exact contact geometry: the kink's height, the vertical touch.
+"""Compiled kernels of the exact contact geometry: the kink's height, the vertical touch,
+the signed distance from a thread body.
 
 The contact code asks these one edge or a few triangle pairs at a time, thousands of
 times per rest state, where Python's and numpy's per-call overhead is most of the cost.
@@ -32,6 +33,7 @@ __all__ = [
     "kink_height",
     "kink_heights",
     "profile_array",
+    "signed_distance",
     "vertical_touch",
 ]
 
@@ -364,3 +366,103 @@ def vertical_touch(
     point = np.empty((len(a), 3))
     _vertical_touch(a, b, drop, point)
     return drop, point
+
+
+@compiled
+def _profile_slope(prof: NDArray[np.float64], t: float) -> float:
+    """``Profile.slope(t)`` of one number: ``d radius / d t``."""
+    pitch = prof[13]
+    t = t - pitch * math.floor(t / pitch + 0.5)
+    u = abs(t)
+    if u <= prof[0]:
+        out = 0.0
+    elif u <= prof[1]:
+        rho = prof[8]
+        out = -(u - prof[6]) / math.sqrt(max(rho * rho - (u - prof[6]) ** 2, 1e-300))
+    elif u <= prof[2]:
+        out = -math.sqrt(3.0)
+    elif u <= prof[3]:
+        rho = prof[11]
+        out = (u - prof[9]) / math.sqrt(max(rho * rho - (u - prof[9]) ** 2, 1e-300))
+    else:
+        out = 0.0
+    return (-1.0 if t < 0 else 1.0) * out
+
+
+@compiled
+def _signed_distance(
+    prof: NDArray[np.float64],
+    env: NDArray[np.float64],
+    shape: NDArray[np.float64],
+    points: NDArray[np.float64],
+    theta: NDArray[np.float64],
+    out: NDArray[np.float64],
+) -> None:
+    is_bolt, with_env, hand_lead, cap_z, face, k_cone = (
+        shape[0] > 0,
+        shape[1] > 0,
+        shape[2],
+        shape[3],
+        shape[4],
+        shape[5],
+    )
+    pitch = prof[13]
+    for i in range(points.shape[0]):
+        x, y, z = points[i, 0], points[i, 1], points[i, 2]
+        r = math.hypot(x, y)
+        t = z - hand_lead * theta[i] / TWO_PI
+        t = t - pitch * math.floor(t / pitch + 0.5)
+        radial = (r - _profile_radius(prof, t)) / math.hypot(1.0, _profile_slope(prof, t))
+        thread = radial if is_bolt else -radial
+        off = z - cap_z
+        side = -off if is_bolt else off
+        d = thread if thread >= side else side
+        if with_env and env[6] <= z <= env[7]:
+            if env[0] == 0.0:
+                bevel = env[1] * ((r - env[2] - env[3] * z) / k_cone)
+            else:
+                bevel = env[1] * (math.hypot(r, z - env[4]) - env[5])
+            d = d if d >= bevel else bevel
+        if (off < 0) if is_bolt else (off > 0):
+            if with_env:
+                outline = face
+            else:
+                tc = cap_z - hand_lead * theta[i] / TWO_PI
+                outline = _profile_radius(prof, tc - pitch * math.floor(tc / pitch + 0.5))
+            gap = r - outline if is_bolt else outline - r
+            d = math.hypot(off, gap if gap >= 0.0 else 0.0)
+        out[i] = d
+
+
+#: The bodies' shape numbers for :func:`signed_distance`, as :data:`_ARRAYS`.
+_SHAPES: dict[int, tuple[Any, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]] = {}
+
+
+def signed_distance(
+    body: ThreadBody, points: NDArray[np.float64], theta: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Signed distance (negative inside the material) of ``points`` (``(n, 3)``, body
+    frame) from the body (see ``_exact``'s ``_signed_distance``, which this computes);
+    ``theta``, each point's polar angle, is numpy's ``arctan2``, which differs in the last
+    bit from the C library's where numpy has SIMD code for it."""
+    got = _SHAPES.get(id(body))
+    if got is None or got[0] is not body:
+        if len(_SHAPES) > 64:
+            _SHAPES.clear()
+        env = body.envelope
+        shape = np.array(
+            [
+                1.0 if body.kind == "bolt" else 0.0,
+                0.0 if env is None else 1.0,
+                float(body.hand * body.lead),
+                body.cap_z,
+                0.0 if env is None else env.face_radius,
+                0.0 if env is None else math.hypot(1.0, env.slope_rz),
+            ]
+        )
+        env_arr = np.zeros(8) if env is None else envelope_array(body)
+        got = (body, profile_array(body), env_arr, shape)
+        _SHAPES[id(body)] = got
+    out = np.empty(len(points))
+    _signed_distance(got[1], got[2], got[3], points, theta, out)
+    return out
