@@ -121,6 +121,31 @@ def test_the_search_finds_an_interior_peak_and_says_when_it_picks_a_bound():
     assert best.force == 40.0 and best.stiffness == pytest.approx(0.1 / 4)
 
 
+def test_the_search_evaluates_each_ratio_once():
+    """A refinement's neighbour that is a ratio evaluated before is not evaluated again,
+    though it is reached as a sum of halved steps and so only to rounding. On a profile
+    shaped as the default pair's (best near k/F 0.07), the second refinement's lower
+    neighbour is the first refinement's."""
+    from threadmate.design._best import _RatioSearch, _Setting
+
+    asked = []
+
+    def evaluate(r, f, k, beyond):
+        asked.append(r)
+        tilt = max(0.0, 2.25 - 2.0 * abs(math.log(r / 0.07)))
+        return _Setting(r, f, k, 0.0, beyond, _Fake(0.25 * round(4 * tilt)))
+
+    s = _RatioSearch(evaluate, (2.0, 40.0), (0.1, 10.0), 1.0, 0.0)
+    h = s.run(5, 2)
+    asked.sort()
+    assert len(asked) == len(s.done) == 9
+    assert all(b / a > 1 + 1e-6 for a, b in zip(asked, asked[1:], strict=False))
+    # Both neighbours of the best, one final step either side, are among them.
+    x, _ = s.best()
+    for side in (-1, 1):
+        assert any(abs(math.log(r) - (x + side * h)) < 1e-9 for r in asked)
+
+
 @pytest.fixture(scope="module")
 def design_doc(tmp_path_factory):
     """``threadmate design --json`` on the tiny configuration: two ratios (the bounds),

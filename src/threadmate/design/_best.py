@@ -73,6 +73,8 @@ FINE: Mapping[str, Any] = {"tilt": None, "direction": None, "phase": None, "tole
 RATIOS = 5
 #: Halvings of the grid step around the best.
 REFINEMENTS = 2
+#: Log-ratios ``log(k/F)`` closer than this are one setting, evaluated once.
+SAME_RATIO = 1e-9
 #: ``progress(text)``: the search says what it evaluates next.
 DesignProgress = Callable[[str], None]
 
@@ -272,12 +274,18 @@ class _RatioSearch:
         self.x_hi = math.log(self.r_hi * may_exceed)
         self.done: dict[float, _Setting] = {}
 
+    def known(self, x: float) -> _Setting | None:
+        """The setting evaluated at ``log(ratio)`` x, if any: a refinement's neighbour,
+        a sum of halved steps, meets a ratio evaluated before only to rounding."""
+        return next((s for k, s in self.done.items() if abs(k - x) <= SAME_RATIO), None)
+
     def setting(self, x: float) -> _Setting:
         """The setting of ``log(ratio)`` x: the least force within the bounds; beyond
         them the force stays at its bound and the stiffness goes beyond its own."""
+        found = self.known(x)
+        if found is not None:
+            return found
         x = round(x, 12) + 0.0
-        if x in self.done:
-            return self.done[x]
         r = math.exp(x)
         for bound in (self.r_lo, self.r_hi):  # the bounds exactly, not through the log
             if abs(x - math.log(bound)) < 1e-11:
@@ -596,7 +604,7 @@ def best_compliance(
 
 
 def _row_or_none(search: _RatioSearch, x: float) -> dict[str, Any] | None:
-    found = search.done.get(round(x, 12) + 0.0)
+    found = search.known(x)
     return None if found is None else found.row()
 
 
