@@ -17,7 +17,7 @@ methods' to the last bit, bar the order of rounding in a library call.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -243,25 +243,57 @@ def _kink_walk(
     return out
 
 
-#: The kernels' arrays of the bodies asked last, by ``id`` (the body kept beside them, so
-#: that its ``id`` is not reused while the entry lives).
-_ARRAYS: dict[int, tuple[Any, NDArray[np.float64], NDArray[np.float64], float]] = {}
+class _Arrays(NamedTuple):
+    """What the kernels read of one body."""
+
+    body: Any  # kept, so that its ``id`` is not reused while the entry lives
+    prof: NDArray[np.float64]  # :func:`profile_array`
+    env: NDArray[np.float64]  # :func:`envelope_array` (zeros without one)
+    rise: float  # the helix's rise per radian
+    # :func:`signed_distance`'s: bolt (1) or nut (0), with an envelope (1), hand times
+    # lead, the end face's height, its outline's radius with an envelope, and
+    # ``hypot(1, slope)`` of a cone's.
+    shape: NDArray[np.float64]
 
 
-def _arrays(body: ThreadBody) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
-    """The profile's and envelope's arrays of ``body`` and the helix's rise per radian."""
+#: The kernels' arrays of the bodies asked last, by ``id``.
+_ARRAYS: dict[int, _Arrays] = {}
+
+
+def _arrays(body: ThreadBody) -> _Arrays:
+    """The kernels' arrays of ``body``, made once."""
     got = _ARRAYS.get(id(body))
-    if got is None or got[0] is not body:
+    if got is None or got.body is not body:
         if len(_ARRAYS) > 64:
             _ARRAYS.clear()
-        got = (
+        env = body.envelope
+        shape = np.array(
+            [
+                1.0 if body.kind == "bolt" else 0.0,
+                0.0 if env is None else 1.0,
+                float(body.hand * body.lead),
+                body.cap_z,
+                0.0 if env is None else env.face_radius,
+                0.0 if env is None else math.hypot(1.0, env.slope_rz),
+            ]
+        )
+        got = _Arrays(
             body,
             profile_array(body),
-            envelope_array(body),
+            np.zeros(8) if env is None else envelope_array(body),
             float(body.hand * body.lead / TWO_PI),
+            shape,
         )
         _ARRAYS[id(body)] = got
-    return got[1], got[2], got[3]
+    return got
+
+
+def _kink_arrays(body: ThreadBody) -> tuple[NDArray[np.float64], NDArray[np.float64], float]:
+    """The profile's and envelope's arrays and the rise of a body with a kink."""
+    if body.envelope is None:
+        raise ValueError("the body has no point or countersink")
+    got = _arrays(body)
+    return got.prof, got.env, got.rise
 
 
 def kink_height(body: ThreadBody, theta: float, z: float) -> float:
@@ -271,14 +303,14 @@ def kink_height(body: ThreadBody, theta: float, z: float) -> float:
     half a pitch each way) and found by Brent's method, which, unlike Newton's, the
     profile's corners do not defeat; ``z`` clipped to the envelope's span when no root is
     near."""
-    prof, env, rise = _arrays(body)
+    prof, env, rise = _kink_arrays(body)
     return float(_kink_height(prof, env, rise, float(theta), float(z)))
 
 
 def kink_heights(body: ThreadBody, angles: NDArray[np.float64], z: float) -> NDArray[np.float64]:
     """:func:`kink_height` at each of ``angles`` (radians, in order): the first from
     ``z``, each next from the root before it (the kink followed along the edge)."""
-    prof, env, rise = _arrays(body)
+    prof, env, rise = _kink_arrays(body)
     return _kink_walk(prof, env, rise, np.ascontiguousarray(angles, dtype=float), float(z))
 
 
@@ -434,10 +466,6 @@ def _signed_distance(
         out[i] = d
 
 
-#: The bodies' shape numbers for :func:`signed_distance`, as :data:`_ARRAYS`.
-_SHAPES: dict[int, tuple[Any, NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]] = {}
-
-
 def signed_distance(
     body: ThreadBody, points: NDArray[np.float64], theta: NDArray[np.float64]
 ) -> NDArray[np.float64]:
@@ -445,24 +473,7 @@ def signed_distance(
     frame) from the body (see ``_exact``'s ``_signed_distance``, which this computes);
     ``theta``, each point's polar angle, is numpy's ``arctan2``, which differs in the last
     bit from the C library's where numpy has SIMD code for it."""
-    got = _SHAPES.get(id(body))
-    if got is None or got[0] is not body:
-        if len(_SHAPES) > 64:
-            _SHAPES.clear()
-        env = body.envelope
-        shape = np.array(
-            [
-                1.0 if body.kind == "bolt" else 0.0,
-                0.0 if env is None else 1.0,
-                float(body.hand * body.lead),
-                body.cap_z,
-                0.0 if env is None else env.face_radius,
-                0.0 if env is None else math.hypot(1.0, env.slope_rz),
-            ]
-        )
-        env_arr = np.zeros(8) if env is None else envelope_array(body)
-        got = (body, profile_array(body), env_arr, shape)
-        _SHAPES[id(body)] = got
+    got = _arrays(body)
     out = np.empty(len(points))
-    _signed_distance(got[1], got[2], got[3], points, theta, out)
+    _signed_distance(got.prof, got.env, got.shape, points, theta, out)
     return out
