@@ -140,7 +140,6 @@ def test_signed_distance_is_the_meridian_distance_to_the_nearest_surface(chamfer
         theta = rng.uniform(-np.pi, np.pi)
         eps = rng.uniform(-1e-4, 1e-4)
         t = u_flank * rng.choice([-1.0, 1.0])
-
         z = t + lead * theta / (2 * math.pi)
         r = _sharp_radius(t, "bolt") + eps
         assert abs(_signed_distance(bolt, _polar(r, theta, z + 4 * PITCH))[0] - eps / 2) < 1e-12
