@@ -4,14 +4,16 @@ the signed distance from a thread body.
 The contact code asks these one edge or a few triangle pairs at a time, thousands of
 times per rest state, where Python's and numpy's per-call overhead is most of the cost.
 They are plain loops over floats, compiled by numba (:mod:`threadmate._compiled`:
-once per machine, kept on disk). Without numba the same functions run as Python: the
-same results, slower.
+once per machine, kept on disk). Without numba the same functions run as Python, slower,
+with the same results but for the last bit of ``math.hypot`` (Python's own, not the C
+library's).
 
 The profile and the envelope travel as float arrays (:func:`profile_array`,
-:func:`envelope_array`); each kernel repeats the arithmetic of the Python methods it
-replaces operation for operation (:meth:`threadmate.geometry.Profile.radius`, the
-envelope's ``radius``, :func:`scipy.optimize.brentq`), so that its results are those
-methods' to the last bit, bar the order of rounding in a library call.
+:func:`envelope_array`); each kernel repeats the arithmetic of the Python methods it stands
+for operation for operation (:meth:`threadmate.geometry.Profile.radius` and ``slope``,
+the envelope's ``radius`` and ``signed_distance``, :func:`scipy.optimize.brentq`), so
+that its results are those methods' to the last bit, bar the order of rounding in a
+library call.
 """
 
 from __future__ import annotations
@@ -470,7 +472,8 @@ def signed_distance(
     body: ThreadBody, points: NDArray[np.float64], theta: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """Signed distance (negative inside the material) of ``points`` (``(n, 3)``, body
-    frame) from the body (see ``_exact``'s ``_signed_distance``, which this computes);
+    frame) from the body: the thread's radial offset along its normal, cut by the end
+    face and the point or countersink; beyond the end face, the distance to its outline.
     ``theta``, each point's polar angle, is numpy's ``arctan2``, which differs in the last
     bit from the C library's where numpy has SIMD code for it."""
     got = _arrays(body)
