@@ -792,12 +792,6 @@ def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
     assert full_legs[-1].after.classification == known.classification
 
 
-@pytest.mark.xfail(
-    reason="depends on what the module's Mechanics settled before (fails alone at 655f851 "
-    "too): a stalled descent carried on to the step limit can reach a rest state there, "
-    "so the stall rule can give one up; open in the session note",
-    strict=False,
-)
 def test_a_stalled_descent_stays_unbalanced_near_where_the_longer_one_ends(
     mech, quarter_20, monkeypatch
 ):
