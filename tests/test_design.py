@@ -264,6 +264,53 @@ def test_robustness_cases_are_the_designations_and_friction_moves_only_torque(fl
     assert high["torque_peak"] > low["torque_peak"]
 
 
+def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_does_not_hold():
+    """The design's first sentence names what its setting tolerates; when a case over the
+    parts' tolerance band or the friction range tolerates less, the sentence says so with
+    that case's figure, not only the robustness section further down."""
+    from threadmate.design import ComplianceDesign, Robustness
+
+    def case(name: str, tilt: float) -> dict:
+        return {"case": name, "tolerated_tilt": tilt}
+
+    optimum = {
+        "force": 2.0,
+        "stiffness": 0.139,
+        "at_bound": None,
+        "tolerated_tilt": 2.25,
+        "tolerated_beyond_range": False,
+        "turn_mean": 158.0,
+    }
+
+    def lead(holds: bool, cases: list[dict]) -> str:
+        rob = Robustness(nominal=None, cases=cases, holds=holds, verdict="")
+        design = ComplianceDesign(
+            optimum=optimum,
+            settings=[],
+            falloff={},
+            envelope=None,
+            fine=None,
+            robustness=rob,
+            bounds={},
+            held="upright",
+            resolution={},
+            torque_limit=None,
+            units="in",
+            seconds=0.0,
+        )
+        return design.summary_line()
+
+    short = [case("maximum material", 0.0), case("minimum material", 2.0)]
+    short += [case("friction 0.08", 2.25), case("friction 0.2", 2.25)]
+    text = lead(False, short)
+    assert "tolerates 2.25 deg of misalignment in any direction with the nominal parts" in text
+    assert "0.00 deg with maximum material" in text and "does not hold" in text
+    assert text.endswith("snaps after 158 deg of turn on average")
+    held = lead(True, [case("maximum material", 2.25), case("friction 0.2", 2.25)])
+    assert "nominal" not in held and "does not hold" not in held
+    assert "tolerates 2.25 deg of misalignment in any direction;" in held
+
+
 @pytest.mark.parametrize(
     ("args", "words"),
     [

@@ -186,7 +186,8 @@ class ComplianceDesign:
     pretilts: list[dict[str, Any]] = field(default_factory=list)
 
     def summary_line(self) -> str:
-        """What to buy and set, and what it tolerates."""
+        """What to buy and set, and what it tolerates; where that does not hold over what
+        varies, what the worst case tolerates (the lead must not promise more)."""
         o = self.optimum
         tolerated = o["tolerated_tilt"] if self.pretilt is None else self.pretilt["tolerated_tilt"]
         if self.fine is not None:
@@ -196,10 +197,17 @@ class ComplianceDesign:
         bound = f" (at the {o['at_bound']})" if o["at_bound"] else ""
         beyond = self.fine is None and o["tolerated_beyond_range"]
         least = "at least " if beyond else ""
+        worst = None if self.robustness is None else self.robustness.worst_case()
+        caveat = (
+            ""
+            if worst is None
+            else f" with the nominal parts and friction, {worst['tolerated_tilt']:.2f} deg "
+            f"with {worst['case']} (the recommendation does not hold over what varies)"
+        )
         return (
             f"F = {o['force']:.3g} N, k = {o['stiffness']:.3g} N m/rad{bound}, held "
             f"{self.held}: tolerates {least}{tolerated:.2f} deg of misalignment in any direction"
-            f"{turn_words}"
+            f"{caveat}{turn_words}"
         )
 
     def to_dict(self) -> dict[str, Any]:

@@ -60,6 +60,13 @@ class Robustness:
     verdict: str
     notes: list[str] = field(default_factory=list)
 
+    def worst_case(self) -> dict[str, Any] | None:
+        """The case that tolerates least, when the recommendation does not hold (one of
+        :attr:`cases`); None when it holds."""
+        if self.holds or not self.cases:
+            return None
+        return min(self.cases, key=lambda c: c["tolerated_tilt"])
+
     def to_dict(self) -> dict[str, Any]:
         """The JSON part (``robustness`` of ``threadmate design --json``)."""
         return {
