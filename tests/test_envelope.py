@@ -217,6 +217,46 @@ def test_envelope_agrees_with_direct_searches_inside_and_outside(tmp_path):
     )
     figure = plot_envelope(env, tmp_path / "envelope.png")
     assert figure.stat().st_size > 1000
+    # Two phases: one short is 50 %, so the 95 % level asks both, and a note says so.
+    assert row["tilt"]["95%"] == row["tilt"]["100%"]
+    assert any("the 95 % level asks every phase" in note for note in doc["notes"])
+
+
+@pytest.mark.parametrize(("phases", "noted"), [(18, True), (19, True), (20, False), (40, False)])
+def test_a_level_that_asks_every_phase_is_noted(phases, noted):
+    """With fewer than 20 start phases, 95 % of them is every phase (from 20 on, one
+    phase short still meets 95 %): the envelope says its 95 % level is the 100 % one.
+    The shares here are made up: every phase snaps upright, none at 1 deg."""
+    import pandas as pd
+
+    from threadmate.design._envelope import _result, _Search
+
+    grid = PolarGrid.parse("0,1", "0", f"0:{360 - 360 / phases}:{360 / phases}")
+    assert len(grid.phase) == phases
+    search = _Search(grid.tilt, tolerance=1.0)
+    for size in (0.0, 1.0):
+        snapped = [size == 0.0] * phases
+        search.outcomes[search.key(size, 0.0)] = pd.DataFrame(
+            {
+                "snapped": snapped,
+                "failed": [False] * phases,
+                "turn": [90.0] * phases,
+                "work": [1.0] * phases,
+                "click": [1e-3] * phases,
+                "torque_peak": [1e-3] * phases,
+            }
+        )
+    env = _result(
+        search,
+        [0.0],
+        spec_from_designation("1/4-20 UNC-2A/2B"),
+        Compliance(),
+        grid,
+        "test",
+        2,
+        0.0,
+    )
+    assert any("95 % level asks every phase" in n for n in env.notes) == noted
 
 
 def test_the_bisection_brackets_each_level_within_the_tolerance():

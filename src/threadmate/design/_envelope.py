@@ -628,6 +628,16 @@ def _result(
         for (size, dd), rows in search.outcomes.items()
         if size <= limit + 1e-12 and (dd is _UP or dd in directions)
     ]
+    phases = len(grid.phase)
+    # A level that one phase short already misses asks every phase, as the 100 % one.
+    strict = [lv for lv in LEVELS if lv < 1.0 and (phases - 1) / phases + 1e-12 < lv]
+    if phases > 1 and strict:
+        notes.append(
+            f"with {phases} start phases the "
+            + " and ".join(f"{100 * lv:g} %" for lv in strict)
+            + f" level asks every phase (one short is {100 * (phases - 1) / phases:.1f} %): "
+            "its envelope is the 100 % one"
+        )
     upright = search.outcomes.get(search.key(0.0, 0.0))
     if upright is not None and _share(upright) < 1.0:
         notes.append(
