@@ -631,12 +631,15 @@ def _result(
     phases = len(grid.phase)
     # A level that one phase short already misses asks every phase, as the 100 % one.
     strict = [lv for lv in LEVELS if lv < 1.0 and (phases - 1) / phases + 1e-12 < lv]
-    if phases > 1 and strict:
+    if strict:
+        one = len(strict) == 1
         notes.append(
-            f"with {phases} start phases the "
+            f"with {phases} start phase{'s' if phases > 1 else ''} the "
             + " and ".join(f"{100 * lv:g} %" for lv in strict)
-            + f" level asks every phase (one short is {100 * (phases - 1) / phases:.1f} %): "
-            "its envelope is the 100 % one"
+            + (" level asks" if one else " levels ask")
+            + f" every phase (one short is {100 * (phases - 1) / phases:.1f} %): "
+            + ("its envelope is" if one else "their envelopes are")
+            + " the 100 % one"
         )
     upright = search.outcomes.get(search.key(0.0, 0.0))
     if upright is not None and _share(upright) < 1.0:
