@@ -282,7 +282,7 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
         "turn_mean": 158.0,
     }
 
-    def lead(holds: bool, cases: list[dict]) -> str:
+    def lead(holds: bool, cases: list[dict], robust: dict | None = None) -> str:
         rob = Robustness(nominal=None, cases=cases, holds=holds, verdict="")
         design = ComplianceDesign(
             optimum=optimum,
@@ -297,6 +297,7 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
             torque_limit=None,
             units="in",
             seconds=0.0,
+            robust_setting=robust,
         )
         return design.summary_line()
 
@@ -306,9 +307,72 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
     assert "tolerates 2.25 deg of misalignment in any direction with the nominal parts" in text
     assert "0.00 deg with maximum material" in text and "does not hold" in text
     assert text.endswith("snaps after 158 deg of turn on average")
+    # With the setting that holds best over what varies, the lead names it too.
+    robust = {"force": 2.0, "stiffness": 0.36, "tolerated_tilt": 0.5}
+    text = lead(False, short, robust)
+    assert "over it F = 2 N, k = 0.36 N m/rad tolerates 0.50 deg)" in text
     held = lead(True, [case("maximum material", 2.25), case("friction 0.2", 2.25)])
     assert "nominal" not in held and "does not hold" not in held
     assert "tolerates 2.25 deg of misalignment in any direction;" in held
+
+
+@pytest.mark.parametrize("torque_limit", [None, 0.05])
+def test_the_most_robust_setting_is_the_best_worst_case(monkeypatch, flat_pair, torque_limit):
+    """Of the settings evaluated, the one whose worst case over the material conditions
+    (and, with a torque limit, the friction range) tolerates the most: the same pick as
+    evaluating every case of every setting (brute force, below), with fewer envelopes (a
+    setting's worst case is no more than its nominal figure, so the search stops once no
+    nominal figure can beat the best worst case found). The envelopes are made up: a
+    table of tolerated tilts by case and stiffness."""
+    from types import SimpleNamespace
+
+    from threadmate.design import _robust, material_specs, most_robust
+
+    specs = material_specs(flat_pair)
+    # stiffness: (nominal, maximum material, minimum material, friction 0.08, friction 0.2)
+    table = {
+        0.224: (1.25, 0.0, 1.0, 1.25, 1.25),
+        0.1: (1.0, 0.0, 1.0, 1.0, 1.0),
+        0.36: (0.75, 0.5, 0.75, 0.75, 0.25),
+        0.578: (0.5, 0.5, 0.5, 0.5, 0.5),
+        1.5: (0.25, 0.25, 0.25, 0.25, 0.25),
+    }
+    calls = []
+
+    def case_of(spec, compliance):
+        if spec == specs["max"]:
+            return 1
+        if spec == specs["min"]:
+            return 2
+        return {0.08: 3, 0.2: 4}.get(compliance.friction, 0)
+
+    def fake_envelope(spec, compliance, **kwargs):
+        assert kwargs["torque_limit"] == torque_limit
+        k = compliance.stiffness[0]  # (roll, pitch), isotropic here
+        calls.append((k, case_of(spec, compliance)))
+        return SimpleNamespace(tolerated_tilt=table[k][case_of(spec, compliance)])
+
+    monkeypatch.setattr(_robust, "envelope", fake_envelope)
+    order = [0.224, 0.1, 0.36, 0.578, 1.5]  # their order of merit at nominal
+    candidates = [
+        (
+            {"ratio": k / 2.0, "force": 2.0, "stiffness": k},
+            Compliance(force=2.0, stiffness=k),
+            SimpleNamespace(tolerated_tilt=table[k][0]),
+        )
+        for k in order
+    ]
+    got = most_robust(flat_pair, candidates, 0.0, torque_limit=torque_limit, **TINY)
+    cases = range(5) if torque_limit is not None else range(3)
+    worst = {k: min(table[k][c] for c in cases) for k in order}
+    want = max(order, key=lambda k: (worst[k], -order.index(k)))  # first of the best
+    assert got is not None and got["stiffness"] == want
+    assert got["tolerated_tilt"] == worst[want] and got["nominal_tolerated_tilt"] == table[want][0]
+    names = ["maximum material", "minimum material", "friction 0.08", "friction 0.2"]
+    assert [c["case"] for c in got["cases"]] == names[: len(cases) - 1]
+    assert len(calls) < len(order) * (len(cases) - 1)
+    # None when no setting beats the worst case to beat.
+    assert most_robust(flat_pair, candidates, worst[want], torque_limit=torque_limit) is None
 
 
 @pytest.mark.parametrize(

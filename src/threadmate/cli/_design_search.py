@@ -57,7 +57,8 @@ k/F, so the search runs over that ratio (log-spaced, then halved around the best
 ratio at the least force the bounds allow. Each setting is evaluated with a coarse
 envelope (--direction, --phase, --tilt, --tolerance); --fine evaluates the optimum again
 at the envelope's own resolution. Then the optimum is re-evaluated at maximum and minimum
-material and at friction 0.08 and 0.20 (VDI 2230), with a sentence on whether it holds.
+material and at friction 0.08 and 0.20 (VDI 2230), with a sentence on whether it holds;
+where it does not, the setting evaluated whose worst case tolerates the most is named too.
 The bolt is held upright, as the nut's thread-start azimuth is unknown to the robot;
 with --azimuth-known a pre-tilt is searched and recommended when it tolerates more.
 Progress goes to stderr.

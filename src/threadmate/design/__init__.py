@@ -73,6 +73,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         Robustness as Robustness,
         format_robustness as format_robustness,
         material_specs as material_specs,
+        most_robust as most_robust,
         robustness as robustness,
     )
     from ._searches import (
@@ -119,6 +120,7 @@ _SOURCES = {
         "Robustness",
         "format_robustness",
         "material_specs",
+        "most_robust",
         "robustness",
     ),
     "._searches": ("EVENT_SIGNALS", "SearchEvents", "search_events"),

@@ -167,6 +167,10 @@ class ComplianceDesign:
         figures), None when held upright.
     pretilts : list of dict
         Every pre-tilt evaluated (``azimuth_known``).
+    robust_setting : dict or None
+        Where the optimum does not hold over what varies: the setting evaluated whose
+        worst case tolerates the most (:func:`threadmate.design.most_robust`), None
+        when none tolerates more than the optimum's worst case or it was not looked for.
     """
 
     optimum: dict[str, Any]
@@ -184,6 +188,7 @@ class ComplianceDesign:
     notes: list[str] = field(default_factory=list)
     pretilt: dict[str, Any] | None = None
     pretilts: list[dict[str, Any]] = field(default_factory=list)
+    robust_setting: dict[str, Any] | None = None
 
     def summary_line(self) -> str:
         """What to buy and set, and what it tolerates; where that does not hold over what
@@ -198,12 +203,20 @@ class ComplianceDesign:
         beyond = self.fine is None and o["tolerated_beyond_range"]
         least = "at least " if beyond else ""
         worst = None if self.robustness is None else self.robustness.worst_case()
-        caveat = (
-            ""
-            if worst is None
-            else f" with the nominal parts and friction, {worst['tolerated_tilt']:.2f} deg "
-            f"with {worst['case']} (the recommendation does not hold over what varies)"
-        )
+        caveat = ""
+        if worst is not None:
+            r = self.robust_setting
+            instead = (
+                ""
+                if r is None
+                else f"; over it F = {r['force']:.3g} N, k = {r['stiffness']:.3g} N m/rad "
+                f"tolerates {r['tolerated_tilt']:.2f} deg"
+            )
+            caveat = (
+                f" with the nominal parts and friction, {worst['tolerated_tilt']:.2f} deg "
+                f"with {worst['case']} (the recommendation does not hold over what varies"
+                f"{instead})"
+            )
         return (
             f"F = {o['force']:.3g} N, k = {o['stiffness']:.3g} N m/rad{bound}, held "
             f"{self.held}: tolerates {least}{tolerated:.2f} deg of misalignment in any direction"
@@ -236,6 +249,7 @@ class ComplianceDesign:
             "envelope": self.envelope.to_dict(),
             "fine_envelope": None if self.fine is None else self.fine.to_dict(),
             "robustness": None if self.robustness is None else self.robustness.to_dict(),
+            "robust_setting": self.robust_setting,
             "seconds": self.seconds,
             "notes": list(self.notes),
         }
@@ -525,13 +539,7 @@ def best_compliance(
     }
     optimum = {**best.row(), "at_bound": at_bound}
     fine_env = None
-    comp = Compliance(
-        force=best.force,
-        stiffness=best.stiffness,
-        lateral_stiffness=lateral_stiffness,
-        compliance_z=best.compliance_z,
-        friction=base.friction,
-    )
+    comp = _compliance_of(best, base, lateral_stiffness)
     pretilt = None
     pretilts: list[dict[str, Any]] = []
     if azimuth_known:
@@ -586,6 +594,32 @@ def best_compliance(
             progress=progress,
             **grid,
         )
+    robust_setting = None
+    worst = None if robustness is None else robustness.worst_case()
+    if worst is not None:
+        if fine or pretilt is not None:
+            notes.append(
+                "the setting that holds best over what varies is looked for upright at the "
+                "coarse resolution only"
+            )
+        else:
+            from ._robust import most_robust
+
+            ranked = sorted(
+                (s for sr, _ in searches for s in sr.done.values() if s is not best),
+                key=_Setting.key,
+            )
+            robust_setting = most_robust(
+                spec,
+                [(s.row(), _compliance_of(s, base, lateral_stiffness), s.envelope) for s in ranked],
+                min(best.tolerated, worst["tolerated_tilt"]),
+                material=material,
+                torque_limit=torque_limit,
+                workers=workers,
+                chord=chord,
+                progress=progress,
+                **coarse,
+            )
     return ComplianceDesign(
         optimum=optimum,
         settings=settings,
@@ -608,6 +642,18 @@ def best_compliance(
         units=spec.units,
         seconds=time.perf_counter() - start,
         notes=notes,
+        robust_setting=robust_setting,
+    )
+
+
+def _compliance_of(s: _Setting, base: Compliance, lateral_stiffness: float | None) -> Compliance:
+    """The compliance of a setting evaluated."""
+    return Compliance(
+        force=s.force,
+        stiffness=s.stiffness,
+        lateral_stiffness=lateral_stiffness,
+        compliance_z=s.compliance_z,
+        friction=base.friction,
     )
 
 
@@ -718,6 +764,16 @@ def format_compliance_design(design: ComplianceDesign) -> str:
         from ._robust import format_robustness
 
         lines += ["", format_robustness(design.robustness)]
+    rs = design.robust_setting
+    if rs is not None:
+        cases = "; ".join(f"{c['case']} {c['tolerated_tilt']:.2f} deg" for c in rs["cases"])
+        lines += [
+            "",
+            f"Of the settings evaluated, the one that holds best over what varies: "
+            f"F = {rs['force']:.4g} N, k = {rs['stiffness']:.4g} N m/rad "
+            f"(k/F {rs['ratio']:.4g}): {rs['tolerated_tilt']:.2f} deg in its worst case "
+            f"({rs['nominal_tolerated_tilt']:.2f} nominal; {cases}).",
+        ]
     lines += [f"note: {n}" for n in design.notes]
     lines.append(f"{len(design.settings)} settings evaluated in {design.seconds:.0f} s.")
     return "\n".join(lines)

@@ -28,10 +28,19 @@ from ..geometry import BoltPoint, Countersink, ThreadSpec, spec_from_designation
 from ._best import DesignProgress
 from ._envelope import Envelope, envelope
 
-__all__ = ["FRICTION_RANGE", "Robustness", "format_robustness", "material_specs", "robustness"]
+__all__ = [
+    "FRICTION_RANGE",
+    "Robustness",
+    "format_robustness",
+    "material_specs",
+    "most_robust",
+    "robustness",
+]
 
 #: The thread friction coefficients of VDI 2230's range, its low and high end.
 FRICTION_RANGE = (0.08, 0.20)
+#: The material conditions and their names in the cases.
+_CONDITIONS = (("max", "maximum material"), ("min", "minimum material"))
 
 
 @dataclass
@@ -188,7 +197,7 @@ def robustness(
             "are not evaluated"
         )
     cases = []
-    for condition, words in (("max", "maximum material"), ("min", "minimum material")):
+    for condition, words in _CONDITIONS:
         if condition in specs:
             env = run(words, specs[condition], compliance)
             cases.append(_row(words, condition, compliance.friction, env))
@@ -198,6 +207,72 @@ def robustness(
         cases.append(_row(f"friction {mu:g}", "nominal", float(mu), env))
     holds, verdict = _verdict(nominal, cases)
     return Robustness(nominal=nominal, cases=cases, holds=holds, verdict=verdict, notes=notes)
+
+
+def most_robust(
+    spec: ThreadSpec,
+    candidates: Sequence[tuple[dict[str, Any], Compliance, Envelope]],
+    to_beat: float,
+    *,
+    material: Mapping[str, ThreadSpec] | None = None,
+    torque_limit: float | None = None,
+    workers: int | None = None,
+    chord: float | None = None,
+    progress: DesignProgress | None = None,
+    **grid: Any,
+) -> dict[str, Any] | None:
+    """Of settings already evaluated at nominal, the one whose worst case over what
+    varies tolerates the most, when that is more than ``to_beat`` (degrees: the worst
+    case of the setting chosen at nominal); None when none does.
+
+    ``candidates`` are ``(row, compliance, nominal envelope)`` in their order of merit at
+    nominal. A setting's worst case is its nominal tolerated tilt or less, so once a
+    candidate's nominal figure is no more than the best worst case found, no later one
+    can beat it and the search stops; a candidate's cases stop likewise as soon as one
+    falls to the best worst case. The cases are the maximum and minimum material
+    conditions and, with a torque limit only, the frictions of :data:`FRICTION_RANGE`
+    (without one the friction cases have the nominal envelope: friction enters only the
+    torque and the work). Every envelope at the same ``grid`` as the nominal ones.
+
+    Returns
+    -------
+    dict or None
+        The setting's ``row`` (ratio, force, stiffness, ...) with ``nominal_tolerated_tilt``,
+        ``tolerated_tilt`` (its worst case, degrees) and ``cases`` (each ``case`` and
+        ``tolerated_tilt``).
+    """
+    specs = material_specs(spec) if material is None else dict(material)
+    best: dict[str, Any] | None = None
+    best_worst = to_beat
+    for row, compliance, nominal in candidates:
+        if nominal.tolerated_tilt <= best_worst + 1e-12:
+            break
+        worst, cases = nominal.tolerated_tilt, []
+        plan = [(words, specs[c], compliance) for c, words in _CONDITIONS if c in specs]
+        if torque_limit is not None:
+            plan += [
+                (f"friction {mu:g}", spec, replace(compliance, friction=float(mu)))
+                for mu in FRICTION_RANGE
+            ]
+        for words, s, c in plan:
+            if progress is not None:
+                progress(f"most robust: k/F {row['ratio']:.4g}, {words}")
+            env = envelope(
+                s, compliance=c, workers=workers, chord=chord, torque_limit=torque_limit, **grid
+            )
+            cases.append({"case": words, "tolerated_tilt": env.tolerated_tilt})
+            worst = min(worst, env.tolerated_tilt)
+            if worst <= best_worst + 1e-12:
+                break
+        if worst > best_worst + 1e-12:
+            best_worst = worst
+            best = {
+                **row,
+                "nominal_tolerated_tilt": nominal.tolerated_tilt,
+                "tolerated_tilt": worst,
+                "cases": cases,
+            }
+    return best
 
 
 def _verdict(nominal: Envelope, cases: list[dict[str, Any]]) -> tuple[bool, str]:
