@@ -12,6 +12,9 @@ Friction enters only the driver's torque and work (the equilibrium is frictionle
 without a torque limit the friction cases share the nominal envelope; with one, a higher
 friction can stop more starts.
 
+Where the recommendation does not hold, :func:`most_robust` finds, among the settings the
+design evaluated, the one whose worst case tolerates the most.
+
 Angles in degrees, work in mJ, torque in N m.
 """
 
