@@ -9,8 +9,10 @@ tolerates at least the nominal tolerated misalignment less the envelope's tolera
 resolution to which it is known).
 
 Friction enters only the driver's torque and work (the equilibrium is frictionless), so
-without a torque limit the friction cases share the nominal envelope; with one, a higher
-friction can stop more starts.
+the friction cases have the nominal rest states. Their envelope differs only where the
+torque decides: a screw-in whose tightening torque passes its limit (by default the load
+times the major radius, reached only when the bolt wedges) is no snap, and with a torque
+limit given a higher friction can stop more starts.
 
 Where the recommendation does not hold, :func:`most_robust` finds, among the settings the
 design evaluated, the one whose worst case tolerates the most.
@@ -232,10 +234,10 @@ def most_robust(
     nominal. A setting's worst case is its nominal tolerated tilt or less, so once a
     candidate's nominal figure is no more than the best worst case found, no later one
     can beat it and the search stops; a candidate's cases stop likewise as soon as one
-    falls to the best worst case. The cases are the maximum and minimum material
-    conditions and, with a torque limit only, the frictions of :data:`FRICTION_RANGE`
-    (without one the friction cases have the nominal envelope: friction enters only the
-    torque and the work). Every envelope at the same ``grid`` as the nominal ones.
+    falls to the best worst case. The cases are those of :func:`robustness`: the maximum
+    and minimum material conditions, then the frictions of :data:`FRICTION_RANGE` (they
+    change the driver's torque, and a screw-in whose torque passes its limit is no snap),
+    every envelope at the same ``grid`` as the nominal ones.
 
     Returns
     -------
@@ -252,11 +254,10 @@ def most_robust(
             break
         worst, cases = nominal.tolerated_tilt, []
         plan = [(words, specs[c], compliance) for c, words in _CONDITIONS if c in specs]
-        if torque_limit is not None:
-            plan += [
-                (f"friction {mu:g}", spec, replace(compliance, friction=float(mu)))
-                for mu in FRICTION_RANGE
-            ]
+        plan += [
+            (f"friction {mu:g}", spec, replace(compliance, friction=float(mu)))
+            for mu in FRICTION_RANGE
+        ]
         for words, s, c in plan:
             if progress is not None:
                 progress(f"most robust: k/F {row['ratio']:.4g}, {words}")
