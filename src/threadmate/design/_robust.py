@@ -77,9 +77,7 @@ class Robustness:
     def worst_case(self) -> dict[str, Any] | None:
         """The case that tolerates least, when the recommendation does not hold (one of
         :attr:`cases`); None when it holds."""
-        if self.holds or not self.cases:
-            return None
-        return min(self.cases, key=lambda c: c["tolerated_tilt"])
+        return None if self.holds or not self.cases else _least(self.cases)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON part (``robustness`` of ``threadmate design --json``)."""
@@ -279,6 +277,11 @@ def most_robust(
     return best
 
 
+def _least(cases: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """The case that tolerates least (the first of equals)."""
+    return min(cases, key=lambda c: c["tolerated_tilt"])
+
+
 def _verdict(nominal: Envelope, cases: list[dict[str, Any]]) -> tuple[bool, str]:
     """Whether every case tolerates the nominal tilt (to the tolerance), in one sentence."""
     want = nominal.tolerated_tilt
@@ -292,7 +295,7 @@ def _verdict(nominal: Envelope, cases: list[dict[str, Any]]) -> tuple[bool, str]
             f"The recommendation holds: every case tolerates at least {low:.2f} deg against "
             f"{want:.2f} deg nominal (known to {tol:g} deg)."
         )
-    worst = min(short, key=lambda c: c["tolerated_tilt"])
+    worst = _least(short)
     names = ", ".join(f"{c['case']} ({c['tolerated_tilt']:.2f} deg)" for c in short)
     return False, (
         f"The recommendation does not hold over what varies: {names} against {want:.2f} deg "
