@@ -238,6 +238,7 @@ def test_robustness_cases_are_the_designations_and_friction_moves_only_torque(fl
         want = spec_from_designation(DESIGNATION, condition, point="flat", countersink=False)
         assert got[condition] == want and got[condition].to_dict() == want.to_dict()
     assert got["max"].bolt.major > got["min"].bolt.major
+    said: list[str] = []
     rob = robustness(
         flat_pair,
         Compliance(force=10, stiffness=1),
@@ -246,7 +247,10 @@ def test_robustness_cases_are_the_designations_and_friction_moves_only_torque(fl
         direction="180",
         phase="300",
         tolerance=1.0,
+        progress=said.append,
     )
+    # The friction cases come with the nominal envelope, in its pass.
+    assert said == [f"robustness: {c}" for c in ("nominal", "maximum material", "minimum material")]
     doc = json.loads(json.dumps(rob.to_dict()))
     assert isinstance(doc["holds"], bool) and doc["verdict"].startswith("The recommendation")
     cases = {c["case"]: c for c in doc["cases"]}
@@ -262,6 +266,71 @@ def test_robustness_cases_are_the_designations_and_friction_moves_only_torque(fl
     assert low["work_mean"] is not None and low["work_mean"] > 0
     assert high["work_mean"] > low["work_mean"]
     assert high["torque_peak"] > low["torque_peak"]
+
+
+def _agree(got, want, where=""):
+    """Two JSON-like documents equal, their floats to 1e-9 (relative): scaled and
+    computed torques differ by rounding."""
+    if isinstance(want, dict):
+        assert set(got) == set(want), where
+        for k in want:
+            _agree(got[k], want[k], f"{where}.{k}")
+    elif isinstance(want, list):
+        assert len(got) == len(want), where
+        for i, (a, b) in enumerate(zip(got, want, strict=True)):
+            _agree(a, b, f"{where}[{i}]")
+    elif isinstance(want, float) and not math.isnan(want):
+        assert got == pytest.approx(want, rel=1e-9, abs=1e-15), where
+    elif isinstance(want, float):
+        assert isinstance(got, float) and math.isnan(got), where
+    else:
+        assert got == want, where
+
+
+def test_a_held_tilt_at_other_frictions_is_the_held_tilt_walked_there(flat_pair):
+    """A probe asked for other frictions walks each held tilt once and scales its rows
+    where every proof judges alike: the rows at 0.08 and 0.2 are those of probes made at
+    0.08 and 0.2, column by column (torques, work and notes included)."""
+    from dataclasses import replace
+
+    from threadmate.library import HeldTiltProbe
+
+    c = Compliance(force=10, stiffness=1)
+    with HeldTiltProbe(flat_pair, TINY["phase"], compliance=c, frictions=(0.2, 0.08)) as probe:
+        assert probe.frictions == (0.15, 0.2, 0.08)
+        probe.submit(2.0, 180.0)
+        at, each = probe.next_done_each()
+    assert at == (2.0, 180.0) and set(each) == {0.15, 0.2, 0.08}
+    for mu in (0.08, 0.2):
+        with HeldTiltProbe(flat_pair, TINY["phase"], compliance=replace(c, friction=mu)) as alone:
+            want = alone.run([(2.0, 180.0)])[(2.0, 180.0)]
+        got = each[mu]
+        assert got.attrs["threadmate"]["compliance"]["friction"] == mu
+        assert list(got.columns) == list(want.columns) and len(got) == len(want) > 0
+        assert (got["work_friction"] > 0).any() and (got["driver_torque"].abs() > 0).any()
+        _agree(
+            json.loads(got.to_json(orient="records")), json.loads(want.to_json(orient="records"))
+        )
+
+
+def test_friction_cases_located_in_one_pass_are_the_envelopes_at_those_frictions(flat_pair):
+    """``envelope(..., frictions=...)`` locates the envelope at each other friction in the
+    nominal's pass: each equals the envelope located alone at that friction, with the
+    same held tilts probed."""
+    from dataclasses import replace
+
+    from threadmate.design import envelope
+
+    c = Compliance(force=10, stiffness=1)
+    env = envelope(flat_pair, compliance=c, frictions=(0.08, 0.2), workers=1, **TINY)
+    assert sorted(env.friction_cases) == [0.08, 0.2]
+    for mu, case in env.friction_cases.items():
+        alone = envelope(flat_pair, compliance=replace(c, friction=mu), workers=1, **TINY)
+        assert case.probes == alone.probes
+        got, want = case.to_dict(), alone.to_dict()
+        for key in ("seconds", "notes"):
+            got.pop(key), want.pop(key)
+        _agree(got, want)
 
 
 def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_does_not_hold():
@@ -354,11 +423,17 @@ def test_the_most_robust_setting_is_the_best_worst_case(monkeypatch, flat_pair, 
 
     monkeypatch.setattr(_robust, "envelope", fake_envelope)
     order = [0.224, 0.1, 0.36, 0.578, 1.5]  # their order of merit at nominal
+
+    def nominal(k, friction_cases):
+        return SimpleNamespace(
+            tolerated_tilt=table[k][0], compliance={"friction": 0.15}, friction_cases=friction_cases
+        )
+
     candidates = [
         (
             {"ratio": k / 2.0, "force": 2.0, "stiffness": k},
             Compliance(force=2.0, stiffness=k),
-            SimpleNamespace(tolerated_tilt=table[k][0]),
+            nominal(k, {}),
         )
         for k in order
     ]
@@ -373,6 +448,26 @@ def test_the_most_robust_setting_is_the_best_worst_case(monkeypatch, flat_pair, 
     assert len(calls) < len(order) * (len(cases) - 1)
     # None when no setting beats the worst case to beat.
     assert most_robust(flat_pair, candidates, worst[want], torque_limit=torque_limit) is None
+    # Friction cases located with the nominal envelopes (Envelope.friction_cases) are
+    # taken as they are: the same pick, and no envelope computed at a friction.
+    calls.clear()
+    known = [
+        (
+            row,
+            compliance,
+            nominal(
+                compliance.stiffness[0],
+                {
+                    mu: SimpleNamespace(tolerated_tilt=table[compliance.stiffness[0]][case])
+                    for mu, case in ((0.08, 3), (0.2, 4))
+                },
+            ),
+        )
+        for row, compliance, _ in candidates
+    ]
+    again = most_robust(flat_pair, known, 0.0, torque_limit=torque_limit, **TINY)
+    assert again == got
+    assert calls and all(case in (1, 2) for _, case in calls)
 
 
 @pytest.mark.parametrize(

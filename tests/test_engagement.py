@@ -26,6 +26,7 @@ from _cli import run_cli
 from _poses import axis_angle
 from threadmate.contact import (
     CLICK_SPAN,
+    IN_PHASE,
     PROOF_FOLD_TOLERANCE,
     SCREW_IN,
     Compliance,
@@ -556,3 +557,46 @@ def test_a_smooth_snap_clicks_its_drop(upright_search):
     snap = upright_search.snap
     assert snap is not None
     assert snap.click == pytest.approx(snap.drop, rel=1e-9)
+
+
+def _proof_at(mech, friction, torque_limit=None):
+    """The proof of the upright bolt started in phase at phase 0 (the start settled anew)
+    with ``friction``, on ``mech``'s bodies."""
+    m = Mechanics(mech.spec, Compliance(friction=friction), scene=mech.scene)
+    start = m.settle(0.0, 0.0, 0.0).state
+    assert start.classification == IN_PHASE
+    return Continuation(m, 0.0, 0.0, torque_limit=torque_limit).prove(start, 0.0)
+
+
+@pytest.fixture(scope="module")
+def proof_015(mech):
+    return _proof_at(mech, 0.15)
+
+
+def test_a_proof_judges_alike_up_to_the_friction_where_a_torque_passes_its_limit(mech, proof_015):
+    """The frictions a proof judges alike at (``Engagement.frictions``) end where a
+    torque of its walk passes the limit: made again with the friction just inside the
+    upper end, the proof engages as at 0.15; just outside, it jams on its torque. With no
+    friction the friction parts tell no proportion, and no other friction is alike."""
+    proof = proof_015
+    low, high = proof.frictions
+    assert proof.engaged and low == 0.0 and 0.15 < high < math.inf
+    inside, outside = _proof_at(mech, high * (1 - 1e-3)), _proof_at(mech, high * (1 + 1e-3))
+    assert inside.engaged and not inside.jammed
+    assert outside.jammed and outside.reason.startswith("the tightening torque reaches")
+    assert _proof_at(mech, 0.0).frictions == (0.0, 0.0)
+
+
+def test_a_proof_scaled_to_another_friction_is_the_proof_made_there(mech, proof_015):
+    """A proof that jams on its torque (a limit of half its peak) judges alike from a
+    friction below its own on; scaled to 0.25 it is the proof made at 0.25: the same
+    verdict and turn, the same words with the torque there, the same peak torque."""
+    limit = 0.5 * proof_015.torque_peak
+    jam = _proof_at(mech, 0.15, limit)
+    low, high = jam.frictions
+    assert jam.jammed and 0.0 < low < 0.15 and high == math.inf
+    there = _proof_at(mech, 0.25, limit)
+    scaled = jam.scaled(0.25 / 0.15)
+    assert (scaled.engaged, scaled.jammed, scaled.turn) == (there.engaged, there.jammed, there.turn)
+    assert scaled.reason == there.reason != jam.reason
+    assert scaled.torque_peak == pytest.approx(there.torque_peak, rel=1e-9)

@@ -48,6 +48,7 @@ from .._validate import check_range
 from ..contact import Compliance
 from ..geometry import ThreadSpec
 from ._envelope import TOLERANCE, Envelope, envelope
+from ._robust import FRICTION_RANGE
 
 __all__ = [
     "COARSE",
@@ -471,6 +472,10 @@ def best_compliance(
         Compliance(compliance_z=z, lateral_stiffness=lateral_stiffness, friction=base.friction)
     coarse = {"tilt": tilt, "direction": direction, "phase": phase, "tolerance": tolerance}
     count = 0
+    # The friction cases of the robustness, located with each setting in the same pass
+    # (little more than the nominal alone): the optimum's robustness and the look for
+    # the setting that holds best then need no envelope of their own at them.
+    frictions = FRICTION_RANGE if robust else ()
 
     def evaluate(z: float) -> Callable[[float, float, float, bool], _Setting]:
         def one(r: float, f: float, k: float, beyond: bool) -> _Setting:
@@ -491,6 +496,7 @@ def best_compliance(
                 workers=workers,
                 chord=chord,
                 torque_limit=torque_limit,
+                frictions=frictions,
                 **coarse,
             )
             return _Setting(r, f, k, z, beyond, env)
@@ -576,6 +582,7 @@ def best_compliance(
             chord=chord,
             torque_limit=torque_limit,
             pretilt=at,
+            frictions=frictions,
         )
     robustness = None
     if robust:

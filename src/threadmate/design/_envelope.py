@@ -28,7 +28,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -159,6 +159,10 @@ class Envelope:
     pretilt : (float, float) or None
         The pre-tilt ``(size, direction)`` (degrees) around which the misalignment is
         measured; None: upright.
+    friction_cases : dict
+        ``{friction: Envelope}``: the envelope of the same compliance at each other
+        friction coefficient asked (:func:`envelope`'s ``frictions``), located in the same
+        pass; empty when none was asked. Not in :meth:`to_dict`.
     """
 
     directions: list[dict[str, Any]]
@@ -176,6 +180,7 @@ class Envelope:
     located: bool = True
     torque_limit: float | None = None
     pretilt: tuple[float, float] | None = None
+    friction_cases: dict[float, Envelope] = field(default_factory=dict)
 
     @property
     def tolerated_tilt(self) -> float:
@@ -342,6 +347,7 @@ def envelope(
     phase_tolerance: float = PHASE_TOLERANCE,
     torque_limit: float | None = None,
     pretilt: tuple[float, float] | None = None,
+    frictions: Sequence[float] = (),
     progress: EnvelopeProgress | None = None,
 ) -> Envelope:
     """The capture envelope of a compliance (module docstring).
@@ -373,6 +379,13 @@ def envelope(
         (degrees), around which the misalignment is measured: each held tilt probed is the
         misalignment's rotation (in F) applied to the pre-tilted axis
         (:func:`compose_tilts`). None: upright.
+    frictions : sequence of float, optional
+        From a spec: other friction coefficients at which to locate the envelope of the
+        same compliance in the same pass (:attr:`Envelope.friction_cases`). The rest
+        states are frictionless; each held tilt is walked once and its rows scaled to the
+        other coefficients wherever its snaps' proofs judge alike there
+        (:func:`threadmate.library.HeldTiltProbe`), and each envelope is located by its
+        own bisection, exactly as :func:`envelope` alone at that coefficient would.
     progress : callable, optional
         ``progress(done, asked)``: held tilts computed and asked for so far.
 
@@ -432,15 +445,9 @@ def envelope(
         raise InputError(
             f"source must be a ThreadSpec or a library directory, got {type(source).__name__}"
         )
-    search = _Search(grid.tilt, tolerance)
+    if frictions and rows is not None:
+        raise InputError("frictions: an envelope from a library is at the library's friction")
     directions = [float(d) for d in grid.direction]
-    if rows is not None and not rows.empty:
-        outcomes = _outcomes(rows, torque_limit)
-        polar = dict(zip(grid.held_tilts, grid.polar_tilts, strict=True))
-        for (r, p), group in outcomes.groupby(["held_roll", "held_pitch"], sort=False):
-            size, d = polar[(float(r), float(p))]  # type: ignore[arg-type]
-            search.outcomes[search.key(size, d)] = group
-    asked = done = 0
     with HeldTiltProbe(
         spec,
         grid.phase,
@@ -451,35 +458,73 @@ def envelope(
         workers=workers,
         scheduler=scheduler,
         base_metadata=base_meta,
+        frictions=frictions,
     ) as probe:
+        # One search per friction coefficient, each asking the held tilts its own
+        # bisection needs; a held tilt comes back at every coefficient.
+        searches = {mu: _Search(grid.tilt, tolerance) for mu in probe.frictions}
+        if rows is not None and not rows.empty:
+            outcomes = _outcomes(rows, torque_limit)
+            polar = dict(zip(grid.held_tilts, grid.polar_tilts, strict=True))
+            for (r, p), group in outcomes.groupby(["held_roll", "held_pitch"], sort=False):
+                size, d = polar[(float(r), float(p))]  # type: ignore[arg-type]
+                own = searches[compliance.friction]
+                own.outcomes[own.key(size, d)] = group
+        computed: dict[float, dict[tuple[float, float | None], pd.DataFrame]] = {
+            mu: {} for mu in probe.frictions
+        }
+        used: dict[float, int] = dict.fromkeys(probe.frictions, 0)
+        asked = done = 0
         # Each direction's next size is asked as soon as the sizes it depends on are in:
         # the workers stay busy while directions bisect at their own pace.
         in_flight: dict[tuple[float, float | None], tuple[float, float]] = {}
         while True:
-            for d in directions:
-                for size in sorted(search.needed(d)):
-                    k = search.key(size, d)
-                    if k not in search.outcomes and k not in in_flight:
-                        at = (k[0], d if k[1] is not _UP else directions[0])
-                        in_flight[k] = at if pretilt is None else compose_tilts(pretilt, at)
-                        probe.submit(*in_flight[k])
-                        asked += 1
+            found_one = True
+            while found_one:  # a held tilt already computed may settle what comes next
+                found_one = False
+                for mu, search in searches.items():
+                    for d in directions:
+                        for size in sorted(search.needed(d)):
+                            k = search.key(size, d)
+                            if k in search.outcomes or k in in_flight:
+                                continue
+                            if k in computed[mu]:
+                                search.outcomes[k] = computed[mu][k]
+                                used[mu] += 1
+                                found_one = True
+                                continue
+                            at = (k[0], d if k[1] is not _UP else directions[0])
+                            in_flight[k] = at if pretilt is None else compose_tilts(pretilt, at)
+                            probe.submit(*in_flight[k])
+                            asked += 1
             if not in_flight:
                 break
             if progress is not None:
                 progress(done, asked)
-            at, found = probe.next_done()
+            at, each = probe.next_done_each()
             k = next(key for key, value in in_flight.items() if value == at)
             del in_flight[k]
-            search.outcomes[k] = _outcomes(found, torque_limit)
+            for mu, found in each.items():
+                computed[mu][k] = _outcomes(found, torque_limit)
             done += 1
         if progress is not None:
             progress(done, asked)
-        probes = probe.computed
-    env = _result(search, directions, spec, compliance, grid, where, probes, start)
-    env.torque_limit = torque_limit
-    if pretilt is not None:
-        env.pretilt = (float(pretilt[0]), float(pretilt[1]))
+        mu0 = probe.frictions[0]
+    out = {}
+    for mu, search in searches.items():
+        c = replace(compliance, friction=mu)
+        out[mu] = _result(search, directions, spec, c, grid, where, used[mu], start)
+        out[mu].torque_limit = torque_limit
+        if pretilt is not None:
+            out[mu].pretilt = (float(pretilt[0]), float(pretilt[1]))
+        if mu != mu0:
+            out[mu].notes.append(
+                f"located in one pass with the envelope at friction {mu0:g}: the rest states "
+                "are frictionless, and each held tilt's rows were scaled to this friction "
+                "where every snap's proof judges alike at it, else walked again"
+            )
+    env = out.pop(mu0)
+    env.friction_cases = out
     return env
 
 

@@ -12,7 +12,11 @@ Friction enters only the driver's torque and work (the equilibrium is frictionle
 the friction cases have the nominal rest states. Their envelope differs only where the
 torque decides: a screw-in whose tightening torque passes its limit (by default the load
 times the major radius, reached only when the bolt wedges) is no snap, and with a torque
-limit given a higher friction can stop more starts.
+limit given a higher friction can stop more starts. So the friction cases are located in
+the nominal envelope's pass (:func:`threadmate.design.envelope`'s ``frictions``): each
+held tilt walked once, its rows scaled to another friction wherever its proofs judge
+alike there; an envelope that carries them (:attr:`Envelope.friction_cases`) is not
+located again.
 
 Where the recommendation does not hold, :func:`most_robust` finds, among the settings the
 design evaluated, the one whose worst case tolerates the most.
@@ -24,14 +28,16 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._errors import InputError
 from .._units import json_units
 from ..contact import Compliance
 from ..geometry import BoltPoint, Countersink, ThreadSpec, spec_from_designation
-from ._best import DesignProgress
 from ._envelope import Envelope, envelope
+
+if TYPE_CHECKING:
+    from ._best import DesignProgress
 
 __all__ = [
     "FRICTION_RANGE",
@@ -153,7 +159,8 @@ def robustness(
     compliance : Compliance
         The compliance chosen.
     nominal : Envelope, optional
-        Its envelope on ``spec`` at the same grid (computed when None).
+        Its envelope on ``spec`` at the same grid (computed when None, with the friction
+        cases in its pass); the friction cases it carries are taken as they are.
     material : mapping, optional
         ``{"max": spec, "min": spec}``; default :func:`material_specs`.
     frictions : sequence of float
@@ -185,13 +192,13 @@ def robustness(
         **grid,
     }
 
-    def run(label: str, s: ThreadSpec, c: Compliance) -> Envelope:
+    def run(label: str, s: ThreadSpec, c: Compliance, **more: Any) -> Envelope:
         if progress is not None:
             progress(f"robustness: {label}")
-        return envelope(s, compliance=c, **common)
+        return envelope(s, compliance=c, **common, **more)
 
     if nominal is None:
-        nominal = run("nominal", spec, compliance)
+        nominal = run("nominal", spec, compliance, frictions=frictions)
     notes: list[str] = []
     specs = material_specs(spec) if material is None else dict(material)
     if not specs:
@@ -205,8 +212,8 @@ def robustness(
             env = run(words, specs[condition], compliance)
             cases.append(_row(words, condition, compliance.friction, env))
     for mu in frictions:
-        c = replace(compliance, friction=float(mu))
-        env = run(f"friction {mu:g}", spec, c)
+        known = _friction_case(nominal, float(mu))
+        env = known or run(f"friction {mu:g}", spec, replace(compliance, friction=float(mu)))
         cases.append(_row(f"friction {mu:g}", "nominal", float(mu), env))
     holds, verdict = _verdict(nominal, cases)
     return Robustness(nominal=nominal, cases=cases, holds=holds, verdict=verdict, notes=notes)
@@ -251,17 +258,25 @@ def most_robust(
         if nominal.tolerated_tilt <= best_worst + 1e-12:
             break
         worst, cases = nominal.tolerated_tilt, []
-        plan = [(words, specs[c], compliance) for c, words in _CONDITIONS if c in specs]
+        plan: list[tuple[str, ThreadSpec, Compliance, Envelope | None]] = [
+            (words, specs[c], compliance, None) for c, words in _CONDITIONS if c in specs
+        ]
         plan += [
-            (f"friction {mu:g}", spec, replace(compliance, friction=float(mu)))
+            (
+                f"friction {mu:g}",
+                spec,
+                replace(compliance, friction=mu),
+                _friction_case(nominal, mu),
+            )
             for mu in FRICTION_RANGE
         ]
-        for words, s, c in plan:
-            if progress is not None:
-                progress(f"most robust: k/F {row['ratio']:.4g}, {words}")
-            env = envelope(
-                s, compliance=c, workers=workers, chord=chord, torque_limit=torque_limit, **grid
-            )
+        for words, s, c, env in plan:
+            if env is None:
+                if progress is not None:
+                    progress(f"most robust: k/F {row['ratio']:.4g}, {words}")
+                env = envelope(
+                    s, compliance=c, workers=workers, chord=chord, torque_limit=torque_limit, **grid
+                )
             cases.append({"case": words, "tolerated_tilt": env.tolerated_tilt})
             worst = min(worst, env.tolerated_tilt)
             if worst <= best_worst + 1e-12:
@@ -275,6 +290,15 @@ def most_robust(
                 "cases": cases,
             }
     return best
+
+
+def _friction_case(nominal: Envelope, friction: float) -> Envelope | None:
+    """The envelope at ``friction`` of ``nominal``'s compliance, when known already: the
+    nominal itself at its own friction, or one located in its pass
+    (:attr:`Envelope.friction_cases`); None otherwise."""
+    if friction == nominal.compliance["friction"]:
+        return nominal
+    return nominal.friction_cases.get(friction)
 
 
 def _least(cases: Sequence[dict[str, Any]]) -> dict[str, Any]:

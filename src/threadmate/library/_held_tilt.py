@@ -49,7 +49,7 @@ from ..contact import (
     state_schema,
 )
 
-__all__ = ["states_of_held_tilt", "MAX_FOLLOW_TURNS"]
+__all__ = ["ALIKE_MARGIN", "MAX_FOLLOW_TURNS", "states_of_held_tilt", "states_over_frictions"]
 
 #: Turns after which a continuation that neither snapped nor joined another stops.
 MAX_FOLLOW_TURNS = 2.0
@@ -74,6 +74,7 @@ class _Tilt:
         self.serial = 0
         self.floor = mech.load_carrying
         self.events: list[str] = []  # states either side of a jump between grid phases
+        self.legs: dict[str, Leg] = {}  # the leg each transition row stands for
 
     def add(self, state: MechanicalState, role: str, config_id: int) -> str:
         sid = state_id(self.held_roll, self.held_pitch, state.phase, self.serial)
@@ -118,6 +119,7 @@ class _Tilt:
         """The transition ``leg`` from ``src`` to ``dst`` (with its window, at a snap)."""
         self.rows[src]["snap_window"] = snap_window if leg.kind == "snap" else math.nan
         self.rows[src]["click"] = leg.click
+        self.legs[src] = leg
         self.link(
             src,
             dst,
@@ -128,6 +130,29 @@ class _Tilt:
             work_potential=leg.work_potential,
             torque_peak=leg.torque_peak,
         )
+
+    def rows_scaled(self, scale: float) -> list[dict[str, Any]]:
+        """The rows with every friction part scaled by ``scale``: the driver's torque and
+        its friction part at each state, the work against friction and the peak torque
+        along each transition, and the screw-in notes that name a torque. They are the
+        rows of the friction coefficient so scaled wherever every proof judges alike
+        there (:attr:`threadmate.contact.Engagement.frictions`)."""
+        out = []
+        for sid, row in self.rows.items():
+            row = dict(row)
+            torque, friction = row["driver_torque"], row["friction_torque"]
+            row["driver_torque"] = torque + (scale - 1.0) * friction
+            row["friction_torque"] = scale * friction
+            row["work_friction"] = scale * row["work_friction"]
+            leg = self.legs.get(sid)
+            if leg is not None:
+                row["torque_peak"] = leg.torque_peak_scaled(scale)
+            state = self.states.get(sid)  # none for a configuration that failed
+            proof = None if state is None else state.engagement
+            if proof is not None:
+                row["screw_note"] = proof.scaled(scale).reason
+            out.append(row)
+        return out
 
     def carrying(self, s: MechanicalState) -> list[str]:
         """Regions of the contacts that carry load (as the continuation tells events)."""
@@ -227,6 +252,84 @@ def states_of_held_tilt(
     list of dict
         Rows of the state record; a configuration that fails gives one ``error`` row.
     """
+    tilt, _ = _walk_held_tilt(
+        mech,
+        roll,
+        pitch,
+        phases,
+        config_ids,
+        step=step,
+        phase_tolerance=phase_tolerance,
+        clockwise=clockwise,
+    )
+    return list(tilt.rows.values())
+
+
+#: How far inside the coefficients at which every proof judges alike (a fraction of
+#: each end) another coefficient must lie for the rows to be scaled, not walked again:
+#: scaled and computed torques differ by rounding.
+ALIKE_MARGIN = 1e-6
+
+
+def states_over_frictions(
+    mech: Mechanics,
+    roll: float,
+    pitch: float,
+    phases: Sequence[float],
+    config_ids: Sequence[int],
+    frictions: Sequence[float],
+    *,
+    step: float,
+    phase_tolerance: float,
+) -> dict[float, list[dict[str, Any]]]:
+    """:func:`states_of_held_tilt` at each friction coefficient of ``frictions``, the
+    held tilt walked once where it can be.
+
+    The rest states are frictionless, and so is the search but for its proofs: a proof
+    whose tightening torque passes its limit is no snap. Where every proof of the held
+    tilt judges alike at a coefficient (:attr:`threadmate.contact.Engagement.frictions`,
+    strictly inside by :data:`ALIKE_MARGIN`), the rows there are those walked with
+    ``mech``'s, their friction parts scaled (:meth:`_Tilt.rows_scaled`); elsewhere, and
+    at every other coefficient when ``mech``'s is 0 (whose friction parts tell no
+    proportion), the held tilt is walked again with that coefficient.
+
+    Returns
+    -------
+    dict
+        ``{friction: rows}``.
+    """
+    tilt, walk = _walk_held_tilt(
+        mech, roll, pitch, phases, config_ids, step=step, phase_tolerance=phase_tolerance
+    )
+    mu = mech.compliance.friction
+    low, high = walk.frictions
+    out: dict[float, list[dict[str, Any]]] = {}
+    for m in map(float, frictions):
+        if m == mu:
+            out[m] = list(tilt.rows.values())
+        elif low * (1 + ALIKE_MARGIN) < m < high * (1 - ALIKE_MARGIN):
+            out[m] = tilt.rows_scaled(m / mu)
+        else:
+            other = Mechanics(mech.spec, replace(mech.compliance, friction=m), scene=mech.scene)
+            out[m] = states_of_held_tilt(
+                other, roll, pitch, phases, config_ids, step=step, phase_tolerance=phase_tolerance
+            )
+    return out
+
+
+def _walk_held_tilt(
+    mech: Mechanics,
+    roll: float,
+    pitch: float,
+    phases: Sequence[float],
+    config_ids: Sequence[int],
+    *,
+    step: float,
+    phase_tolerance: float,
+    clockwise: bool = False,
+) -> tuple[_Tilt, Continuation]:
+    """The held tilt's states (:func:`states_of_held_tilt`) and the continuation that
+    walked its searches and made its proofs."""
     sign = mech.spec.handedness
     order = sorted(range(len(phases)), key=lambda j: sign * phases[j])
     grid = [float(phases[j]) for j in order]
@@ -275,7 +378,7 @@ def states_of_held_tilt(
     for j, start in enumerate(starts):
         if start is not None:
             _continue(tilt, walk, start, j, grid, turns, ids[j], at_phase)
-    return list(tilt.rows.values())
+    return tilt, walk
 
 
 def _continue(

@@ -18,6 +18,7 @@ from types import TracebackType
 from typing import Any
 
 import pandas as pd
+import pyarrow as pa
 
 from .._errors import InputError
 from ..contact import CONTINUATION_STEP, PHASE_TOLERANCE, Compliance, check_continuation
@@ -25,7 +26,7 @@ from ..geometry import ThreadSpec, check_chord
 from ._executors import check_execution, open_executor
 from ._grid import PolarGrid, Values, parse_range
 from ._metadata import request_metadata
-from ._workers import Job, MeshFile
+from ._workers import FRICTION_COLUMN, Job, MeshFile
 
 __all__ = ["HeldTiltProbe", "ProbeProgress"]
 
@@ -58,6 +59,10 @@ class HeldTiltProbe:
     base_metadata : dict, optional
         The metadata the rows carry (a library's, when the probe extends one); default
         that of a sweep of this request. Its grid is replaced by each held tilt's own.
+    frictions : sequence of float, optional
+        Friction coefficients at which to give each held tilt's rows besides the
+        compliance's (:meth:`next_done_each`), the held tilt walked once where every
+        proof judges alike at them (:func:`._held_tilt.states_over_frictions`).
     """
 
     def __init__(
@@ -75,6 +80,7 @@ class HeldTiltProbe:
         nut_mesh: MeshFile | None = None,
         mesh_units: str | None = None,
         base_metadata: dict[str, Any] | None = None,
+        frictions: Sequence[float] = (),
     ) -> None:
         if not isinstance(spec, ThreadSpec):
             raise InputError(f"spec must be a ThreadSpec, got {type(spec).__name__}")
@@ -86,6 +92,13 @@ class HeldTiltProbe:
         check_execution(workers, scheduler)
         self.phase = parse_range(phase, "phase")
         self.workers, self.scheduler = workers, scheduler
+        others = []
+        for mu in frictions:
+            checked = replace(compliance, friction=float(mu)).friction  # its range checked
+            if checked != compliance.friction and checked not in others:
+                others.append(checked)
+        #: The friction coefficients of every held tilt's rows, the compliance's first.
+        self.frictions = (compliance.friction, *others)
         self._job = Job(
             spec,
             PolarGrid((0.0,), (0.0,), self.phase),
@@ -98,11 +111,12 @@ class HeldTiltProbe:
             bolt_mesh,
             nut_mesh,
             mesh_units,
+            frictions=self.frictions if others else (),
         )
         self._meta = dict(base_metadata or request_metadata(self._job))
         self._executor: Any = None
         self._pending: dict[Any, tuple[tuple[float, float], Job]] = {}
-        self._done: list[tuple[tuple[float, float], pd.DataFrame]] = []
+        self._done: list[tuple[tuple[float, float], dict[float, pd.DataFrame]]] = []
         #: Held tilts computed so far.
         self.computed = 0
 
@@ -144,17 +158,39 @@ class HeldTiltProbe:
     def next_done(self) -> tuple[tuple[float, float], pd.DataFrame]:
         """The next held tilt to finish: ``((size, direction), rows)``, rows as
         :func:`load` gives those of a library whose grid is that one held tilt."""
+        key, each = self.next_done_each()
+        return key, each[self.frictions[0]]
+
+    def next_done_each(self) -> tuple[tuple[float, float], dict[float, pd.DataFrame]]:
+        """The next held tilt to finish, at every friction coefficient of
+        :attr:`frictions`: ``((size, direction), {friction: rows})``, each as
+        :meth:`next_done` gives them, its metadata's compliance with that friction."""
         if not self._done:
             if not self._pending:
                 raise RuntimeError("no held tilt in flight")
             for fut in self._executor.wait_first(set(self._pending)):
                 key, job = self._pending.pop(fut)
                 table, _ = fut.result()
-                rows = table.to_pandas()
-                rows.attrs["threadmate"] = {**self._meta, "grid": job.grid.to_dict()}
-                self._done.append((key, rows))
+                self._done.append((key, self._split(table, job)))
                 self.computed += 1
         return self._done.pop(0)
+
+    def _split(self, table: pa.Table, job: Job) -> dict[float, pd.DataFrame]:
+        """A finished chunk's rows by friction coefficient, each with its metadata."""
+        meta = {**self._meta, "grid": job.grid.to_dict()}
+        if FRICTION_COLUMN not in table.column_names:
+            parts = {self.frictions[0]: table}
+        else:
+            mu = table.column(FRICTION_COLUMN).to_numpy()
+            table = table.drop_columns([FRICTION_COLUMN])
+            parts = {f: table.filter(pa.array(mu == f)) for f in self.frictions}
+        out = {}
+        for f, part in parts.items():
+            rows = part.to_pandas()
+            compliance = {**meta["compliance"], "friction": f}
+            rows.attrs["threadmate"] = {**meta, "compliance": compliance}
+            out[f] = rows
+        return out
 
     def run(
         self,

@@ -239,7 +239,7 @@ def sweep(
         nut_file,
         mesh_units,
         bool(clockwise),
-        max_faces,
+        max_faces=max_faces,
     )
 
     if out is None:

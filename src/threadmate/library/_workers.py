@@ -33,10 +33,11 @@ from ..contact import (
 )
 from ..geometry import ThreadSpec
 from ._grid import AnyGrid
-from ._held_tilt import states_of_held_tilt
+from ._held_tilt import states_of_held_tilt, states_over_frictions
 from ._store import library_schema
 
 __all__ = [
+    "FRICTION_COLUMN",
     "MeshFile",
     "Job",
     "describe_analyzer",
@@ -81,6 +82,9 @@ class Job:
     nut_mesh: MeshFile | None = None
     mesh_units: str | None = None
     clockwise: bool = False
+    #: Friction coefficients at which to give the rows besides (a mechanics chunk only,
+    #: :func:`run_chunk`); empty: the compliance's alone.
+    frictions: tuple[float, ...] = ()
     #: Most triangles a mesh from CAD may have (:func:`threadmate.geometry.load_mesh`):
     #: a limit of the run, not of its results (not in :attr:`key` or the metadata).
     max_faces: int = MAX_FACES
@@ -154,6 +158,10 @@ def local_mesh_path(mesh: MeshFile) -> str:
     return str(target)
 
 
+#: The column that tells apart the rows of each friction coefficient of a job with
+#: :attr:`Job.frictions`.
+FRICTION_COLUMN = "friction"
+
 _LOCAL = threading.local()
 
 
@@ -218,13 +226,29 @@ def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]
     Returns
     -------
     table : pyarrow.Table
-        Rows in the library schema (without metadata).
+        Rows in the library schema (without metadata). With :attr:`Job.frictions`, the
+        rows at each of them (:func:`._held_tilt.states_over_frictions`), one after the
+        other, told apart by a last column ``friction`` that no library stores.
     settings : dict
         The analyser's chord, mesh deviation and tolerances.
     """
     worker = _worker_for(job)
     schema = library_schema(model=job.model)
     configs = job.grid.configurations(config_ids)
+    if job.model == "mechanics" and job.frictions:
+        each = states_over_frictions(
+            worker,
+            float(configs[0][0]),
+            float(configs[0][1]),
+            [float(c[2]) for c in configs],
+            config_ids,
+            job.frictions,
+            step=job.step,
+            phase_tolerance=job.phase_tolerance,
+        )
+        schema = schema.append(pa.field(FRICTION_COLUMN, pa.float64()))
+        rows = [{**row, FRICTION_COLUMN: mu} for mu, part in each.items() for row in part]
+        return pa.Table.from_pylist(rows, schema=schema), _settings(worker)
     if job.model == "mechanics":
         # One chunk is one held tilt (see _chunks).
         rows = states_of_held_tilt(

@@ -6,7 +6,8 @@ forces in N, torques in N m, potentials and work in mJ (docs/mechanics.md).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -50,6 +51,14 @@ def tightening_torque(s: MechanicalState) -> tuple[float, float]:
     return 2.0 * s.friction_torque - s.driver_torque, s.friction_torque
 
 
+def torque_jam_reason(torque: float, phase: float, limit: float) -> str:
+    """Why a proof whose tightening torque passed its limit is no snap (N m, degrees)."""
+    return (
+        f"the tightening torque reaches {torque:.3g} N m at phase {phase:.2f} deg, past the "
+        f"limit {limit:.3g} N m (jammed)"
+    )
+
+
 @dataclass(frozen=True)
 class Engagement:
     """The proof of a snap: the bolt turned clockwise (tightening) from a state.
@@ -75,6 +84,18 @@ class Engagement:
     jammed : bool
         It is not engaged because it wedged or its torque passed the limit (not because
         it descends at another rate).
+    frictions : (float, float)
+        The friction coefficients ``(low, high)`` strictly between which the proof
+        judges every state it passed as it did, each past the torque limit or not: the
+        same walk and the same verdict (the rest states are frictionless, and the
+        friction part of every torque is proportional to the coefficient). The
+        coefficient it was made with lies inside, or on an end when that is 0.
+    torques : tuple of (float, float)
+        The tightening torque and its friction part at each state passed (N m), for
+        :meth:`scaled`.
+    torque_jam : (float, float, float, float) or None
+        Where the torque passed its limit first: the torque, its friction part (N m),
+        the phase (degrees) and the limit (N m); None when it did not.
     """
 
     engaged: bool
@@ -85,6 +106,22 @@ class Engagement:
     torque_peak: float
     reason: str = ""
     jammed: bool = False
+    frictions: tuple[float, float] = (0.0, math.inf)
+    torques: tuple[tuple[float, float], ...] = ()
+    torque_jam: tuple[float, float, float, float] | None = None
+
+    def scaled(self, scale: float) -> Engagement:
+        """The proof as made with the friction coefficient scaled by ``scale``, for a
+        coefficient within :attr:`frictions`: the same walk and verdict, its torques'
+        friction parts scaled."""
+        if scale == 1.0:
+            return self
+        peak = max((t + (scale - 1.0) * f for t, f in self.torques), default=math.nan)
+        reason = self.reason
+        if self.torque_jam is not None:
+            t, f, phase, limit = self.torque_jam
+            reason = torque_jam_reason(t + (scale - 1.0) * f, phase, limit)
+        return replace(self, torque_peak=peak, reason=reason)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""

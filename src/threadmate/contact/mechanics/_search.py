@@ -51,6 +51,7 @@ from ._rest_state import (
     SearchEvent,
     SearchResult,
     tightening_torque,
+    torque_jam_reason,
 )
 from ._settings import (
     CONTINUATION_STEP,
@@ -210,6 +211,9 @@ class Leg:
     click : float
         The fall a sensor sees at a jump or a snap (:func:`sensor_click`; spec units;
         NaN for a turning leg).
+    torques : tuple of (float, float)
+        The driver's torque and its friction part at each state of a turning leg that
+        has one (N m), for :meth:`torque_peak_scaled`; empty for a jump.
     """
 
     kind: str
@@ -222,6 +226,15 @@ class Leg:
     label: str
     engagement: Engagement | None = None
     click: float = math.nan
+    torques: tuple[tuple[float, float], ...] = ()
+
+    def torque_peak_scaled(self, scale: float) -> float:
+        """:attr:`torque_peak` with every friction part scaled by ``scale`` (the ratio of
+        another friction coefficient to the one walked with: the rest states are
+        frictionless, so only the friction parts change)."""
+        if scale == 1.0:
+            return self.torque_peak
+        return max((t + (scale - 1.0) * f for t, f in self.torques), default=math.nan)
 
     @property
     def drop(self) -> float:
@@ -262,10 +275,11 @@ def engagement(
     span = abs(end.phase - half.phase)
     descent = (half.centre[2] - end.centre[2]) * 360.0 / span if span > 0 else math.nan
     tilt = axis_angle(np.abs(np.asarray(end.rotation)[:, 2]), Z_AXIS)  # either way up
-    torques = [t for t, _ in map(walk.torque, path) if math.isfinite(t)]
-    peak = max(torques, default=math.nan)
+    torques = tuple((t, f) for t, f in map(walk.torque, path) if math.isfinite(t))
+    peak = max((t for t, _ in torques), default=math.nan)
     units = walk.mech.units
     reason = ""
+    torque_jam = None
     wedge = wedged(legs, events)
     if wedge is not None:
         e, leg = wedge
@@ -275,10 +289,8 @@ def engagement(
         )
     elif any(map(walk.jams, path)):
         at = next(s for s in path if walk.jams(s))
-        reason = (
-            f"the tightening torque reaches {walk.torque(at)[0]:.3g} N m at phase "
-            f"{at.phase:.2f} deg, past the limit {walk.torque_limit:.3g} N m (jammed)"
-        )
+        torque_jam = (*walk.torque(at), at.phase, walk.torque_limit)
+        reason = torque_jam_reason(torque_jam[0], at.phase, walk.torque_limit)
     jammed = bool(reason)
     if not jammed and (not math.isfinite(descent) or abs(descent - lead) > LEAD_TOLERANCE * lead):
         jumps = [e for e in events if e.kind == "jump"]
@@ -287,7 +299,48 @@ def engagement(
             f"not the lead {lead:.4g} {units}"
             + (f" (it jumps at phase {jumps[0].phase:.2f} deg)" if jumps else "")
         )
-    return Engagement(not reason, turned, descent, lead, tilt, peak, reason, jammed)
+    return Engagement(
+        not reason,
+        turned,
+        descent,
+        lead,
+        tilt,
+        peak,
+        reason,
+        jammed,
+        judged_alike(walk, path),
+        torques,
+        torque_jam,
+    )
+
+
+def judged_alike(walk: Continuation, path: Sequence[MechanicalState]) -> tuple[float, float]:
+    """The friction coefficients ``(low, high)`` strictly between which ``walk`` judges
+    every state of ``path`` as at its own (:meth:`Continuation.jams`).
+
+    The rest states are frictionless, so only the torques change with the coefficient, and
+    each linearly: the friction part in proportion, the normal forces' moment not at all.
+    Each state's torque crosses the limit at one coefficient at most, which bounds the
+    interval on the side it lies. With no friction the friction parts are 0 and their
+    proportion unknown: ``(0, 0)``, nothing but none alike.
+    """
+    mu = walk.mech.compliance.friction
+    if mu <= 0.0:
+        return (0.0, 0.0)
+    low, high = 0.0, math.inf
+    for s in path:
+        torque, friction = walk.torque(s)
+        if s.near_singular or not (math.isfinite(torque) and math.isfinite(friction)):
+            continue  # never judged jammed, whatever the friction
+        rate = friction / mu  # the torque's change per unit of the coefficient
+        if rate == 0.0:
+            continue
+        crossing = mu + (walk.torque_limit - torque) / rate
+        if (torque > walk.torque_limit) == (rate > 0.0):
+            low = max(low, crossing)
+        else:
+            high = min(high, crossing)
+    return (low, high)
 
 
 def same_pose(a: MechanicalState, b: MechanicalState, pitch: float) -> bool:
@@ -434,6 +487,9 @@ class Continuation:
         self.torque_limit = default_torque_limit(mech) if torque_limit is None else torque_limit
         #: The proofs' clockwise walks so far (:meth:`_tighten` joins them).
         self._screwed: list[_Walked] = []
+        #: The friction coefficients strictly between which every proof made so far
+        #: judges alike (:attr:`Engagement.frictions`, intersected).
+        self.frictions: tuple[float, float] = (0.0, math.inf)
 
     def _settle(
         self,
@@ -682,6 +738,8 @@ class Continuation:
             turned += piece
             proof = engagement(walk, state, legs, events, states, turned, piece)
         self._screwed.append(_Walked(state, legs, events, states))
+        low, high = proof.frictions
+        self.frictions = (max(self.frictions[0], low), min(self.frictions[1], high))
         return proof
 
     def _tighten(
@@ -779,7 +837,7 @@ class Continuation:
 
         def close_branch(at: float) -> None:
             if at > branch_start or len(branch) > 1:
-                torques = [t for t, _ in map(self.torque, branch) if math.isfinite(t)]
+                torques = tuple((t, f) for t, f in map(self.torque, branch) if math.isfinite(t))
                 legs.append(
                     Leg(
                         "turning",
@@ -788,8 +846,9 @@ class Continuation:
                         at - branch_start,
                         work[0],
                         work[1],
-                        max(torques, default=math.nan),
+                        max((t for t, _ in torques), default=math.nan),
                         _label(branch),
+                        torques=torques,
                     )
                 )
 
