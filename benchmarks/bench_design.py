@@ -64,6 +64,7 @@ def _one(args: argparse.Namespace) -> None:
     """One run in this (child) process; prints one JSON line."""
     from _reference import ReferenceQuery
 
+    import threadmate
     from threadmate.contact import Compliance, Mechanics
     from threadmate.design import best_compliance, envelope
     from threadmate.geometry import spec_from_designation
@@ -109,6 +110,7 @@ def _one(args: argparse.Namespace) -> None:
         json.dumps(
             {
                 "what": args.what,
+                "threadmate": str(Path(threadmate.__file__).parent),
                 "workers": args.workers,
                 "wall_s": wall,
                 "cpu_s": cpu,
@@ -132,7 +134,7 @@ def _run(args: argparse.Namespace, src: str | None) -> dict[str, Any]:
     cmd = [sys.executable, __file__, "--child", "--what", args.what, "--workers", str(args.workers)]
     out = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True, cwd=HERE)
     doc = json.loads(out.stdout.strip().splitlines()[-1])
-    doc.update(source=src or "installed threadmate", load_before=before, load_after=_load())
+    doc.update(load_before=before, load_after=_load())
     return doc
 
 
@@ -151,7 +153,7 @@ def main() -> None:
         return
     docs = []
     for src in (None, *args.src):
-        print(f"bench_design: {args.what} with {src or 'installed threadmate'}", file=sys.stderr)
+        print(f"bench_design: {args.what} with {src or 'threadmate as imported'}", file=sys.stderr)
         docs.append(_run(args, src))
     if args.json:
         print(json.dumps({"units": {"time": "s", "memory": "MB", "query": "us"}, "runs": docs}))
@@ -159,7 +161,7 @@ def main() -> None:
     for d in docs:
         stages = ", ".join(f"{k} {v:.0f} s" for k, v in d["stages_wall_s"].items())
         print(
-            f"{d['what']} ({d['source']}): {d['wall_s']:.0f} s wall ({d['wall_s'] / 60:.1f} "
+            f"{d['what']} ({d['threadmate']}): {d['wall_s']:.0f} s wall ({d['wall_s'] / 60:.1f} "
             f"min), {d['cpu_s']:.0f} s CPU ({d['cpu_qe']:.3g} QE at {d['query_us']:.0f} us), "
             f"peak {d['peak_mb']:.0f} MB, load {d['load_before']} -> {d['load_after']}"
         )

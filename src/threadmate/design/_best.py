@@ -474,8 +474,10 @@ def best_compliance(
     count = 0
     # The friction cases of the robustness, located with each setting in the same pass
     # (little more than the nominal alone): the optimum's robustness and the look for
-    # the setting that holds best then need no envelope of their own at them.
-    frictions = FRICTION_RANGE if robust else ()
+    # the setting that holds best then need no envelope of their own at them. Without
+    # friction the torques tell no proportion, and each held tilt would be walked at
+    # each friction: the robustness then locates them for the optimum alone.
+    frictions = FRICTION_RANGE if robust and base.friction > 0 else ()
 
     def evaluate(z: float) -> Callable[[float, float, float, bool], _Setting]:
         def one(r: float, f: float, k: float, beyond: bool) -> _Setting:
