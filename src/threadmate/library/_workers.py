@@ -82,8 +82,8 @@ class Job:
     nut_mesh: MeshFile | None = None
     mesh_units: str | None = None
     clockwise: bool = False
-    #: Friction coefficients at which to give the rows besides (a mechanics chunk only,
-    #: :func:`run_chunk`); empty: the compliance's alone.
+    #: Friction coefficients at which to give the rows besides (a mechanics chunk without
+    #: ``clockwise`` only, :func:`run_chunk`); empty: the compliance's alone.
     frictions: tuple[float, ...] = ()
     #: Most triangles a mesh from CAD may have (:func:`threadmate.geometry.load_mesh`):
     #: a limit of the run, not of its results (not in :attr:`key` or the metadata).
@@ -235,32 +235,24 @@ def run_chunk(job: Job, config_ids: list[int]) -> tuple[pa.Table, dict[str, Any]
     worker = _worker_for(job)
     schema = library_schema(model=job.model)
     configs = job.grid.configurations(config_ids)
-    if job.model == "mechanics" and job.frictions:
-        each = states_over_frictions(
-            worker,
-            float(configs[0][0]),
-            float(configs[0][1]),
-            [float(c[2]) for c in configs],
-            config_ids,
-            job.frictions,
-            step=job.step,
-            phase_tolerance=job.phase_tolerance,
-        )
-        schema = schema.append(pa.field(FRICTION_COLUMN, pa.float64()))
-        rows = [{**row, FRICTION_COLUMN: mu} for mu, part in each.items() for row in part]
-        return pa.Table.from_pylist(rows, schema=schema), _settings(worker)
     if job.model == "mechanics":
         # One chunk is one held tilt (see _chunks).
-        rows = states_of_held_tilt(
+        held = (
             worker,
             float(configs[0][0]),
             float(configs[0][1]),
             [float(c[2]) for c in configs],
             config_ids,
-            step=job.step,
-            phase_tolerance=job.phase_tolerance,
-            clockwise=job.clockwise,
         )
+        step, tolerance = job.step, job.phase_tolerance
+        if not job.frictions:
+            rows = states_of_held_tilt(
+                *held, step=step, phase_tolerance=tolerance, clockwise=job.clockwise
+            )
+        else:
+            each = states_over_frictions(*held, job.frictions, step=step, phase_tolerance=tolerance)
+            schema = schema.append(pa.field(FRICTION_COLUMN, pa.float64()))
+            rows = [{**row, FRICTION_COLUMN: mu} for mu, part in each.items() for row in part]
         return pa.Table.from_pylist(rows, schema=schema), _settings(worker)
     blank = blank_row(schema)
     rows = []
