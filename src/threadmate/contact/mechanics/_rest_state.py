@@ -51,6 +51,12 @@ def tightening_torque(s: MechanicalState) -> tuple[float, float]:
     return 2.0 * s.friction_torque - s.driver_torque, s.friction_torque
 
 
+def scaled_peak(torques: tuple[tuple[float, float], ...], scale: float) -> float:
+    """The largest of ``torques`` (each a torque and its friction part, N m) with every
+    friction part scaled by ``scale``; NaN for none."""
+    return max((t + (scale - 1.0) * f for t, f in torques), default=math.nan)
+
+
 def torque_jam_reason(torque: float, phase: float, limit: float) -> str:
     """Why a proof whose tightening torque passed its limit is no snap (N m, degrees)."""
     return (
@@ -116,12 +122,11 @@ class Engagement:
         friction parts scaled."""
         if scale == 1.0:
             return self
-        peak = max((t + (scale - 1.0) * f for t, f in self.torques), default=math.nan)
         reason = self.reason
         if self.torque_jam is not None:
             t, f, phase, limit = self.torque_jam
             reason = torque_jam_reason(t + (scale - 1.0) * f, phase, limit)
-        return replace(self, torque_peak=peak, reason=reason)
+        return replace(self, torque_peak=scaled_peak(self.torques, scale), reason=reason)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain mapping for JSON."""

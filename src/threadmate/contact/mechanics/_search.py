@@ -50,6 +50,7 @@ from ._rest_state import (
     MechanicalState,
     SearchEvent,
     SearchResult,
+    scaled_peak,
     tightening_torque,
     torque_jam_reason,
 )
@@ -232,9 +233,7 @@ class Leg:
         """:attr:`torque_peak` with every friction part scaled by ``scale`` (the ratio of
         another friction coefficient to the one walked with: the rest states are
         frictionless, so only the friction parts change)."""
-        if scale == 1.0:
-            return self.torque_peak
-        return max((t + (scale - 1.0) * f for t, f in self.torques), default=math.nan)
+        return self.torque_peak if scale == 1.0 else scaled_peak(self.torques, scale)
 
     @property
     def drop(self) -> float:
@@ -321,8 +320,8 @@ def judged_alike(walk: Continuation, path: Sequence[MechanicalState]) -> tuple[f
     The rest states are frictionless, so only the torques change with the coefficient, and
     each linearly: the friction part in proportion, the normal forces' moment not at all.
     Each state's torque crosses the limit at one coefficient at most, which bounds the
-    interval on the side it lies. With no friction the friction parts are 0 and their
-    proportion unknown: ``(0, 0)``, nothing but none alike.
+    interval on the side it lies. With no friction the friction parts are 0 and tell no
+    proportion: ``(0, 0)``, no other coefficient known alike.
     """
     mu = walk.mech.compliance.friction
     if mu <= 0.0:
