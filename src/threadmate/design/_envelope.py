@@ -476,8 +476,10 @@ def envelope(
         used: dict[float, int] = dict.fromkeys(probe.frictions, 0)
         asked = done = 0
         # Each direction's next size is asked as soon as the sizes it depends on are in:
-        # the workers stay busy while directions bisect at their own pace.
+        # the workers stay busy while directions bisect at their own pace. A held tilt
+        # goes to each search that asked for it as it comes back, as it would alone.
         in_flight: dict[tuple[float, float | None], tuple[float, float]] = {}
+        wanted: dict[tuple[float, float | None], set[float]] = {}
         while True:
             found_one = True
             while found_one:  # a held tilt already computed may settle what comes next
@@ -486,12 +488,15 @@ def envelope(
                     for d in directions:
                         for size in sorted(search.needed(d)):
                             k = search.key(size, d)
-                            if k in search.outcomes or k in in_flight:
+                            if k in search.outcomes or mu in wanted.get(k, ()):
                                 continue
                             if k in computed[mu]:
                                 search.outcomes[k] = computed[mu][k]
                                 used[mu] += 1
                                 found_one = True
+                                continue
+                            wanted.setdefault(k, set()).add(mu)
+                            if k in in_flight:
                                 continue
                             at = (k[0], d if k[1] is not _UP else directions[0])
                             in_flight[k] = at if pretilt is None else compose_tilts(pretilt, at)
@@ -506,6 +511,9 @@ def envelope(
             del in_flight[k]
             for mu, found in each.items():
                 computed[mu][k] = _outcomes(found, torque_limit)
+            for mu in wanted.pop(k):
+                searches[mu].outcomes[k] = computed[mu][k]
+                used[mu] += 1
             done += 1
         if progress is not None:
             progress(done, asked)
