@@ -222,6 +222,41 @@ def test_envelope_agrees_with_direct_searches_inside_and_outside(tmp_path):
     assert any("the 95 % level asks every phase" in note for note in doc["notes"])
 
 
+@pytest.mark.slow
+def test_an_envelope_whose_upright_fails_reports_every_held_tilt_it_computed():
+    """Upright and the first size of every direction go out together (the workers stay
+    busy); when the upright fails, the sizes still out are no longer needed, but each
+    one computed is reported: probes and shares alike, whatever order the workers finish
+    in.
+
+    A torque limit of 1e-4 N m fails every start: screwing in from a snap turns the thread
+    against friction, about mu F r_pitch / cos 30 = 0.15 x 10 N x 2.73 mm / 0.87 = 4.7e-3
+    N m, less the load's 10 N x 1.27 mm / 2 pi = 2.0e-3 N m down the lead: 2.7e-3 N m,
+    far above the limit. So upright and every tilt have a share of 0."""
+    from threadmate.design import envelope
+
+    flat = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    directions = [0.0, 90.0, 180.0, 270.0]
+    env = envelope(
+        flat,
+        compliance=Compliance(force=10, stiffness=1),
+        tilt="0,2",
+        direction="0,90,180,270",
+        phase="300",
+        tolerance=1.0,
+        torque_limit=1e-4,
+        workers=2,
+    )
+    doc = env.to_dict()
+    assert env.tolerated_tilt == 0.0
+    assert any("even upright" in note for note in doc["notes"]), doc["notes"]
+    # The upright tilt once, and size 2 in each direction: every one was computed.
+    assert env.probes == 1 + len(directions)
+    assert [row["direction"] for row in doc["directions"]] == directions
+    for row in doc["directions"]:
+        assert [tuple(s) for s in row["shares"]] == [(0.0, 0.0), (2.0, 0.0)], row
+
+
 @pytest.mark.parametrize(("phases", "noted"), [(18, True), (19, True), (20, False), (40, False)])
 def test_a_level_that_asks_every_phase_is_noted(phases, noted):
     """With fewer than 20 start phases, 95 % of them is every phase (from 20 on, one
