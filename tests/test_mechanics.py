@@ -758,6 +758,27 @@ def test_a_probe_stops_once_departed_where_its_full_descent_leaves_the_branch(
         assert leaves_branch(fall, turned, full.classification == "in-phase", quarter_20.pitch)
 
 
+def test_a_probe_whose_lowering_climbs_past_its_fall_has_departed(mech, quarter_20):
+    """A probe asks only whether the bolt stays near the state it leaves. Started from a
+    pose sunk into the nut (a rest state lowered by 0.3 pitch), the lowering meets material
+    at every height up to past twice the jump's fall above it: the probe has departed
+    there, with no descent step and at less cost than the lowering alone. Lowered from the
+    same pose with no ceiling, the first touch from above does lie higher than that."""
+    from dataclasses import replace
+
+    rest = mech.settle(1, -1, 120.0).state
+    x, y, z = rest.centre
+    sunk = replace(rest, centre=(x, y, z - 0.3 * quarter_20.pitch))
+    fall = quarter_20.pitch / 20  # twice the continuation's jump threshold, pitch / 40
+    probe = mech.settle(1, -1, 120.0, start=sunk, leave=(fall, 1.0))
+    assert probe.state.kind == "departed" and probe.iterations == 0
+    assert probe.state.centre[2] > sunk.centre[2] + fall
+    queries = mech.engine.queries
+    full = mech.drop(np.array(sunk.rotation), np.array([x, y]), sunk.centre[2])
+    assert full is not None and full.zc > sunk.centre[2] + fall
+    assert probe.queries < mech.engine.queries - queries
+
+
 @pytest.mark.parametrize("held, phase", [((2, -3), 40.0), ((-2, 2), 100.0), ((-3, -2), 50.0)])
 def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
     mech, quarter_20, held, phase

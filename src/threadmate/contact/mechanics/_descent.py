@@ -161,22 +161,31 @@ class _Descent:
         or, continuing, at the tilt and over the height of ``start``.
 
         The first touch is the path's first state (kind ``first-contact``) when the
-        descent starts fresh.
+        descent starts fresh. A probe (``leave``) has departed as soon as the lowering
+        from ``start`` meets the nut higher above it than ``leave`` lets the centre fall
+        below: turned at its tilt, the bolt meets material at every height near the
+        branch (pinched between the flanks), and the climb would leave the thread.
         """
-        mech, start = self.mech, self.start
+        mech, start, leave = self.mech, self.start, self.leave
+        ceiling = None
         if start is None:
             tilt, xy, zc = self.held.copy(), np.zeros(2), None
         else:
             tilt = np.radians([start.roll, start.pitch])
             xy = np.array(start.centre[:2])
             zc = start.centre[2]
-        d = mech.drop(mech._rotation(tilt, self.phase), xy, zc)
+            ceiling = None if leave is None else zc + leave[0]
+        d = mech.drop(mech._rotation(tilt, self.phase), xy, zc, ceiling=ceiling)
         if d is None:
             raise InputError(
                 f"the bolt passes the nut without touching at roll {self.roll:g}, "
                 f"pitch {self.pitch:g}, phase {self.phase:g}"
             )
         self.start_axis = None if start is None else np.array(start.rotation)[:, 2]
+        if d.above_ceiling:
+            self.d, self.tilt, self.departed, self.near = d, tilt, True, []
+            self.last_axis = d.rotation[:, 2].copy()
+            return
         if start is not None:
             # The turn may lift the bolt off some of the contacts it rested on (a flank
             # riding onto an edge lifts it off the face beside): those contacts still bound

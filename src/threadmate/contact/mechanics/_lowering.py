@@ -43,6 +43,9 @@ class _Drop:
     gaps: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))  # vertical (>= 0)
     points: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 3)))  # (F)
     verified: bool = False  # at the first touch from ``top`` (Mechanics.verified)
+    # The bolt collides above the lowering's ceiling (Mechanics.drop): ``zc`` is that
+    # height, not a touch, and nothing else is known.
+    above_ceiling: bool = False
     # The nut's material above the bolt (Mechanics._overhead; None: not looked for yet):
     # face pairs, each one's rise to its touch and where.
     over_pairs: NDArray[np.int64] | None = None
@@ -63,6 +66,7 @@ class _Lowering(_HeldBolt):
         verify: bool = True,
         climb: bool = True,
         reach: float = 0.0,
+        ceiling: float | None = None,
     ) -> _Drop | None:
         """Lower the bolt at ``rotation`` (compliance centre over ``xy``) onto the nut.
 
@@ -95,7 +99,14 @@ class _Lowering(_HeldBolt):
         # material whole, where a thread runs out on an end face.)
         top = zc if known_free else zc + span - min(0.25 * span, 0.25 * self.near)
         found = self._bracket(
-            rotation, xy, top, span, known_free, self.spec.pitch / 16, None if climb else reach
+            rotation,
+            xy,
+            top,
+            span,
+            known_free,
+            self.spec.pitch / 16,
+            None if climb else reach,
+            ceiling,
         )
         return self.verified(found) if verify and found is not None else found
 
@@ -108,9 +119,11 @@ class _Lowering(_HeldBolt):
         known_free: bool,
         cap: float,
         reach: float | None = None,
+        ceiling: float | None = None,
     ) -> _Drop | None:
         """The touch the pairs crossing at a bracket's foot give, lowering from ``top`` in
-        steps of ``span`` doubling up to ``cap`` (see :meth:`drop`; ``reach``: no climb)."""
+        steps of ``span`` doubling up to ``cap`` (see :meth:`drop`; ``reach``: no climb;
+        ``ceiling``: the height above which a climb ends)."""
         eng = self.engine
         start, hit = top, -math.inf  # hit: the highest height known to collide
         for _ in range(200):
@@ -125,6 +138,22 @@ class _Lowering(_HeldBolt):
                         top, known_free = under, True
                         continue
                     hit = top
+                    if ceiling is not None and hit > ceiling:
+                        empty = np.empty(0)
+                        return _Drop(
+                            rotation,
+                            np.array(xy, dtype=float),
+                            hit,
+                            hit,
+                            start,
+                            span,
+                            cap,
+                            np.empty((0, 2), dtype=np.int64),
+                            empty,
+                            np.empty((0, 3)),
+                            verified=True,
+                            above_ceiling=True,
+                        )
                     top += span
                     span = min(2 * span, cap)
                     continue

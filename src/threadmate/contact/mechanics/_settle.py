@@ -273,8 +273,9 @@ class Mechanics(_Seat):
         With ``leave = (fall, turn)`` the descent from ``start`` stops, unbalanced (kind
         ``departed``), once the compliance centre has fallen more than ``fall`` (spec
         units) below ``start``'s or the bolt axis has turned more than ``turn`` degrees
-        from ``start``'s: the bisection asks only whether the rest state
-        is near the state it leaves, and a descent that has gone this far on its way down
+        from ``start``'s, and at once where the lowering from ``start`` meets the nut more
+        than ``fall`` above it: the bisection asks only whether the rest state is near the
+        state it leaves, and a descent that has gone this far on its way down
         the potential does not come back; it settles in full the jump it keeps.
         ``arrive`` (the library's sweep) is asked at each pose of the descent, as a state
         not yet at rest, for a rest state already known at this phase that the pose has
