@@ -100,7 +100,7 @@ def _one(args: argparse.Namespace) -> None:
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
     stages: dict[str, float] = {}
-    ends = [t for t, _ in marks[1:]] + [wall]
+    ends = [t for t, _ in marks[1:]] + ([wall] if marks else [])  # (an envelope has none)
     for (t, text), end in zip(marks, ends, strict=True):
         stages[_stage(text)] = stages.get(_stage(text), 0.0) + end - t
     mech = Mechanics(spec, Compliance())

@@ -139,7 +139,6 @@ class _Lowering(_HeldBolt):
                         continue
                     hit = top
                     if ceiling is not None and hit > ceiling:
-                        empty = np.empty(0)
                         return _Drop(
                             rotation,
                             np.array(xy, dtype=float),
@@ -149,7 +148,7 @@ class _Lowering(_HeldBolt):
                             span,
                             cap,
                             np.empty((0, 2), dtype=np.int64),
-                            empty,
+                            np.empty(0),
                             np.empty((0, 3)),
                             verified=True,
                             above_ceiling=True,
