@@ -14,14 +14,15 @@ import time
 
 import fcl
 import numpy as np
+import trimesh
 
 from threadmate.geometry import Pose, ThreadSpec, thread_meshes
 
 
-def bvh(mesh) -> fcl.BVHModel:
+def bvh(mesh: trimesh.Trimesh) -> fcl.BVHModel:
     """A python-fcl BVH of a trimesh mesh."""
     model = fcl.BVHModel()
-    model.beginModel(len(mesh.vertices), len(mesh.faces))
+    model.beginModel(len(mesh.faces), len(mesh.vertices))  # (triangles, vertices): hints
     model.addSubModel(np.asarray(mesh.vertices, float), np.asarray(mesh.faces, np.int64))
     model.endModel()
     return model
