@@ -241,7 +241,7 @@ def test_an_envelope_whose_upright_fails_reports_every_held_tilt_it_computed():
         flat,
         compliance=Compliance(force=10, stiffness=1),
         tilt="0,2",
-        direction="0,90,180,270",
+        direction=",".join(f"{d:g}" for d in directions),
         phase="300",
         tolerance=1.0,
         torque_limit=1e-4,

@@ -182,18 +182,14 @@ class _Descent:
                 f"pitch {self.pitch:g}, phase {self.phase:g}"
             )
         self.start_axis = None if start is None else np.array(start.rotation)[:, 2]
-        if d.above_ceiling:
-            self.d, self.tilt, self.departed, self.near = d, tilt, True, []
-            self.last_axis = d.rotation[:, 2].copy()
-            return
-        if start is not None:
+        if start is not None and not d.above_ceiling:
             # The turn may lift the bolt off some of the contacts it rested on (a flank
             # riding onto an edge lifts it off the face beside): those contacts still bound
             # the motion, and a descent that does not know them can tip past them into
             # another basin. It knows every contact within the lift, and ``near`` beyond.
             d = mech._deepened(d, mech.near + max(0.0, d.zc - start.centre[2]))
         self.d, self.tilt = d, tilt
-        self.departed = self.gone(d)
+        self.departed = d.above_ceiling or self.gone(d)
         self.near = [] if self.departed else mech.contacts(d)
         if start is None:
             self.path.append(
