@@ -600,3 +600,81 @@ def test_a_proof_scaled_to_another_friction_is_the_proof_made_there(mech, proof_
     assert (scaled.engaged, scaled.jammed, scaled.turn) == (there.engaged, there.jammed, there.turn)
     assert scaled.reason == there.reason != jam.reason
     assert scaled.torque_peak == pytest.approx(there.torque_peak, rel=1e-9)
+
+
+def _helix_rate(spec, state, phase, half=0.5):
+    """How fast the bolt at ``state``'s own tilt rises, per the lead's share of the turn,
+    turned ``half`` degree either way about ``phase``: each pose lowered to first touch on
+    the whole meshes (python-fcl's yes/no query, bisected). Near 1 where the thread
+    carries the bolt along the helix."""
+    from _exact_geometry import rot
+    from _fcl import collider
+
+    meshes = collider(spec)
+    z = state.origin[2]
+    heights = []
+    for d in (-half, half):
+        rotation = rot(state.roll, state.pitch, phase + d)
+        free, hit = z + 0.2 * spec.pitch, z - 0.2 * spec.pitch
+        assert not meshes.collides(rotation, (0.0, 0.0, free))
+        assert meshes.collides(rotation, (0.0, 0.0, hit))
+        for _ in range(60):
+            mid = 0.5 * (free + hit)
+            if meshes.collides(rotation, (0.0, 0.0, mid)):
+                hit = mid
+            else:
+                free = mid
+        heights.append(0.5 * (free + hit))
+    return (heights[1] - heights[0]) / (2 * half * spec.lead / 360.0)
+
+
+@pytest.mark.slow
+def test_a_landing_in_the_thread_whose_descent_stopped_short_is_proved():
+    """M6x1 held 1.65 degrees toward +X (pitch), searched from phase 20: at about 131
+    degrees the bolt drops some 0.06 mm off the countersink onto the nut's crest corner
+    with its flank, tilted back nearly upright, and the descent there stops short of the
+    balance (the spring pulls the tilt back; no rest state, though the contacts lie on
+    the helices). Such a landing is proved by screwing in like any other: it screws in,
+    so it is the snap. (Before, only a landing whose descent balanced was proved: the
+    search turned on out of the thread and found no snap within the turn.)
+
+    Checked without the code's verdicts: the proof descends at the standard's lead (1 mm
+    per turn for M6x1) within 10 %, and the landing turned half a degree either way at its
+    own tilt and lowered to first touch on the whole meshes moves at more than half the
+    lead's share: the thread carries it along the helix."""
+    spec = spec_from_designation("M6x1-6g/6H")
+    assert spec.lead == pytest.approx(1.0)
+    result = search(spec, 0.0, 1.65, 20.0)
+    snap = result.snap
+    assert snap is not None and snap.kind == "snap"
+    assert 125.0 < snap.phase < 135.0 and snap.drop > 0.05
+    proof = snap.engagement
+    assert proof is not None and proof.engaged
+    assert abs(proof.descent - spec.lead) <= 0.1 * spec.lead
+    landing = result.states[-1]
+    assert landing.classification == IN_PHASE and "+F" in landing.region_combination
+    assert _helix_rate(spec, landing, snap.phase) > 0.5
+
+
+@pytest.mark.slow
+def test_a_start_in_the_thread_whose_descent_stopped_short_is_proved():
+    """The standard 1/4-20 parts held at pitch 1 degree, phase 160: the start's descent
+    stops short of the balance with the bolt's flank on the nut's crest corner (class
+    unstable, contacts on the helices). It is proved as a start in phase is: it screws
+    in, so the search snaps where it starts, and the start is classed in phase. Checked
+    as above: the proof descends at the standard's lead (20 threads per inch) within 10 %,
+    and the start turned half a degree either way moves along the helix on the whole
+    meshes."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    assert spec.lead == pytest.approx(1 / 20)
+    mech = Mechanics(spec)
+    rest = mech.settle(0.0, 1.0, 160.0)
+    assert (rest.state.kind, rest.state.classification) == (IN_PHASE, "unstable")
+    result = search(mech, 0.0, 1.0, 160.0)
+    assert result.snap is not None and result.snap_turn == 0.0
+    proof = result.snap.engagement
+    assert proof is not None and proof.engaged
+    assert abs(proof.descent - spec.lead) <= 0.1 * spec.lead
+    start = result.states[0]
+    assert start.classification == IN_PHASE
+    assert _helix_rate(spec, start, 160.0) > 0.5

@@ -33,7 +33,6 @@ import numpy as np
 from .._angles import FULL_TURN, axis_angle, phase_difference, wrap_phase
 from ..contact import (
     ERROR_CLASS,
-    IN_PHASE,
     QUASI_STABLE,
     STABLE,
     UNSTABLE,
@@ -344,11 +343,8 @@ def _walk_held_tilt(
     for j, phase in enumerate(grid):
         try:
             rest = mech.settle(roll, pitch, phase)
-            if rest.state.classification == IN_PHASE:
-                # A start in phase is a snap only if it screws in (as a landing is).
-                rest = replace(
-                    rest, state=replace(rest.state, engagement=walk.prove(rest.state, phase))
-                )
+            # A start in phase is a snap only if it screws in (as a landing is).
+            rest = replace(rest, state=walk.proved(rest.state, phase)[0])
         except Exception as exc:  # noqa: BLE001 - one bad configuration must not stop a sweep
             tilt.fail(ids[j], phase, "start", exc)
             starts.append(None)

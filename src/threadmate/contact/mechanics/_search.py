@@ -698,6 +698,23 @@ class Continuation:
         state, whose forces (and so torque) are the model's bound, not the physics'."""
         return not s.near_singular and self.torque(s)[0] > self.torque_limit
 
+    def proved(
+        self, state: MechanicalState, phase: float
+    ) -> tuple[MechanicalState, Engagement | None]:
+        """``state`` (at ``phase``, degrees as turned) with its proof (:meth:`prove`), and
+        the proof, when its load-carrying contacts lie in phase (kind ``in-phase``),
+        whether or not its descent balanced; else ``state`` itself and None.
+
+        A descent in the thread can stop short of the balance (a flank on the nut's crest
+        corner, the spring pulling the bolt's tilt back): such a state is no rest state,
+        but one that screws in moves along the helix as it turns, and that makes it in
+        phase whatever else it looks like (mechanics.md): it is classed so."""
+        if state.kind != IN_PHASE:
+            return state, None
+        proof = self.prove(state, phase)
+        cls = IN_PHASE if proof.engaged else state.classification
+        return replace(state, classification=cls, engagement=proof), proof
+
     def prove(self, state: MechanicalState, phase: float) -> Engagement:
         """Whether ``state`` (at ``phase``, degrees as turned) is engaged: turned
         clockwise (tightening) by :attr:`screw_in` degrees from it, the bolt descends at
@@ -941,10 +958,10 @@ class Continuation:
                 continue
             close_branch(lo)
             proof, note = None, ""
-            if s_hi.classification == IN_PHASE and not self.tightening:
-                proof = self.prove(s_hi, phase + sign * hi)
-                note = "" if proof.engaged else f"not a snap: {proof.reason}"
-                s_hi = replace(s_hi, engagement=proof)
+            if not self.tightening:
+                s_hi, proof = self.proved(s_hi, phase + sign * hi)
+                if proof is not None and not proof.engaged:
+                    note = f"not a snap: {proof.reason}"
             kind = "snap" if proof is not None and proof.engaged else "jump"
             click = (
                 self._click([state, *states, *ride], phase + sign * hi, s_hi)
@@ -1102,9 +1119,7 @@ def search(
     mech, walk, start, end = turn.mech, turn.walk, turn.start, turn.end
     legs: list[Leg] = []
     events: list[SearchEvent] = []
-    proof = walk.prove(start, float(phase)) if start.classification == IN_PHASE else None
-    if proof is not None:
-        start = replace(start, engagement=proof)
+    start, proof = walk.proved(start, float(phase))
     states = [start]
     if proof is not None and proof.engaged:
         events.append(
