@@ -611,16 +611,16 @@ def _helix_rate(spec, state, phase, half=0.5):
     from _fcl import collider
 
     meshes = collider(spec)
-    z = state.origin[2]
+    x, y, z = state.origin
     heights = []
     for d in (-half, half):
         rotation = rot(state.roll, state.pitch, phase + d)
         free, hit = z + 0.2 * spec.pitch, z - 0.2 * spec.pitch
-        assert not meshes.collides(rotation, (0.0, 0.0, free))
-        assert meshes.collides(rotation, (0.0, 0.0, hit))
+        assert not meshes.collides(rotation, (x, y, free))
+        assert meshes.collides(rotation, (x, y, hit))
         for _ in range(60):
             mid = 0.5 * (free + hit)
-            if meshes.collides(rotation, (0.0, 0.0, mid)):
+            if meshes.collides(rotation, (x, y, mid)):
                 hit = mid
             else:
                 free = mid
