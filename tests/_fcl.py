@@ -48,6 +48,24 @@ class Collider:
         fcl.collide(self.bolt, self.nut, request, result)
         return np.array([c.pos for c in result.contacts], dtype=float).reshape(-1, 3)
 
+    def first_touch(self, rotation, x, y, z_guess, reach):
+        """Height of the bolt's origin where the bolt at ``rotation``, over ``(x, y)``,
+        first touches the nut lowered from above: the yes/no query bisected to the last
+        bit, from a bracket ``reach`` either side of ``z_guess`` widened until it holds.
+        The free end is returned."""
+        lo, hi = z_guess - reach, z_guess + reach
+        while not self.collides(rotation, (x, y, lo)):
+            lo -= reach
+        while self.collides(rotation, (x, y, hi)):
+            hi += reach
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            if self.collides(rotation, (x, y, mid)):
+                lo = mid
+            else:
+                hi = mid
+        return hi
+
 
 @functools.lru_cache(maxsize=8)
 def collider(spec):

@@ -612,19 +612,10 @@ def _helix_rate(spec, state, phase, half=0.5):
 
     meshes = collider(spec)
     x, y, z = state.origin
-    heights = []
-    for d in (-half, half):
-        rotation = rot(state.roll, state.pitch, phase + d)
-        free, hit = z + 0.2 * spec.pitch, z - 0.2 * spec.pitch
-        assert not meshes.collides(rotation, (x, y, free))
-        assert meshes.collides(rotation, (x, y, hit))
-        for _ in range(60):
-            mid = 0.5 * (free + hit)
-            if meshes.collides(rotation, (x, y, mid)):
-                hit = mid
-            else:
-                free = mid
-        heights.append(0.5 * (free + hit))
+    heights = [
+        meshes.first_touch(rot(state.roll, state.pitch, phase + d), x, y, z, 0.2 * spec.pitch)
+        for d in (-half, half)
+    ]
     return (heights[1] - heights[0]) / (2 * half * spec.lead / 360.0)
 
 

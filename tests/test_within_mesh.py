@@ -34,23 +34,6 @@ INCH_M = 0.0254
 DEFAULT = Compliance()
 
 
-def first_touch(col, rotation, z_guess):
-    """Height of the origin (the tip centre) where the bolt at ``rotation``, over x = y = 0,
-    first touches the nut lowered from above: bisection on the whole meshes' fcl query."""
-    lo, hi = z_guess - 2e-3, z_guess + 2e-3
-    while not col.collides(rotation, np.array([0.0, 0.0, lo])):
-        lo -= 2e-3
-    while col.collides(rotation, np.array([0.0, 0.0, hi])):
-        hi += 2e-3
-    for _ in range(40):
-        mid = 0.5 * (lo + hi)
-        if col.collides(rotation, np.array([0.0, 0.0, mid])):
-            lo = mid
-        else:
-            hi = mid
-    return hi
-
-
 # (designation, held roll, held pitch, phase, contacts carrying the load)
 STARTS = [("#10-32 UNF-2A/2B", 1.0, -1.0, 90.0, 3), ("1/4-20 UNC-2A/2B", 1.0, 1.0, 100.0, 2)]
 
@@ -101,7 +84,7 @@ def test_rest_state_within_the_meshes_accuracy_is_a_balanced_minimum(
 
     # A minimum: perturbed tilts, each lowered to first touch on the whole meshes.
     def potential(roll, pitch):
-        z = first_touch(col, rot(roll, pitch, phase), s.origin[2])
+        z = col.first_touch(rot(roll, pitch, phase), 0.0, 0.0, s.origin[2], 2e-3)
         return (
             f * z * INCH_M
             + 0.5 * k * math.radians(roll - roll0) ** 2
