@@ -82,6 +82,12 @@ __all__ = [
     "wedged",
 ]
 
+#: The nut's flanks (conventions.md regions): a contact there holds the bolt down in the
+#: nut's thread.
+NUT_FLANKS = frozenset({"+F", "-F"})
+#: Turn (degrees) by which a state carried partly by the nut's thread is screwed in at
+#: its own tilt, to see whether it follows the helix before it is proved.
+HELIX_PROBE = 1.0
 #: Tilt of the bolt axis within one step above which the step is a jump (degrees).
 JUMP_TILT = 0.5
 #: Senses a continuation turns the bolt in: ``unscrew`` (the search: counter-clockwise for a
@@ -708,12 +714,46 @@ class Continuation:
         A descent in the thread can stop short of the balance (a flank on the nut's crest
         corner, the spring pulling the bolt's tilt back): such a state is no rest state,
         but one that screws in moves along the helix as it turns, and that makes it in
-        phase whatever else it looks like (mechanics.md): it is classed so."""
-        if state.kind != IN_PHASE:
-            return state, None
-        proof = self.prove(state, phase)
-        cls = IN_PHASE if proof.engaged else state.classification
-        return replace(state, classification=cls, engagement=proof), proof
+        phase whatever else it looks like (mechanics.md): it is classed so.
+
+        So is a state carried partly by the nut's thread and partly by its entry (the
+        bolt's point on a nut flank, its crest on the countersink): the contacts alone
+        do not tell whether turning carries it along the helix, and the screw-in does.
+        It is proved too; classed in phase and returned with its proof when it screws
+        in, returned as it is (and None) when it does not."""
+        if state.kind == IN_PHASE:
+            proof = self.prove(state, phase)
+            cls = IN_PHASE if proof.engaged else state.classification
+            return replace(state, classification=cls, engagement=proof), proof
+        if self._in_nut_thread(state) and self._follows_helix(state):
+            proof = self.prove(state, phase)
+            if proof.engaged:
+                return replace(state, classification=IN_PHASE, engagement=proof), proof
+        return state, None
+
+    def _in_nut_thread(self, state: MechanicalState) -> bool:
+        """Whether a contact that carries ``state`` lies on a flank of the nut's thread
+        (the bolt down in the nut's thread, not on its crest): the contacts carrying more
+        than the load-carrying share of the load, or where the forces are unknown (not
+        at rest), the touching ones."""
+        return any(
+            c.nut_region in NUT_FLANKS
+            and (c.force > self.floor if math.isfinite(c.force) else c.gap == 0.0)
+            for c in state.contacts
+        )
+
+    def _follows_helix(self, state: MechanicalState) -> bool:
+        """Whether ``state``, turned :data:`HELIX_PROBE` clockwise (tightening) at its own
+        tilt and lowered onto the nut, descends by more than half the lead's share of
+        that turn: the test of mechanics.md ("a state that moves along the helix as it
+        turns is in phase"), asked before the dearer screw-in proves it."""
+        mech = self.mech
+        tilt = np.radians([state.roll, state.pitch])
+        turned = state.phase - mech.spec.handedness * HELIX_PROBE
+        zc = state.centre[2]
+        d = mech.drop(mech._rotation(tilt, turned), np.array(state.centre[:2]), zc)
+        share = mech.spec.lead * HELIX_PROBE / 360.0
+        return d is not None and zc - d.zc > 0.5 * share
 
     def prove(self, state: MechanicalState, phase: float) -> Engagement:
         """Whether ``state`` (at ``phase``, degrees as turned) is engaged: turned
