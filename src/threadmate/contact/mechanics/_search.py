@@ -44,6 +44,7 @@ from ..._units import MJ_PER_J
 from ...geometry import ThreadSpec
 from ..scene import IN_PHASE, QUASI_STABLE, STABLE, UNSTABLE
 from ._compliance import Compliance
+from ._contact_set import HELICAL_FEATURES
 from ._rest_state import (
     LEAD_TOLERANCE,
     Engagement,
@@ -82,9 +83,6 @@ __all__ = [
     "wedged",
 ]
 
-#: The nut's flanks (conventions.md regions): a contact there holds the bolt down in the
-#: nut's thread.
-NUT_FLANKS = frozenset({"+F", "-F"})
 #: Turn (degrees) by which a state carried partly by the nut's thread is screwed in at
 #: its own tilt, to see whether it follows the helix before it is proved.
 HELIX_PROBE = 1.0
@@ -732,12 +730,11 @@ class Continuation:
         return state, None
 
     def _in_nut_thread(self, state: MechanicalState) -> bool:
-        """Whether a contact that carries ``state`` lies on a flank of the nut's thread
-        (the bolt down in the nut's thread, not on its crest): the contacts carrying more
-        than the load-carrying share of the load, or where the forces are unknown (not
-        at rest), the touching ones."""
+        """Whether a contact that carries ``state`` lies on the nut's thread (a face or a
+        corner of it): the contacts carrying more than the load-carrying share of the
+        load, or where the forces are unknown (not at rest), the touching ones."""
         return any(
-            c.nut_region in NUT_FLANKS
+            c.nut_feature in HELICAL_FEATURES
             and (c.force > self.floor if math.isfinite(c.force) else c.gap == 0.0)
             for c in state.contacts
         )
