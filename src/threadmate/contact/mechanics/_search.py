@@ -716,9 +716,9 @@ class Continuation:
 
         So is a state carried partly by the nut's thread and partly by its entry (the
         bolt's point on a nut flank, its crest on the countersink): the contacts alone
-        do not tell whether turning carries it along the helix, and the screw-in does.
-        It is proved too; classed in phase and returned with its proof when it screws
-        in, returned as it is (and None) when it does not."""
+        do not tell whether turning carries it along the helix. Where it follows the
+        helix (:meth:`_follows_helix`) it is proved too: classed in phase and returned
+        with its proof when it screws in; else returned as it is, with None."""
         if state.kind == IN_PHASE:
             proof = self.prove(state, phase)
             cls = IN_PHASE if proof.engaged else state.classification
