@@ -508,6 +508,8 @@ READ: dict[str, tuple[str, Callable[[Stamp, Path], list[str]]]] = {
 #: Sections with no input here: carried over as the page holds them.
 RECORDED = (
     "The snap proved where the landing's descent stops short",
+    "The snap proved where the thread carries the landing partly",
+    "The design's optimum against a finer grid",
     "Against the dynamics simulation, from 3 degrees before the snap",
     "The model's rules, measured",
     "The snap a sensor sees, on the default run",
