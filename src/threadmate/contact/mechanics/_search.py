@@ -707,7 +707,8 @@ class Continuation:
     ) -> tuple[MechanicalState, Engagement | None]:
         """``state`` (at ``phase``, degrees as turned) with its proof (:meth:`prove`), and
         the proof, when its load-carrying contacts lie in phase (kind ``in-phase``),
-        whether or not its descent balanced; else ``state`` itself and None.
+        whether or not its descent balanced, or when it is carried partly by the nut's
+        thread and screws in (below); else ``state`` itself and None.
 
         A descent in the thread can stop short of the balance (a flank on the nut's crest
         corner, the spring pulling the bolt's tilt back): such a state is no rest state,
