@@ -48,6 +48,17 @@ class Collider:
         fcl.collide(self.bolt, self.nut, request, result)
         return np.array([c.pos for c in result.contacts], dtype=float).reshape(-1, 3)
 
+    def pairs(self, rotation, origin):
+        """Every intersecting (bolt face, nut face) pair at (rotation, origin), as a set
+        (python-fcl reports the triangles' numbers in the meshes as given)."""
+        self.bolt.setTransform(
+            fcl.Transform(np.asarray(rotation, dtype=float), np.asarray(origin, dtype=float))
+        )
+        request = fcl.CollisionRequest(num_max_contacts=1_000_000, enable_contact=False)
+        result = fcl.CollisionResult()
+        fcl.collide(self.bolt, self.nut, request, result)
+        return {(c.b1, c.b2) for c in result.contacts}
+
     def first_touch(self, rotation, x, y, z_guess, reach):
         """Height of the bolt's origin where the bolt at ``rotation``, over ``(x, y)``,
         first touches the nut lowered from above: the yes/no query bisected to the last

@@ -189,6 +189,56 @@ def test_sector_queries_agree_with_the_whole_nut(analyzer):
 
 
 @pytest.mark.parametrize("point", ["flat", "chamfer"])
+def test_queries_without_the_bolts_core_answer_as_the_whole_meshes(point):
+    """Where the engine asks the bolt without its core, its answers are those of the whole
+    meshes (python-fcl BVHs built by the tests, tests/_fcl.py): every crossing pair and
+    the yes/no, at tilts either side of CORE_TILT, shifts beyond the clearance (where the
+    core meets the nut) and heights through the thread. The core's vertices then lie nearer the axis than the bore, and
+    the bore is the nut mesh's least distance from its axis (dense points on every nut
+    triangle, none nearer, the nearest within a hair of it)."""
+    from _fcl import Collider
+
+    from threadmate.contact.scene import CollisionPair
+    from threadmate.contact.scene._collision import CORE_TILT
+    from threadmate.geometry import Pose, spec_from_designation, thread_meshes
+
+    if point == "flat":
+        spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    else:
+        spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    bolt, nut = thread_meshes(spec)
+    eng, whole = CollisionPair(bolt.mesh, nut.mesh), Collider(spec)
+    # The bore, by dense barycentric points on every nut triangle.
+    tri = eng.nut_vertices[eng.nut_faces]
+    w = np.array([(i, j, 24 - i - j) for i in range(25) for j in range(25 - i)]) / 24.0
+    radius = np.hypot(*np.einsum("kv,tvc->tkc", w, tri)[..., :2].transpose(2, 0, 1))
+    assert radius.min() >= eng.nut_bore * (1 - 1e-12)
+    assert radius.min() - eng.nut_bore < 1e-3 * ACCURACY
+    core = eng.bolt_faces[eng._core_faces]
+    assert 0.3 < eng._core_faces.mean() < 1.0  # the root fillet's faces, most of the mesh
+    rng = np.random.default_rng(11)
+    asked, met = {True: 0, False: 0}, 0
+    for i in range(60):
+        size, direction = rng.uniform(0, 2 * CORE_TILT), rng.uniform(0, 2 * np.pi)
+        rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
+        # Within the clearance, and beyond it (where the core can meet the nut).
+        shift = rng.uniform(-1, 1, 2) * (0.003 if i % 2 else 0.012)
+        h = -eng.lowest_bolt_z(rotation) - rng.uniform(0, 0.06)
+        pose = Pose(rotation, np.array([shift[0], shift[1], h]))
+        clear = eng._core_clear(pose)
+        asked[clear] += 1
+        if clear:
+            at = pose.to_fixed(eng.bolt_vertices[np.unique(core)])
+            assert np.hypot(at[:, 0], at[:, 1]).max() < eng.nut_bore
+        expected = whole.pairs(rotation, pose.origin)
+        assert set(map(tuple, eng.pairs(pose).tolist())) == expected
+        assert eng.collides(pose) == bool(expected) == whole.collides(rotation, pose.origin)
+        met += any(eng._core_faces[b] for b, _ in expected)
+    assert min(asked.values()) >= 10  # both ways asked
+    assert met > 0  # and the core met the nut at some poses, where it was asked
+
+
+@pytest.mark.parametrize("point", ["flat", "chamfer"])
 def test_pairs_under_the_nuts_material_are_every_such_crossing_pair(analyzer, point):
     """The pairs of a nut face turned down and a bolt face turned up, asked of those faces
     alone, are every such pair of all the crossing pairs (brute force, normals from the

@@ -17,6 +17,14 @@ has a colliding pose, asks again only of the sectors that collide there. A yes/n
 asks first the sector that collided last: consecutive poses of a descent collide in the
 same place.
 
+The bolt is asked without its core where the pose allows: the triangles nearer its axis
+than the nut's bore less the axis's sway at a tilt of :data:`CORE_TILT` (most of them:
+the root's fillet takes many to follow within the chord), which cannot reach the nut's
+material while the bolt's axis stays that close to the nut's. A query checks, from the
+pose alone, that every point of the core lies nearer the nut's axis than any point of the
+nut's mesh (:meth:`CollisionPair._place`), and asks the whole bolt where it does not: the
+answers are those of the whole meshes, at most of the cost.
+
 Queries, each one yes/no question counted in :attr:`queries`:
 
 - :meth:`collides`: whether the bolt intersects the nut;
@@ -42,6 +50,7 @@ what is inside it. :meth:`CollisionPair.signed_distance` measures from the mesh 
 from __future__ import annotations
 
 import itertools
+import math
 
 import fcl
 import numpy as np
@@ -67,6 +76,13 @@ _CLASSES = 8
 #: Largest tilt of the bolt's axis from the nut's (degrees) at which
 #: :meth:`CollisionPair.pairs_under_material` asks only the bolt faces that can face up.
 UNDER_TILT = 20.0
+#: Tilt of the bolt's axis (degrees, about its tip) up to which the bolt's core (module
+#: docstring) stays inside the nut's bore.
+CORE_TILT = 5.0
+
+
+#: Some faces of a mesh as a collision object, and their numbers in the mesh.
+_Subset = tuple[fcl.CollisionObject, NDArray[np.int64]]
 
 
 def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -74,23 +90,15 @@ def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
     return pairs[:, 0] * _KEY + pairs[:, 1]
 
 
-def _pair_keys_of(
-    bolt: fcl.CollisionObject,
-    nut: fcl.CollisionObject,
-    request: fcl.CollisionRequest,
-    nut_ids: NDArray[np.int64],
-    bolt_ids: NDArray[np.int64] | None = None,
-) -> NDArray[np.int64]:
-    """Keys (:func:`pair_keys`) of the intersecting (bolt face, nut face) pairs, with
-    repeats; ``nut_ids`` maps a sector's local face numbers to the nut's, ``bolt_ids``
-    (when the bolt object holds only some of its faces) the bolt's."""
+def _pair_keys_of(bolt: _Subset, nut: _Subset, request: fcl.CollisionRequest) -> NDArray[np.int64]:
+    """Keys (:func:`pair_keys`) of the intersecting (bolt face, nut face) pairs of two
+    meshes' subsets, with repeats."""
     result = fcl.CollisionResult()
-    fcl.collide(bolt, nut, request, result)
+    fcl.collide(bolt[0], nut[0], request, result)
     if not result.contacts:
         return np.empty(0, dtype=np.int64)
     ids = np.array([(c.b1, c.b2) for c in result.contacts], dtype=np.int64)
-    bolt_faces = ids[:, 0] if bolt_ids is None else bolt_ids[ids[:, 0]]
-    return bolt_faces * _KEY + nut_ids[ids[:, 1]]
+    return bolt[1][ids[:, 0]] * _KEY + nut[1][ids[:, 1]]
 
 
 def upward(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -98,6 +106,22 @@ def upward(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
     triangles outward): positive for a face turned up."""
     t = np.asarray(triangles, dtype=float)
     return np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]
+
+
+def _axis_distance(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each triangle's least distance from the Z axis: the distance from the origin to
+    its projection on the XY plane (0 where that covers the origin)."""
+    p = np.asarray(triangles, dtype=float)[..., :2]
+    a, b = p, np.roll(p, -1, axis=1)  # each edge (a, b)
+    ab = b - a
+    length2 = np.einsum("ijk,ijk->ij", ab, ab)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.clip(np.where(length2 > 0, -np.einsum("ijk,ijk->ij", a, ab) / length2, 0.0), 0, 1)
+    nearest = np.linalg.norm(a + t[..., None] * ab, axis=2).min(axis=1)
+    # The origin is inside the projection where it lies on one side of all three edges.
+    side = a[..., 0] * ab[..., 1] - a[..., 1] * ab[..., 0]
+    inside = np.all(side > 0, axis=1) | np.all(side < 0, axis=1)
+    return np.where(inside, 0.0, nearest)
 
 
 def _bvh(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> fcl.BVHModel:
@@ -319,13 +343,30 @@ class CollisionPair:
         self.bolt_faces = np.asarray(bolt_mesh.faces, dtype=np.int64)
         self.nut_vertices = np.asarray(nut_mesh.vertices, dtype=float)
         self.nut_faces = np.asarray(nut_mesh.faces, dtype=np.int64)
-        self._bolt = fcl.CollisionObject(_bvh(self.bolt_vertices, self.bolt_faces), fcl.Transform())
+        #: The nut mesh's least distance from its axis (F): the bore.
+        self.nut_bore = float(_axis_distance(self.nut_vertices[self.nut_faces]).min())
+        tri = self.bolt_vertices[self.bolt_faces]
+        outer = np.hypot(tri[..., 0], tri[..., 1]).max(axis=1)
+        height = tri[..., 2]
+        sway = float(height.max() - height.min()) * np.sin(np.radians(CORE_TILT))
+        #: The bolt's core (module docstring): its faces, and their largest distance from
+        #: the bolt's axis and their lowest and highest points' heights (B).
+        self._core_faces = outer < self.nut_bore - sway
+        core = self._core_faces
+        self._core = (
+            float(outer[core].max(initial=0.0)),
+            float(height[core].min(initial=0.0)),
+            float(height[core].max(initial=0.0)),
+        )
+        self._bolt = self._without_core(np.ones(len(self.bolt_faces), dtype=bool))
+        #: The bolt as asked at the last pose placed (:meth:`_place`).
+        self._placed = self._bolt[0]
         centroid = self.nut_vertices[self.nut_faces].mean(axis=1)
         angle = np.arctan2(centroid[:, 1], centroid[:, 0])
         #: Sector (0 .. SECTORS-1, counter-clockwise from -pi) of each nut face.
         sector = np.floor((angle + np.pi) / TWO_PI * SECTORS).astype(np.intp)
         self.nut_sector = sector % SECTORS
-        self._sectors: dict[int, tuple[fcl.CollisionObject, NDArray[np.int64]]] = {}
+        self._sectors: dict[int, _Subset] = {}
         for k in range(SECTORS):
             if np.any(self.nut_sector == k):
                 self._sectors[k] = self._subset(
@@ -337,7 +378,7 @@ class CollisionPair:
         #: not move, so whether a face is turned down is known once.
         self.nut_upward = upward(self.nut_vertices[self.nut_faces])
         # The faces :meth:`pairs_under_material` asks, built on its first use.
-        self._under_material: tuple[tuple[fcl.CollisionObject, NDArray[np.int64]], ...] = ()
+        self._under_material: tuple[tuple[_Subset, _Subset | None], _Subset] | None = None
         self._yes_no = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
         self._all = fcl.CollisionRequest(num_max_contacts=MAX_PAIRS, enable_contact=False)
         #: Collision queries spent since construction (or the last reset).
@@ -367,11 +408,41 @@ class CollisionPair:
         on the mesh itself (see :meth:`solid` for the frames)."""
         return self.solid(body).signed_distance(points)
 
+    def _without_core(self, faces: NDArray[np.bool_]) -> tuple[_Subset, _Subset | None]:
+        """The bolt's ``faces`` as a collision object, and without the core's (None where
+        the core holds none of them)."""
+        rim = faces & ~self._core_faces
+        return (
+            self._subset(self.bolt_vertices, self.bolt_faces, faces),
+            self._subset(self.bolt_vertices, self.bolt_faces, rim)
+            if rim.sum() < faces.sum()
+            else None,
+        )
+
+    def _core_clear(self, pose: Pose) -> bool:
+        """Whether every point of the bolt's core at ``pose`` lies nearer the Z axis than
+        the nut's bore: a point at radius r from the bolt's axis, at height h, lies within
+        r of the axis's point at h (a rotation moves no vector's XY part farther), and the
+        axis's points between two heights lie within the farther of the two ends'."""
+        radius, low, high = self._core
+        sway = pose.rotation[:2, 2]
+        foot = pose.origin[:2]
+        reach = max(math.hypot(*(foot + low * sway)), math.hypot(*(foot + high * sway)))
+        return reach + radius < self.nut_bore * (1 - 1e-9)
+
+    def _placed_at(self, bolt: tuple[_Subset, _Subset | None], pose: Pose) -> _Subset:
+        """``bolt`` (:meth:`_without_core`) placed at ``pose``: without its core where
+        that cannot reach the nut."""
+        whole, rim = bolt
+        placed = rim if rim is not None and self._core_clear(pose) else whole
+        placed[0].setTransform(fcl.Transform(pose.rotation, pose.origin))
+        return placed
+
     def _place(self, pose: Pose) -> None:
-        self._bolt.setTransform(fcl.Transform(pose.rotation, pose.origin))
+        self._placed = self._placed_at(self._bolt, pose)
 
     def _hits(self, other: fcl.CollisionObject) -> bool:
-        return fcl.collide(self._bolt, other, self._yes_no, fcl.CollisionResult()) > 0
+        return fcl.collide(self._placed[0], other, self._yes_no, fcl.CollisionResult()) > 0
 
     def collides(self, pose: Pose) -> bool:
         """Whether the bolt at ``pose`` intersects the nut (one query)."""
@@ -434,8 +505,8 @@ class CollisionPair:
         self._place(pose)
         self.queries += 1
         found = [
-            _pair_keys_of(self._bolt, obj, self._all, nut_ids)
-            for k, (obj, nut_ids) in self._sectors.items()
+            _pair_keys_of(self._placed, sector, self._all)
+            for k, sector in self._sectors.items()
             if sectors is None or k in sectors
         ]
         # One integer key per pair (bolt face major), all sectors at once: a 1-D unique
@@ -456,7 +527,7 @@ class CollisionPair:
         """
         if pose.rotation[2, 2] < np.cos(np.radians(UNDER_TILT)):
             return self.pairs(pose)
-        if not self._under_material:
+        if self._under_material is None:
             # The faces that can meet from either side of the nut's material over the
             # bolt: the nut's turned down, and the bolt's whose normal lies within
             # UNDER_TILT of horizontal or above it (in the bolt's frame), the only ones
@@ -467,19 +538,19 @@ class CollisionPair:
             cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
             steep = np.sin(np.radians(UNDER_TILT + 1.0)) * np.linalg.norm(cross, axis=1)
             self._under_material = (
-                self._subset(self.bolt_vertices, self.bolt_faces, cross[:, 2] >= -steep),
+                self._without_core(cross[:, 2] >= -steep),
                 self._subset(self.nut_vertices, self.nut_faces, self.nut_upward < 0),
             )
-        (bolt, bolt_ids), (nut, nut_ids) = self._under_material
-        bolt.setTransform(fcl.Transform(pose.rotation, pose.origin))
+        bolt, nut = self._under_material
+        placed = self._placed_at(bolt, pose)
         self.queries += 1
-        key = np.unique(_pair_keys_of(bolt, nut, self._all, nut_ids, bolt_ids))
+        key = np.unique(_pair_keys_of(placed, nut, self._all))
         return np.column_stack([key // _KEY, key % _KEY])
 
     @staticmethod
     def _subset(
         vertices: NDArray[np.float64], faces: NDArray[np.int64], keep: NDArray[np.bool_]
-    ) -> tuple[fcl.CollisionObject, NDArray[np.int64]]:
+    ) -> _Subset:
         """The faces ``keep`` of a mesh as their own collision object, and their numbers
         in the mesh."""
         ids = np.flatnonzero(keep)
