@@ -193,11 +193,10 @@ def test_queries_without_the_bolts_core_answer_as_the_whole_meshes(point):
     """Where the engine asks the bolt without its core, its answers are those of the whole
     meshes (python-fcl BVHs built by the tests, tests/_fcl.py): every crossing pair and
     the yes/no, at tilts either side of CORE_TILT, shifts beyond the clearance (where the
-    core meets the nut) and heights through the thread. The core's vertices then lie nearer the axis than the bore, and
-    the bore is the nut mesh's least distance from its axis (dense points on every nut
-    triangle, none nearer, the nearest within a hair of it)."""
+    core meets the nut) and heights through the thread. The core's vertices then lie
+    nearer the axis than the bore, and the bore is the nut mesh's least distance from its
+    axis (dense points on every nut triangle, none nearer, the nearest within a hair)."""
     from _fcl import Collider
-
     from threadmate.contact.scene import CollisionPair
     from threadmate.contact.scene._collision import CORE_TILT
     from threadmate.geometry import Pose, spec_from_designation, thread_meshes

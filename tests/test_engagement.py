@@ -603,10 +603,10 @@ def test_a_proof_scaled_to_another_friction_is_the_proof_made_there(mech, proof_
 
 
 def _helix_rate(spec, state, phase, half=0.5):
-    """How fast the bolt at ``state``'s own tilt rises, per the lead's share of the turn,
-    turned ``half`` degree either way about ``phase``: each pose lowered to first touch on
-    the whole meshes (python-fcl's yes/no query, bisected). Near 1 where the thread
-    carries the bolt along the helix."""
+    """How fast the bolt at ``state``'s own tilt rises as it is turned the loosening way,
+    per the lead's share of the turn, turned ``half`` degree either way about ``phase``:
+    each pose lowered to first touch on the whole meshes (python-fcl's yes/no query,
+    bisected). Near 1 where the thread carries the bolt along the helix."""
     from _exact_geometry import rot
     from _fcl import collider
 
@@ -616,7 +616,7 @@ def _helix_rate(spec, state, phase, half=0.5):
         meshes.first_touch(rot(state.roll, state.pitch, phase + d), x, y, z, 0.2 * spec.pitch)
         for d in (-half, half)
     ]
-    return (heights[1] - heights[0]) / (2 * half * spec.lead / 360.0)
+    return spec.handedness * (heights[1] - heights[0]) / (2 * half * spec.lead / 360.0)
 
 
 @pytest.mark.slow
@@ -698,4 +698,27 @@ def test_a_landing_carried_partly_by_the_thread_that_screws_in_is_the_snap():
     assert landing.classification == IN_PHASE and landing.kind != IN_PHASE
     regions = {c.nut_region for c in landing.contacts if c.force > 0.0}
     assert "+F" in regions and "countersink" in regions
+    assert _helix_rate(spec, landing, snap.phase) > 0.5
+
+
+@pytest.mark.slow
+def test_the_left_hand_landing_carried_partly_by_the_thread_is_the_mirrored_snap():
+    """The case above with a left-hand thread: the mirror M = diag(1, -1, 1) maps the
+    right-hand pair onto the left-hand one and a search from phase f with roll r onto one
+    from -f with -r, turned the other way (counter-clockwise loosens a right-hand thread,
+    clockwise a left-hand one). So the snap lies at 360 degrees less the right-hand one's,
+    about 219.1, with the same click, and the landing is proved by screwing in the
+    left-hand way: the probe that asks whether it follows the helix turns it tightening
+    for its hand. Checked as above, the helix rate measured turning the loosening way."""
+    spec = spec_from_designation("M8x1.25-6g/6H LH")
+    assert spec.hand == "left" and spec.lead == pytest.approx(1.25)
+    result = search(spec, 0.0, -1.5, 240.0)
+    snap = result.snap
+    assert snap is not None and 218.5 < snap.phase < 220.0
+    assert snap.click > 0.2 and snap.drop > 0.2
+    proof = snap.engagement
+    assert proof is not None and proof.engaged
+    assert abs(proof.descent - spec.lead) <= 0.1 * spec.lead
+    landing = result.states[-1]
+    assert landing.classification == IN_PHASE and landing.kind != IN_PHASE
     assert _helix_rate(spec, landing, snap.phase) > 0.5
