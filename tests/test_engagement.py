@@ -672,7 +672,14 @@ def test_a_start_in_the_thread_whose_descent_stopped_short_is_proved():
 
 
 @pytest.mark.slow
-def test_a_landing_carried_partly_by_the_thread_that_screws_in_is_the_snap():
+@pytest.mark.parametrize(
+    ("designation", "start", "window"),
+    [("M8x1.25-6g/6H", 120.0, (140.0, 141.5)), ("M8x1.25-6g/6H LH", 240.0, (218.5, 220.0))],
+    ids=["right-hand", "left-hand"],
+)
+def test_a_landing_carried_partly_by_the_thread_that_screws_in_is_the_snap(
+    designation, start, window
+):
     """M8x1.25 held 1.5 degrees toward -X (pitch -1.5), searched from phase 120: at about
     140.9 degrees the bolt's point drops some 0.21 mm off the nut's crest into the
     thread, onto the nut's flank, with the bolt's thread on the countersink. Not every
@@ -681,15 +688,21 @@ def test_a_landing_carried_partly_by_the_thread_that_screws_in_is_the_snap():
     was taken for a jump, and the snap came some 2.4 degrees later where the contacts
     first all lay on the helices, with no fall at all: a click of -1e-5 mm.)
 
+    The left-hand pair is its mirror image: M = diag(1, -1, 1) maps the right-hand pair
+    onto it and a search from phase f with roll r onto one from -f with -r, turned the
+    other way (counter-clockwise loosens a right-hand thread, clockwise a left-hand one).
+    So it snaps at 360 degrees less, about 219.1, with the same click, the probe that asks
+    whether the landing follows the helix turning it tightening for its hand.
+
     Checked without the code's verdicts: the proof descends at the standard's lead
     (1.25 mm per turn) within 10 %, and the landing turned half a degree either way at
     its own tilt and lowered to first touch on the whole meshes moves at more than half
-    the lead's share."""
-    spec = spec_from_designation("M8x1.25-6g/6H")
+    the lead's share, turned the loosening way."""
+    spec = spec_from_designation(designation)
     assert spec.lead == pytest.approx(1.25)
-    result = search(spec, 0.0, -1.5, 120.0)
+    result = search(spec, 0.0, -1.5, start)
     snap = result.snap
-    assert snap is not None and 140.0 < snap.phase < 141.5
+    assert snap is not None and window[0] < snap.phase < window[1]
     assert snap.click > 0.2 and snap.drop > 0.2
     proof = snap.engagement
     assert proof is not None and proof.engaged
@@ -698,27 +711,4 @@ def test_a_landing_carried_partly_by_the_thread_that_screws_in_is_the_snap():
     assert landing.classification == IN_PHASE and landing.kind != IN_PHASE
     regions = {c.nut_region for c in landing.contacts if c.force > 0.0}
     assert "+F" in regions and "countersink" in regions
-    assert _helix_rate(spec, landing, snap.phase) > 0.5
-
-
-@pytest.mark.slow
-def test_the_left_hand_landing_carried_partly_by_the_thread_is_the_mirrored_snap():
-    """The case above with a left-hand thread: the mirror M = diag(1, -1, 1) maps the
-    right-hand pair onto the left-hand one and a search from phase f with roll r onto one
-    from -f with -r, turned the other way (counter-clockwise loosens a right-hand thread,
-    clockwise a left-hand one). So the snap lies at 360 degrees less the right-hand one's,
-    about 219.1, with the same click, and the landing is proved by screwing in the
-    left-hand way: the probe that asks whether it follows the helix turns it tightening
-    for its hand. Checked as above, the helix rate measured turning the loosening way."""
-    spec = spec_from_designation("M8x1.25-6g/6H LH")
-    assert spec.hand == "left" and spec.lead == pytest.approx(1.25)
-    result = search(spec, 0.0, -1.5, 240.0)
-    snap = result.snap
-    assert snap is not None and 218.5 < snap.phase < 220.0
-    assert snap.click > 0.2 and snap.drop > 0.2
-    proof = snap.engagement
-    assert proof is not None and proof.engaged
-    assert abs(proof.descent - spec.lead) <= 0.1 * spec.lead
-    landing = result.states[-1]
-    assert landing.classification == IN_PHASE and landing.kind != IN_PHASE
     assert _helix_rate(spec, landing, snap.phase) > 0.5
