@@ -22,8 +22,10 @@ than the nut's bore less the axis's sway at a tilt of :data:`CORE_TILT` (most of
 the root's fillet takes many to follow within the chord), which cannot reach the nut's
 material while the bolt's axis stays that close to the nut's. A query checks, from the
 pose alone, that every point of the core lies nearer the nut's axis than any point of the
-nut's mesh (:meth:`CollisionPair._place`), and asks the whole bolt where it does not: the
-answers are those of the whole meshes, at most of the cost.
+nut's mesh (:meth:`CollisionPair._core_clear`), and asks the whole bolt where it does not:
+the answers are those of the whole meshes, at most of the cost. A core of fewer than
+:data:`CORE_SHARE` of the bolt's faces (a mesh from CAD with a coarse root, say) is not
+worth a second BVH's memory: the bolt is then always asked whole.
 
 Queries, each one yes/no question counted in :attr:`queries`:
 
@@ -79,6 +81,8 @@ UNDER_TILT = 20.0
 #: Tilt of the bolt's axis (degrees, about its tip) up to which the bolt's core (module
 #: docstring) stays inside the nut's bore.
 CORE_TILT = 5.0
+#: Least share of the bolt's faces in its core for a query to leave the core out.
+CORE_SHARE = 0.25
 
 
 #: Some faces of a mesh as a collision object, and their numbers in the mesh.
@@ -352,6 +356,8 @@ class CollisionPair:
         #: The bolt's core (module docstring): its faces, and their largest distance from
         #: the bolt's axis and their lowest and highest points' heights (B).
         self._core_faces = outer < self.nut_bore - sway
+        if self._core_faces.mean() < CORE_SHARE:
+            self._core_faces[:] = False
         core = self._core_faces
         self._core = (
             float(outer[core].max(initial=0.0)),
