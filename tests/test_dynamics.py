@@ -52,3 +52,35 @@ def test_stiff_upright_snap_matches_closed_form() -> None:
     assert abs(sim.snap.drop - clearance) < 0.05 * clearance
     # frictionless, hard contacts: the hulls barely interpenetrate on the way
     assert sim.penetration_by_stage["ride"] < 1e-6
+
+
+def test_pieces_follow_the_chamfered_point_and_the_countersink() -> None:
+    """The convex pieces of the default parts (45-degree chamfered point, 120-degree
+    countersink): every vertex on or inside the exact body, some on each end's cone, the
+    point's core a frustum down to the tip circle, and the hulls within a micrometre of
+    the exact bodies both ways (docs/scripts/dynamics_check.py, "Geometry")."""
+    import numpy as np
+
+    from threadmate.geometry import bolt_body, nut_body, spec_from_designation
+
+    dc = _load()
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    micrometre = 1e-6 / 0.0254  # in
+    for body in (bolt_body(spec), nut_body(spec)):
+        env = body.envelope
+        assert env is not None and env.kind == "cone"
+        parts = dc.pieces(body)
+        v = np.concatenate([p.vertices for p in parts])
+        outside = np.where(body.contains(v), 0.0, body.surface_distance(v))
+        assert outside.max() < 1e-9
+        # the cone clips the sections: vertices on it, none on its air side
+        r = np.hypot(v[:, 0], v[:, 1])
+        cone = env.side * (env.r0 + env.slope_rz * v[:, 2] - r)
+        assert cone.min() > -1e-12
+        assert (np.abs(cone) < 1e-12).sum() > 100
+        outward, inward = dc.hull_deviation(body, parts)
+        assert outward < micrometre and inward < 0.5 * micrometre
+    core = [p for p in dc.pieces(bolt_body(spec)) if p.sector < 0]
+    assert len(core) == 1
+    tip = core[0].vertices[core[0].vertices[:, 2] == 0.0]
+    assert np.allclose(np.hypot(tip[:, 0], tip[:, 1]), bolt_body(spec).envelope.r0)

@@ -1,6 +1,6 @@
 """Independent dynamics check of ``threadmate search``: the snap simulated in MuJoCo.
 
-Run:  python docs/scripts/dynamics_check.py [--cases upright,stiff,...] [--json FILE]
+Run:  python docs/scripts/dynamics_check.py [--cases upright,stiff,...] [--ends] [--json FILE]
 
 docs/mechanics.md, "Independent checks worth having": a frictionless, slowly turned,
 heavily damped simulation of the same compliance chain, with convex pieces cut from the
@@ -20,9 +20,14 @@ start (and its search, to compare with):
   and its root fillets (below the nut's minor radius by more than any tilt here moves
   them), the nut outside its major radius (beyond the bolt's crest); left out material
   is inside the exact body, so it can only make the model miss a contact, and none of
-  it is within reach. The hulls' deviation from the exact bodies is measured: outward
-  (hull surface outside the exact body, the dangerous direction) and inward (exact
-  surface outside every hull).
+  it is within reach. A chamfered point and a countersink (conventions.md, "Ends"; with
+  ``--ends``) are cones about the axis: in the meridian plane each is a half-plane
+  (the bolt's material ``r <= r0 + k z``, the nut's ``r >= r0 + k z``) that clips
+  every section polygon, which stays convex; the point's core below where the chamfer
+  meets the root radius is one more piece (a frustum), its cone the chamfer's. A
+  rounded point is not built. The hulls' deviation from the exact bodies is measured:
+  outward (hull surface outside the exact body, the dangerous direction) and inward
+  (exact thread surface outside every hull; the ends' cones are not sampled).
 - **Compliance chain** (SI inside; docs/mechanics.md, "The system"): a slide along Z
   at the compliance centre C (held at x = y = 0), a hinge about the fixed X axis (roll),
   one about the rolled Y axis (pitch), one about the bolt axis (phase), as in the pose
@@ -152,6 +157,11 @@ def thesis_spec() -> ThreadSpec:
     return spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
 
 
+def _flat(spec: ThreadSpec) -> bool:
+    """Whether both bodies end flat (the closed form's parts)."""
+    return bolt_body(spec).envelope is None and nut_body(spec).envelope is None
+
+
 def closed_form(spec: ThreadSpec) -> tuple[float, float]:
     """Snap phase (degrees) and drop (spec units) of an upright, stiffly held bolt.
 
@@ -175,7 +185,7 @@ class Piece:
     ----------
     sector : int
         Index of its angular sector (``sector`` times the pieces' width, in degrees,
-        onward).
+        onward); -1 for the bolt point's core, all round.
     tooth : int
         Which tooth (profile period) of the helix it holds.
     vertices : (n, 3) array
@@ -235,13 +245,51 @@ def _sections(
     return out
 
 
+def _clip(poly: Array, body: ThreadBody) -> Array:
+    """The section polygon ``poly`` (``(r, z)`` vertices in order) within the material
+    side of the body's conical end (Sutherland-Hodgman against one half-plane); as given
+    for flat ends."""
+    env = body.envelope
+    if env is None:
+        return poly
+    # Beyond the cone's span the half-plane holds wherever the thread is: the bolt's cone
+    # passes its major radius at the span's top, the nut's its minor radius at the bottom.
+    inside = env.side * (env.r0 + env.slope_rz * poly[:, 1] - poly[:, 0])
+    out = []
+    for i in range(len(poly)):
+        j = (i + 1) % len(poly)
+        if inside[i] >= 0:
+            out.append(poly[i])
+        if (inside[i] >= 0) != (inside[j] >= 0):
+            out.append(poly[i] + inside[i] / (inside[i] - inside[j]) * (poly[j] - poly[i]))
+    return np.array(out) if out else np.empty((0, 2))
+
+
+def _point_core(body: ThreadBody, n: int = 180) -> list[Piece]:
+    """The bolt point's core: the frustum inside the root radius from the tip face up to
+    a pitch above where the chamfer meets that radius (sector -1: no thread's)."""
+    env = body.envelope
+    if body.kind != "bolt" or env is None:
+        return []
+    r_root, pitch = body.profile.r_lo, body.profile.pitch
+    z_root = (r_root - env.r0) / env.slope_rz
+    if z_root <= 0:
+        return []
+    th = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    rings = ((env.r0, 0.0), (r_root, z_root), (r_root, z_root + pitch))
+    v = np.concatenate(
+        [np.column_stack([r * np.cos(th), r * np.sin(th), np.full(n, z)]) for r, z in rings]
+    )
+    return [Piece(-1, -1, v)]
+
+
 def pieces(body: ThreadBody, sector: float = SECTOR, subdivide: int = SUBDIVIDE) -> list[Piece]:
     """The convex pieces of ``body`` (see the module docstring).
 
     Parameters
     ----------
     body : ThreadBody
-        The exact bolt or nut (flat ends: no point or countersink).
+        The exact bolt or nut: flat ends, a chamfered point, a countersink.
     sector : float
         Angular width of a piece (degrees).
     subdivide : int
@@ -251,8 +299,8 @@ def pieces(body: ThreadBody, sector: float = SECTOR, subdivide: int = SUBDIVIDE)
     -------
     list of Piece
     """
-    if body.envelope is not None:
-        raise ValueError("dynamics_check builds flat ends only (point='flat', no countersink)")
+    if body.envelope is not None and body.envelope.kind != "cone":
+        raise ValueError("dynamics_check builds flat and conical ends, not a rounded point")
     prof = body.profile
     s = _helix_rate(body)
     lo, hi, bps, close = _tooth(body)
@@ -279,15 +327,27 @@ def pieces(body: ThreadBody, sector: float = SECTOR, subdivide: int = SUBDIVIDE)
                 continue
             pts = []
             for th, _, _, ts, R in secs:
-                c, sn = math.cos(th), math.sin(th)
                 z = ts + s * th
-                for rr in (R, np.full_like(R, close)):
-                    pts.append(np.column_stack([rr * c, rr * sn, z]))
+                # the section: the profile up, the closing radius down
+                poly = _clip(
+                    np.concatenate(
+                        [np.column_stack([R, z]), np.column_stack([0 * R + close, z])[::-1]]
+                    ),
+                    body,
+                )
+                if len(poly):
+                    pts.append(
+                        np.column_stack(
+                            [poly[:, 0] * math.cos(th), poly[:, 0] * math.sin(th), poly[:, 1]]
+                        )
+                    )
+            if not pts:
+                continue
             v = np.unique(np.concatenate(pts), axis=0)
             if len(v) < 4 or np.linalg.matrix_rank(v[1:] - v[0], tol=1e-9 * prof.pitch) < 3:
                 continue
             out.append(Piece(i, k, v))
-    return out
+    return out + _point_core(body)
 
 
 def _hull(v: Array) -> ConvexHull:
@@ -341,6 +401,8 @@ def hull_deviation(
     _, _, _, close = _tooth(body)
     inward = 0.0
     for pc in parts:
+        if pc.sector < 0:
+            continue  # the point's core: its surface is the chamfer's cone, not sampled
         th0 = math.radians(pc.sector * sector)
         secs = _sections(body, pc.tooth, np.linspace(th0, th0 + math.radians(sector), 20))
         samples = []
@@ -357,9 +419,16 @@ def hull_deviation(
         if not samples:
             continue
         pts = np.concatenate(samples)
+        if body.envelope is not None:
+            # thread surface the end trims away is no surface of the body
+            r = np.hypot(pts[:, 0], pts[:, 1])
+            pts = pts[body.envelope.side * (body.envelope.radius(pts[:, 2]) - r) >= 0]
+        if not len(pts):
+            continue
         best = np.full(len(pts), np.inf)
         for ii in (pc.sector - 1, pc.sector, pc.sector + 1):
-            for jj in by_sector.get(ii % n, []):
+            # (the point's core, sector -1, borders every sector)
+            for jj in by_sector.get(ii % n, []) + by_sector.get(-1, []):
                 eq = hulls[jj].equations
                 excess = (pts @ eq[:, :3].T + eq[:, 3]).max(axis=1)
                 best = np.minimum(best, np.maximum(excess, 0.0))
@@ -421,7 +490,7 @@ def build_model(
     Parameters
     ----------
     spec : ThreadSpec
-        Flat-ended thread pair.
+        The thread pair (flat or conical ends).
     held : (roll0, pitch0)
         Held tilt (degrees): the springs' rest angles.
     stiffness : float
@@ -829,10 +898,9 @@ def _rotation(roll: float, pitch: float, phase: float) -> Array:
 
 
 def _surface_points(body: ThreadBody, n_theta: int = 3600, n_t: int = 48) -> Array:
-    """Points on the exact lateral surface within the body's slab and on the edge where it
-    meets the end face at ``z = 0`` (spec units, body frame)."""
-    prof = body.profile
-    s = _helix_rate(body)
+    """Points on the exact lateral surface (the thread trimmed by the end) within the
+    body's slab and on the edge where it meets the end face at ``z = 0`` (spec units,
+    body frame)."""
     theta = np.linspace(0.0, 2 * math.pi, n_theta, endpoint=False)
     pts = []
     # the edge of the end face at z = 0 (tip rim, top-face edge): dense
@@ -842,9 +910,8 @@ def _surface_points(body: ThreadBody, n_theta: int = 3600, n_t: int = 48) -> Arr
     # the lateral surface over the slab
     z = np.linspace(body.z_min, body.z_max, n_t)
     tt, zz = np.meshgrid(theta, z)
-    rr = np.asarray(prof.radius(body.t_of(tt, zz)), dtype=float)
+    rr = np.asarray(body.lateral_radius(tt, zz), dtype=float)
     pts.append(np.column_stack([(rr * np.cos(tt)).ravel(), (rr * np.sin(tt)).ravel(), zz.ravel()]))
-    del s
     return np.concatenate(pts)
 
 
@@ -887,6 +954,7 @@ def run_case(
     after: float = 20.0,
     deviation: tuple[float, float] | None = None,
     parts: tuple[list[Piece], list[Piece]] | None = None,
+    proof: float = 180.0,
     log: bool = True,
 ) -> dict[str, Any]:
     """Threadmate's search and the simulation of one case, side by side.
@@ -903,6 +971,9 @@ def run_case(
         The hulls' deviation (spec units), printed with the row.
     parts : optional
         Precomputed pieces of the bolt and the nut.
+    proof : float
+        The simulated turn back from a landing that decides whether it is in phase
+        (degrees, :func:`simulate`).
     log : bool
 
     Returns
@@ -952,6 +1023,7 @@ def run_case(
         start,
         until=aim + after,
         dyn=dyn,
+        proof=proof,
         model=model,
         log=log,
     )
@@ -1036,7 +1108,7 @@ def run_case(
         row["exact_interference_screw_in_um"] = max(
             (exact_interference(spec, q) * um for q in sim_jump.proof_poses), default=None
         )
-    if case.roll == 0 and case.pitch == 0:
+    if case.roll == 0 and case.pitch == 0 and _flat(spec):
         row["closed_form_phase"], row["closed_form_click"] = closed_form(spec)
     return row
 
@@ -1121,6 +1193,12 @@ def main(argv: list[str] | None = None) -> int:
         help="a designation, simulated with flat ends (default: the thesis's 1/4-20 pair)",
     )
     parser.add_argument(
+        "--ends",
+        action="store_true",
+        help="keep the designation's standard ends (chamfered point, countersunk nut; "
+        "default designation 1/4-20 UNC-2A/2B): the default parts of threadmate run",
+    )
+    parser.add_argument(
         "--start",
         action="append",
         default=[],
@@ -1138,6 +1216,12 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument(
         "--lead-in", type=float, default=None, help="degrees before threadmate's snap to start"
+    )
+    parser.add_argument(
+        "--proof",
+        type=float,
+        default=180.0,
+        help="degrees a landing is turned back to tell whether it screws in (180)",
     )
     args = parser.parse_args(argv)
     names = [c.strip() for c in args.cases.split(",") if c.strip()]
@@ -1161,7 +1245,9 @@ def main(argv: list[str] | None = None) -> int:
                 f" k{stiffness:g}" if stiffness != 1.0 else ""
             )
             cases[name] = Case(name, roll, pitch, phase, stiffness)
-    if args.spec:
+    if args.ends:
+        spec = spec_from_designation(args.spec or "1/4-20 UNC-2A/2B")
+    elif args.spec:
         spec = spec_from_designation(args.spec, point="flat", countersink=False)
     else:
         spec = thesis_spec()
@@ -1184,15 +1270,22 @@ def main(argv: list[str] | None = None) -> int:
     for case in cases.values():
         if args.lead_in is not None:
             case = Case(**{**asdict(case), "lead_in": args.lead_in})
-        rows.append(run_case(case, spec, dyn=dyn, deviation=deviation, parts=parts))
+        rows.append(
+            run_case(case, spec, dyn=dyn, deviation=deviation, parts=parts, proof=args.proof)
+        )
         print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
-    cf_phase, cf_drop = closed_form(spec)
     print(format_table(rows))
+    closed = ""
+    if _flat(spec):
+        cf_phase, cf_drop = closed_form(spec)
+        closed = (
+            f"; closed form (upright, stiff): snap {cf_phase:.2f} deg, click {cf_drop:.5f} "
+            f"{spec.units}"
+        )
     print(
         f"\nhulls: deviation outward {deviation[0] * um:.3f} um, inward {deviation[1] * um:.3f} "
-        f"um ({len(parts[0])} bolt and {len(parts[1])} nut pieces of {args.sector:g} deg); closed "
-        f"form (upright, stiff): snap {cf_phase:.2f} deg, click {cf_drop:.5f} {spec.units}; "
-        f"threadmate {_commit()}; load average {os.getloadavg()[0]:.2f}"
+        f"um ({len(parts[0])} bolt and {len(parts[1])} nut pieces of {args.sector:g} deg)"
+        f"{closed}; threadmate {_commit()}; load average {os.getloadavg()[0]:.2f}"
     )
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:

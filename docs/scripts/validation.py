@@ -511,6 +511,7 @@ RECORDED = (
     "The snap proved where the thread carries the landing partly",
     "The design's optimum against a finer grid",
     "Against the dynamics simulation, from 3 degrees before the snap",
+    "Against the dynamics simulation, the default parts",
     "The model's rules, measured",
     "The snap a sensor sees, on the default run",
     "The capture envelope's cost",
