@@ -1190,7 +1190,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--spec",
         default=None,
-        help="a designation, simulated with flat ends (default: the thesis's 1/4-20 pair)",
+        help="a designation, simulated with flat ends unless --ends (default: the thesis's "
+        "1/4-20 pair)",
     )
     parser.add_argument(
         "--ends",
