@@ -252,9 +252,10 @@ def _clip(poly: Array, body: ThreadBody) -> Array:
     env = body.envelope
     if env is None:
         return poly
-    # Beyond the cone's span the half-plane holds wherever the thread is: the bolt's cone
-    # passes its major radius at the span's top, the nut's its minor radius at the bottom.
-    inside = env.side * (env.r0 + env.slope_rz * poly[:, 1] - poly[:, 0])
+    # The cone's signed distance is the unbounded cone's: beyond its span the half-plane
+    # holds wherever the thread is (the bolt's cone passes its major radius at the span's
+    # top, the nut's its minor radius at the bottom).
+    inside = -env.signed_distance(poly[:, 0], poly[:, 1])
     out = []
     for i in range(len(poly)):
         j = (i + 1) % len(poly)
