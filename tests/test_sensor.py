@@ -54,7 +54,8 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
     """Each start's passive search from the rows alone: its snap's click, the largest
     click of its other jumps, its turn to the snap and its largest driver torque (the
     states' and the transitions' peaks) and at the high friction (the states'),
-    following next_id."""
+    following next_id. A snap transition not labelled unstable passed into phase without a
+    jump: the start snaps, but there is no click to tell."""
     by_id = rows.set_index("state_id")
     out = []
     for sid, start in by_id[by_id["role"] == "start"].iterrows():
@@ -80,7 +81,9 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
             click = r["click"] if np.isfinite(r["click"]) else r["drop"]
             if r["transition"] in ("snap", "jump"):
                 change = float(np.hypot(*(lateral(by_id.loc[r["next_id"]]) - lateral(r))))
-            if r["transition"] == "snap":
+            if r["transition"] == "snap" and r["transition_label"] != "unstable":
+                pass
+            elif r["transition"] == "snap":
                 snap, snap_lateral = click, change
             elif r["transition"] == "jump":
                 jumps.append(click)
@@ -130,6 +133,34 @@ def test_clicks_are_those_of_the_rows(library, walked):
     assert det.snaps == int(walked["snap_click"].notna().sum())
     assert det.with_jumps == int(walked["jump_click"].notna().sum())
     assert det.branch_fall == pytest.approx(walked["branch_fall"].max(), rel=1e-12)
+
+
+@pytest.mark.slow
+def test_a_passage_into_phase_without_a_jump_has_no_click(tmp_path):
+    """M8x1.25 with its standard ends held (0, -2) from 140 degrees: the bolt's crest rides
+    the countersink and its states pass into phase with no fall. The start snaps (its
+    path ends in the thread, proved), yet a sensor has nothing to see: the rows hold its
+    snap transition continuous (not labelled unstable, no fall beyond the jump
+    threshold, pitch / 40), the sensor counts no snap click and says why, the start's
+    outcome has no click and its path a click of 0."""
+    from threadmate.network import least_resistance_path, start_outcomes
+
+    out = tmp_path / "library"
+    sweep(spec_from_designation("M8x1.25-6g/6H"), "0", "-2", "140", out=out, workers=1)
+    rows = load(out)
+    snap = rows[rows["transition"] == "snap"]
+    assert len(snap) == 1
+    assert snap["transition_label"].iloc[0] in ("stable", "quasi-stable")
+    assert abs(snap["drop"].iloc[0]) < 1.25 / 40
+    assert walk(rows)["snaps"].tolist() == [True]
+    graph = from_library(out)
+    det = snap_detection(graph, rows)
+    assert det.snaps == 0 and det.click.smallest_snap is None
+    assert any("without a jump" in note for note in det.notes)
+    outcome = start_outcomes(graph)
+    assert outcome["snapped"].tolist() == [True] and outcome["click"].isna().all()
+    path = least_resistance_path(graph, 0.0, -2.0, 140.0)
+    assert path.snap["click"] == 0.0 and path.kinds[-1] == "snap"
 
 
 def test_threshold_separates_or_overlap_is_stated(library, walked):

@@ -622,6 +622,9 @@ class SimResult:
         Falls too small to be jumps (spec units, degrees).
     trace : list of (z, roll, pitch, phase)
         The pose every 0.005 degree of the counter-clockwise turn.
+    screwed_back : (descent per degree, jammed) or None
+        With ``screw_back`` and no jump: the turn back from the end (spec units per
+        degree).
     """
 
     start_phase: float
@@ -637,6 +640,7 @@ class SimResult:
     penetration_by_stage: dict[str, float] = field(default_factory=dict)
     slips: list[tuple[float, float]] = field(default_factory=list)
     trace: list[tuple[float, float, float, float]] = field(default_factory=list, repr=False)
+    screwed_back: tuple[float, bool] | None = None
 
 
 def _penetration(d: Any) -> float:
@@ -663,6 +667,7 @@ def simulate(
     proof: float = 180.0,
     proof_period: float = 20.0,
     stop_at_snap: bool = True,
+    screw_back: bool = False,
     model: Any = None,
     log: bool = True,
 ) -> SimResult:
@@ -700,6 +705,10 @@ def simulate(
         Seconds per turn of the turn back.
     stop_at_snap : bool
         End the run at the snap.
+    screw_back : bool
+        Without a jump by ``until``, turn back from there as from a landing
+        (:attr:`SimResult.screwed_back`): whether the bolt passed into phase without
+        falling.
     model : mujoco.MjModel, optional
         A model from :func:`build_model` for the same spec, held tilt and stiffness.
     log : bool
@@ -768,6 +777,43 @@ def simulate(
             if quiet >= hold:
                 return
 
+    def turn_back() -> tuple[float, bool, list[tuple[float, float, float, float]]]:
+        """Screw in from where the driver stands: turn back ``proof`` degrees (at the
+        proof's rate) on a copy of the state; C descends at the lead when in phase (its
+        rate measured over the last third of the turn back, once a tilt left by the
+        landing has relaxed). The descent per degree, whether the driver lagged by a
+        degree (a jam), and the poses every 15 degrees."""
+        nonlocal d, stage
+        saved = d
+        d = copy.copy(d)
+        stage = "screw-in proof"
+        back = target
+        z_mark = None
+        lag = 0.0
+        rate = 2.0 * math.pi / proof_period
+        poses = []
+        next_pose = target
+        while back > target - math.radians(proof):
+            back -= rate * dt
+            step(back)
+            lag = max(lag, abs(float(d.qpos[3]) - back))
+            if back <= next_pose:
+                poses.append(_pose(d, scale))
+                next_pose -= math.radians(15.0)
+            if z_mark is None and back <= target - math.radians(2 * proof / 3):
+                z_mark = float(d.qpos[0])
+            if lag > math.radians(1.0):
+                break
+        settle(back)
+        poses.append(_pose(d, scale))
+        jammed = lag > math.radians(1.0)
+        descent = math.nan
+        if z_mark is not None and not jammed:
+            descent = (z_mark - float(d.qpos[0])) / scale / (proof / 3)
+        d = saved
+        stage = "ride"
+        return descent, jammed, poses
+
     target = math.radians(phase0)
     d.ctrl[0] = target
     mujoco.mj_forward(m, d)
@@ -811,38 +857,7 @@ def simulate(
             stage = "ride"
             history.clear()
             continue
-        # screw in: turn back `proof` degrees (at the proof's rate); C descends at the lead
-        # when in phase (its rate measured over the last third of the turn back, once a
-        # tilt left by the landing has relaxed)
-        trial = copy.copy(d)
-        saved = (d, target)
-        d = trial
-        stage = "screw-in proof"
-        back = target
-        z_mark = None
-        lag = 0.0
-        rate = 2.0 * math.pi / proof_period
-        poses = []
-        next_pose = target
-        while back > target - math.radians(proof):
-            back -= rate * dt
-            step(back)
-            lag = max(lag, abs(float(d.qpos[3]) - back))
-            if back <= next_pose:
-                poses.append(_pose(d, scale))
-                next_pose -= math.radians(15.0)
-            if z_mark is None and back <= target - math.radians(2 * proof / 3):
-                z_mark = float(d.qpos[0])
-            if lag > math.radians(1.0):
-                break
-        settle(back)
-        poses.append(_pose(d, scale))
-        jammed = lag > math.radians(1.0)
-        descent = math.nan
-        if z_mark is not None and not jammed:
-            descent = (z_mark - float(d.qpos[0])) / scale / (proof / 3)
-        d, target = saved
-        stage = "ride"
+        descent, jammed, poses = turn_back()
         lead_rate = spec.lead / 360.0
         jump = Jump(
             phase=math.degrees(ph_on),
@@ -870,6 +885,18 @@ def simulate(
             snap = jump
             if stop_at_snap:
                 break
+    screwed_back = None
+    if screw_back and not jumps:
+        settle(target)
+        descent, jammed, _ = turn_back()
+        screwed_back = (descent, jammed)
+        if log:
+            print(
+                f"    no jump by {math.degrees(target):.3f} deg; turned back: descent "
+                f"{descent:.3e} {spec.units}/deg{' (jammed)' if jammed else ''}",
+                file=sys.stderr,
+                flush=True,
+            )
     return SimResult(
         start_phase=phase0,
         snap=snap,
@@ -884,6 +911,7 @@ def simulate(
         penetration_by_stage=by_stage,
         slips=slips,
         trace=trace,
+        screwed_back=screwed_back,
     )
 
 

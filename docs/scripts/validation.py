@@ -512,6 +512,7 @@ RECORDED = (
     "The design's optimum against a finer grid",
     "Against the dynamics simulation, from 3 degrees before the snap",
     "Against the dynamics simulation, the default parts",
+    "The snap proved where the bolt follows the helix off the thread",
     "The model's rules, measured",
     "The snap a sensor sees, on the default run",
     "The capture envelope's cost",

@@ -282,7 +282,9 @@ def search_events(
             turn += float(e.get("turn", 0.0))
             if e["kind"] == "turning" and float(e.get("turn", 0.0)) > 0:
                 branch_fall = _largest(branch_fall, _finite(e.get("drop")) / float(e["turn"]))
-            if e["kind"] in ("jump", "snap"):
+            if e["kind"] == "snap" and e.get("label") != UNSTABLE:
+                pass  # into phase without a jump: nothing for a sensor to tell
+            elif e["kind"] in ("jump", "snap"):
                 ev = event(n, v, e)
                 ev["searches"] += 1
                 if e["kind"] == "snap":

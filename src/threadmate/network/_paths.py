@@ -71,7 +71,8 @@ class PathResult:
         Phase turned along the path (degrees).
     snap : dict
         ``phase``, ``turn``, ``drop`` (the fall across the jump) and ``click`` (the fall
-        a sensor sees within the last degree of turn; spec units) of the snap.
+        a sensor sees within the last degree of turn; spec units; 0 where the bolt passed
+        into phase without a jump) of the snap.
     active : bool
         Whether active moves were allowed.
     """
@@ -183,7 +184,10 @@ def snap_targets(graph: nx.DiGraph) -> list[str]:
 
 def _click(edge: dict[str, Any]) -> float:
     """The click of a snap edge: the fall a sensor sees, or its drop where the library
-    holds no click."""
+    holds no click; NaN where the bolt passed into phase without a jump (a snap edge not
+    labelled unstable): there is no click to see."""
+    if edge["label"] != UNSTABLE:
+        return math.nan
     click = float(edge.get("click", math.nan))
     return click if math.isfinite(click) else float(edge["drop"])
 
@@ -202,6 +206,8 @@ def _result(
     snap_edges = [e for e in edges if e["kind"] == "snap"]
     drop = float(snap_edges[-1]["drop"]) if snap_edges else 0.0
     click = _click(snap_edges[-1]) if snap_edges else 0.0
+    if not math.isfinite(click):
+        click = 0.0  # into phase without a jump: no click, as for a start in phase
     return PathResult(
         start,
         requested,

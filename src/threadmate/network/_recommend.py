@@ -13,7 +13,8 @@ others, from :func:`start_outcomes` (the passive search):
 - ``work_mean``, ``work_worst``: the driver's work to the snap (mJ, same starts);
 - ``click_mean``: the click, the fall of the compliance centre a sensor sees at the snap,
   from the highest the bolt stands within the last degree of turn to the landing (spec
-  units; starts that drop straight in phase have no click and are left out);
+  units; starts that drop straight in phase, or pass into it without a jump, have no
+  click and are left out);
 - ``torque_peak``: the largest driver torque met (N m);
 - ``share_unstable``: share whose path passes a jump or an unstable transition before
   the snap.

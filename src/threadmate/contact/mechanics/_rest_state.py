@@ -378,7 +378,8 @@ class SearchEvent:
     tilt_change : float
         Angle between the bolt axes before and after (degrees).
     note : str
-        Why a jump into a state whose contacts lie on the helices is not a snap ('' else).
+        Why a jump into a state whose contacts lie on the helices is not a snap, or that a
+        snap came without a jump ('' else).
     engagement : Engagement or None
         The screw-in proof of a landing in phase (None for other events).
     click : float

@@ -10,7 +10,9 @@ degree). Otherwise the rest state ceased to exist within the step (a fold): the 
 jumped (tipped, rolled or dropped) to another one. Jumps, and changes of the touching
 contacts along a continuous branch, are located by bisection in phase to
 ``phase_tolerance`` (0.01 degree): each half is settled from the state on the side before
-it. A jump that lands in-phase is the snap. Its click is the fall of the compliance
+it. A jump that lands in-phase is the snap, and so is a continuous step whose end moves
+along the helix and screws in (the bolt passed into phase without a jump, located by
+bisection too: :meth:`Continuation._entered`). Its click is the fall of the compliance
 centre a sensor sees: from the highest the branch stands within the last
 :data:`CLICK_SPAN` degree of turn before the jump to the landing, a steep last stretch
 of the branch and jumps down within that turn included (:func:`sensor_click`).
@@ -44,7 +46,6 @@ from ..._units import MJ_PER_J
 from ...geometry import ThreadSpec
 from ..scene import IN_PHASE, QUASI_STABLE, STABLE, UNSTABLE
 from ._compliance import Compliance
-from ._contact_set import HELICAL_FEATURES
 from ._rest_state import (
     LEAD_TOLERANCE,
     Engagement,
@@ -83,9 +84,18 @@ __all__ = [
     "wedged",
 ]
 
-#: Turn (degrees) by which a state carried partly by the nut's thread is screwed in at
-#: its own tilt, to see whether it follows the helix before it is proved.
+#: Turn (degrees) by which a state is screwed in at its own tilt, to see whether it
+#: follows the helix before it is proved (:meth:`Continuation.follows_helix`).
 HELIX_PROBE = 1.0
+#: The helix probe's turn grows with the meshes' deviation: the lead's share of it is at
+#: least this many times the deviation, so that the facets of a coarse mesh cannot pass
+#: for a descent along the helix (nor hide one).
+HELIX_PROBE_MARGIN = 8.0
+#: How far the helix probe's descent may lie from the lead's share of its turn (a share of
+#: it): a state that moves along the helix descends by the share (its thread screws at
+#: the lead whatever the tilt, to within a few per cent), one whose thread's edge merely
+#: rides the countersink, the cone and the tilt taking it, by half of it or so.
+HELIX_SHARE_TOLERANCE = 0.25
 #: Tilt of the bolt axis within one step above which the step is a jump (degrees).
 JUMP_TILT = 0.5
 #: Senses a continuation turns the bolt in: ``unscrew`` (the search: counter-clockwise for a
@@ -707,51 +717,86 @@ class Continuation:
     ) -> tuple[MechanicalState, Engagement | None]:
         """``state`` (at ``phase``, degrees as turned) with its proof (:meth:`prove`), and
         the proof, when its load-carrying contacts lie in phase (kind ``in-phase``),
-        whether or not its descent balanced, or when it is carried partly by the nut's
-        thread and screws in (below); else ``state`` itself and None.
+        whether or not its descent balanced, or when it follows the helix and screws in
+        (below); else ``state`` itself and None.
 
         A descent in the thread can stop short of the balance (a flank on the nut's crest
         corner, the spring pulling the bolt's tilt back): such a state is no rest state,
         but one that screws in moves along the helix as it turns, and that makes it in
         phase whatever else it looks like (mechanics.md): it is classed so.
 
-        So is a state carried partly by the nut's thread and partly by its entry (the
-        bolt's point on a nut flank, its crest on the countersink): the contacts alone
-        do not tell whether turning carries it along the helix. Where it follows the
-        helix (:meth:`_follows_helix`) it is proved too: classed in phase and returned
-        with its proof when it screws in; else returned as it is, with None."""
+        So is any other state that moves along the helix as it turns
+        (:meth:`follows_helix`) and screws in: a bolt carried partly by the nut's thread
+        and partly by its entry (its point on a nut flank, its crest on the countersink),
+        or by the countersink alone (its thread's edge on the cone: turned, the thread
+        moves along its own helix, in the nut's groove or not, and the screw-in tells
+        which). Classed in phase and returned with its proof when it screws in; else
+        returned as it is, with None."""
         if state.kind == IN_PHASE:
             proof = self.prove(state, phase)
             cls = IN_PHASE if proof.engaged else state.classification
             return replace(state, classification=cls, engagement=proof), proof
-        if self._in_nut_thread(state) and self._follows_helix(state):
+        if self.follows_helix(state):
             proof = self.prove(state, phase)
             if proof.engaged:
                 return replace(state, classification=IN_PHASE, engagement=proof), proof
         return state, None
 
-    def _in_nut_thread(self, state: MechanicalState) -> bool:
-        """Whether a contact that carries ``state`` lies on the nut's thread (a face or a
-        corner of it): the contacts carrying more than the load-carrying share of the
-        load, or where the forces are unknown (not at rest), the touching ones."""
-        return any(
-            c.nut_feature in HELICAL_FEATURES
-            and (c.force > self.floor if math.isfinite(c.force) else c.gap == 0.0)
-            for c in state.contacts
-        )
+    def follows_helix(self, state: MechanicalState) -> bool:
+        """Whether ``state``, turned clockwise (tightening) at its own tilt and lowered onto
+        the nut, descends by the lead's share of that turn, within
+        :data:`HELIX_SHARE_TOLERANCE` of it: the test of mechanics.md ("a state that moves
+        along the helix as it turns is in phase"), asked before the dearer screw-in
+        proves it.
 
-    def _follows_helix(self, state: MechanicalState) -> bool:
-        """Whether ``state``, turned :data:`HELIX_PROBE` clockwise (tightening) at its own
-        tilt and lowered onto the nut, descends by more than half the lead's share of
-        that turn: the test of mechanics.md ("a state that moves along the helix as it
-        turns is in phase"), asked before the dearer screw-in proves it."""
+        The turn is :data:`HELIX_PROBE`, or longer where the meshes are coarse
+        (:data:`HELIX_PROBE_MARGIN`)."""
         mech = self.mech
+        spec = mech.spec
+        deviation = max(mech.scene.deviation, mech.tolerance)
+        turn = max(HELIX_PROBE, HELIX_PROBE_MARGIN * deviation * 360.0 / spec.lead)
         tilt = np.radians([state.roll, state.pitch])
-        turned = state.phase - mech.spec.handedness * HELIX_PROBE
         zc = state.centre[2]
-        d = mech.drop(mech._rotation(tilt, turned), np.array(state.centre[:2]), zc)
-        share = mech.spec.lead * HELIX_PROBE / 360.0
-        return d is not None and zc - d.zc > 0.5 * share
+        d = mech.drop(
+            mech._rotation(tilt, state.phase - spec.handedness * turn),
+            np.array(state.centre[:2]),
+            zc,
+        )
+        share = spec.lead * turn / 360.0
+        return d is not None and abs(zc - d.zc - share) < HELIX_SHARE_TOLERANCE * share
+
+    def _entered(
+        self, phase: float, at: float, nxt: float, prev: MechanicalState, cur: MechanicalState
+    ) -> tuple[float, float, MechanicalState, MechanicalState] | None:
+        """Where the search's continuous step from ``prev`` (turn ``at`` from ``phase``) to
+        ``cur`` (turn ``nxt``) passed into phase without a jump (the thread's edge riding
+        the countersink into the nut's groove, say): the turns either side, the last
+        state before and the proved state after; None where ``cur`` does not follow the
+        helix or does not screw in (the walk goes on).
+
+        Located by bisection to the phase tolerance: where the states start to follow the
+        helix (:meth:`follows_helix`), or where ``prev`` follows it already, where the
+        load-carrying contacts change; the state there, settled in full from the last
+        one before, is proved in its turn. Where that one does not screw in, the passage
+        is the step's end."""
+        if self.tightening or not self.follows_helix(cur):
+            return None
+        entered, proof = self.proved(cur, phase + self.sign * nxt)
+        if proof is None or not proof.engaged:
+            return None
+        before = _carrying_pairs(prev, self.floor)
+        following = self.follows_helix(prev)
+
+        def same(x: MechanicalState, y: MechanicalState) -> bool:
+            moved = _carrying_pairs(y, self.floor) != before if following else self.follows_helix(y)
+            return not moved and self._continuous(x, y)
+
+        lo, hi, s_lo, s_hi = self._bisect(phase, at, nxt, prev, cur, same, prev)
+        if self._continuous(s_lo, s_hi):
+            s_hi, proof = self.proved(s_hi, phase + self.sign * hi)
+            if proof is not None and proof.engaged:
+                return lo, hi, s_lo, s_hi
+        return at, nxt, prev, entered
 
     def prove(self, state: MechanicalState, phase: float) -> Engagement:
         """Whether ``state`` (at ``phase``, degrees as turned) is engaged: turned
@@ -948,6 +993,50 @@ class Continuation:
             states.append(b)
             branch.append(b)
 
+        def snap(
+            lo: float,
+            hi: float,
+            s_lo: MechanicalState,
+            s_hi: MechanicalState,
+            note: str,
+            proof: Engagement | None,
+            *,
+            jumped: bool = True,
+        ) -> bool:
+            """Record the passage from ``s_lo`` (turn ``lo``) to ``s_hi`` (turn ``hi``):
+            the snap where ``proof`` is engaged, else a jump; True for the snap. A passage
+            into phase that is no jump (``jumped`` False) is a snap too: its work is the
+            driver's over its turn, its click what a sensor sees of it (none, or a
+            rise)."""
+            kind = "snap" if proof is not None and proof.engaged else "jump"
+            click = (
+                self._click([state, *states, *ride], phase + sign * hi, s_hi)
+                if self.clicks
+                else math.nan
+            )
+            work = (
+                (0.0, 0.0)
+                if jumped
+                else (self.friction_work(s_lo, s_hi), s_hi.potential - s_lo.potential)
+            )
+            label = UNSTABLE if jumped else _label([s_lo, s_hi])
+            legs.append(Leg(kind, s_lo, s_hi, hi - lo, *work, math.nan, label, proof, click))
+            events.append(
+                SearchEvent(
+                    phase + sign * hi,
+                    kind,
+                    s_lo.region_combination,
+                    s_hi.region_combination,
+                    s_lo.centre[2] - s_hi.centre[2],
+                    _tilt_between(s_lo, s_hi),
+                    note,
+                    proof,
+                    click,
+                )
+            )
+            states.append(s_hi)
+            return kind == "snap"
+
         prev, at = state, 0.0
         # The step taken: shorter where a step's predictor fell short of a branch that
         # goes on (see below, and :meth:`_halves` in a proof), growing back on each
@@ -959,6 +1048,15 @@ class Continuation:
             nxt = min(at + stride, turn)
             cur = self._settle(phase + sign * nxt, prev, arrive=arrive if nxt == turn else None)
             if self._continuous(prev, cur):
+                entered = self._entered(phase, at, nxt, prev, cur)
+                if entered is not None:
+                    lo, hi, s_lo, s_in = entered
+                    if s_lo is not prev:
+                        follow(prev, at, s_lo, lo)
+                    close_branch(lo)
+                    note = "passed into phase without a jump"
+                    snap(lo, hi, s_lo, s_in, note, s_in.engagement, jumped=False)
+                    return legs, _without_flicker(events), states
                 follow(prev, at, cur, nxt)
                 prev, at = cur, nxt
                 # (Not at once after a halved step: the step's far end left the branch.)
@@ -1000,28 +1098,7 @@ class Continuation:
                 s_hi, proof = self.proved(s_hi, phase + sign * hi)
                 if proof is not None and not proof.engaged:
                     note = f"not a snap: {proof.reason}"
-            kind = "snap" if proof is not None and proof.engaged else "jump"
-            click = (
-                self._click([state, *states, *ride], phase + sign * hi, s_hi)
-                if self.clicks
-                else math.nan
-            )
-            legs.append(Leg(kind, s_lo, s_hi, hi - lo, 0.0, 0.0, math.nan, UNSTABLE, proof, click))
-            events.append(
-                SearchEvent(
-                    phase + sign * hi,
-                    kind,
-                    s_lo.region_combination,
-                    s_hi.region_combination,
-                    s_lo.centre[2] - s_hi.centre[2],
-                    _tilt_between(s_lo, s_hi),
-                    note,
-                    proof,
-                    click,
-                )
-            )
-            states.append(s_hi)
-            if kind == "snap":
+            if snap(lo, hi, s_lo, s_hi, note, proof):
                 return legs, _without_flicker(events), states
             prev, at = s_hi, hi
             branch, branch_start, work = [s_hi], hi, [0.0, 0.0]
