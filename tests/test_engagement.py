@@ -755,21 +755,27 @@ def test_a_landing_on_the_countersink_that_screws_in_is_the_snap():
 
 
 @pytest.mark.slow
-def test_a_bolt_that_rides_into_phase_without_a_jump_is_the_snap():
+def test_a_bolt_that_rides_into_phase_without_a_jump_is_the_snap(monkeypatch):
     """M8x1.25 with its standard ends held 2 degrees toward -X (pitch -2), searched from
     phase 140: the bolt's crest rides the countersink with its point on the nut's crest
-    or flank, rising at about two thirds of the lead as it turns, and passes into the
-    thread without a fall: turned at its own tilt, it moves ever more nearly along the
-    helix. Where it first moves at the lead's share (within a quarter of it) and screws
-    in, that is the snap, with no click.
+    or flank, rising at about two thirds of the lead as it turns: turned at its own tilt,
+    it moves ever more nearly along the helix, with no fall. The helix probe's windows
+    are thresholds on such a smooth change (docs/mechanics.md, "The helix probe's
+    windows"); the thread's (more than half the lead's share) holds the start already.
+    Narrowed to the entry's (within a quarter of the share), the ride crosses it at
+    about 153.7 degrees: there the walk must notice that it passed into phase without
+    a jump, prove it and call it the snap, with no click.
 
     Checked without the code's verdicts, on the whole meshes (python-fcl's yes/no query,
     bisected): the start, turned a degree clockwise at its own tilt and lowered, descends
     by well under three quarters of the lead's share (about 0.6); the state the snap
     reports, by about three quarters of it; and the proof descends at the standard's
     lead (1.25 mm) within 10 %."""
+    from threadmate.contact.mechanics import _search
+
+    monkeypatch.setitem(_search.HELIX_SHARES, "thread", _search.HELIX_SHARES["entry"])
     spec = spec_from_designation("M8x1.25-6g/6H")
-    result = search(spec, 0.0, -2.0, 140.0, turns=1)
+    result = search(Mechanics(spec, Compliance()), 0.0, -2.0, 140.0, turns=1)
     snap = result.snap
     assert snap is not None and 145.0 < snap.phase < 165.0
     assert "without a jump" in snap.note

@@ -136,14 +136,19 @@ def test_clicks_are_those_of_the_rows(library, walked):
 
 
 @pytest.mark.slow
-def test_a_passage_into_phase_without_a_jump_has_no_click(tmp_path):
-    """M8x1.25 with its standard ends held (0, -2) from 140 degrees: the bolt's crest rides
-    the countersink and its states pass into phase with no fall. The start snaps (its
-    path ends in the thread, proved), yet a sensor has nothing to see: the rows hold its
-    snap transition continuous (not labelled unstable, no fall beyond the jump
-    threshold, pitch / 40), the sensor counts no snap click and says why, the start's
-    outcome has no click and its path a click of 0."""
+def test_a_passage_into_phase_without_a_jump_has_no_click(tmp_path, monkeypatch):
+    """M8x1.25 with its standard ends held (0, -2) from 140 degrees, the helix probe's
+    window for a bolt carried partly by the thread narrowed to the entry's (as in
+    tests/test_engagement.py): the bolt's crest rides the countersink and its states pass
+    into phase with no fall. The start snaps (its path ends in the thread, proved), yet
+    a sensor has nothing to see: the rows hold its snap transition continuous (not
+    labelled unstable, no fall beyond the jump threshold, pitch / 40), the sensor counts
+    no snap click and says why, the start's outcome has no click and its path a click
+    of 0."""
+    from threadmate.contact.mechanics import _search
     from threadmate.network import least_resistance_path, start_outcomes
+
+    monkeypatch.setitem(_search.HELIX_SHARES, "thread", _search.HELIX_SHARES["entry"])
 
     out = tmp_path / "library"
     sweep(spec_from_designation("M8x1.25-6g/6H"), "0", "-2", "140", out=out, workers=1)

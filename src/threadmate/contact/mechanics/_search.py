@@ -46,6 +46,7 @@ from ..._units import MJ_PER_J
 from ...geometry import ThreadSpec
 from ..scene import IN_PHASE, QUASI_STABLE, STABLE, UNSTABLE
 from ._compliance import Compliance
+from ._contact_set import HELICAL_FEATURES
 from ._rest_state import (
     LEAD_TOLERANCE,
     Engagement,
@@ -91,11 +92,15 @@ HELIX_PROBE = 1.0
 #: least this many times the deviation, so that the facets of a coarse mesh cannot pass
 #: for a descent along the helix (nor hide one).
 HELIX_PROBE_MARGIN = 8.0
-#: How far the helix probe's descent may lie from the lead's share of its turn (a share of
-#: it): a state that moves along the helix descends by the share (its thread screws at
-#: the lead whatever the tilt, to within a few per cent), one whose thread's edge merely
-#: rides the countersink, the cone and the tilt taking it, by half of it or so.
-HELIX_SHARE_TOLERANCE = 0.25
+#: The helix probe's descent, as shares of the lead's share of its turn, that a state
+#: moving along the helix may show: carried partly by the nut's thread (its point on a
+#: nut flank, its thread on the countersink), more than half and less than one and a half
+#: (the thread's contact moves along the helix, the other one holds the bolt back a
+#: little as it turns); carried by the nut's entry alone (its thread's edge on the
+#: countersink), within a quarter of one: an edge of the helix on a cone about the axis
+#: moves at the lead exactly, and one that merely rides the cone, the tilt taking it,
+#: moves at about half of it.
+HELIX_SHARES = {"thread": (0.5, 1.5), "entry": (0.75, 1.25)}
 #: Tilt of the bolt axis within one step above which the step is a jump (degrees).
 JUMP_TILT = 0.5
 #: Senses a continuation turns the bolt in: ``unscrew`` (the search: counter-clockwise for a
@@ -744,10 +749,10 @@ class Continuation:
 
     def follows_helix(self, state: MechanicalState) -> bool:
         """Whether ``state``, turned clockwise (tightening) at its own tilt and lowered onto
-        the nut, descends by the lead's share of that turn, within
-        :data:`HELIX_SHARE_TOLERANCE` of it: the test of mechanics.md ("a state that moves
-        along the helix as it turns is in phase"), asked before the dearer screw-in
-        proves it.
+        the nut, descends by the lead's share of that turn, within :data:`HELIX_SHARES`
+        of it (as it is carried partly by the nut's thread or by its entry alone,
+        :meth:`_in_nut_thread`): the test of mechanics.md ("a state that moves along the
+        helix as it turns is in phase"), asked before the dearer screw-in proves it.
 
         The turn is :data:`HELIX_PROBE`, or longer where the meshes are coarse
         (:data:`HELIX_PROBE_MARGIN`)."""
@@ -763,7 +768,18 @@ class Continuation:
             zc,
         )
         share = spec.lead * turn / 360.0
-        return d is not None and abs(zc - d.zc - share) < HELIX_SHARE_TOLERANCE * share
+        low, high = HELIX_SHARES["thread" if self._in_nut_thread(state) else "entry"]
+        return d is not None and low * share < zc - d.zc < high * share
+
+    def _in_nut_thread(self, state: MechanicalState) -> bool:
+        """Whether a contact that carries ``state`` lies on the nut's thread (a face or a
+        corner of it): the contacts carrying more than the load-carrying share of the
+        load, or where the forces are unknown (not at rest), the touching ones."""
+        return any(
+            c.nut_feature in HELICAL_FEATURES
+            and (c.force > self.floor if math.isfinite(c.force) else c.gap == 0.0)
+            for c in state.contacts
+        )
 
     def _entered(
         self, phase: float, at: float, nxt: float, prev: MechanicalState, cur: MechanicalState
