@@ -40,7 +40,7 @@ import pandas as pd
 
 from .._angles import FULL_TURN
 from ..contact import ERROR_CLASS, IN_PHASE, UNSTABLE
-from ..network import starts
+from ..network import snap_click, starts
 
 __all__ = ["EVENT_SIGNALS", "SearchEvents", "search_events"]
 
@@ -282,9 +282,8 @@ def search_events(
             turn += float(e.get("turn", 0.0))
             if e["kind"] == "turning" and float(e.get("turn", 0.0)) > 0:
                 branch_fall = _largest(branch_fall, _finite(e.get("drop")) / float(e["turn"]))
-            if e["kind"] == "snap" and e.get("label") != UNSTABLE:
-                pass  # into phase without a jump: nothing for a sensor to tell
-            elif e["kind"] in ("jump", "snap"):
+            # (A snap into phase without a jump has nothing for a sensor to tell.)
+            if e["kind"] == "jump" or (e["kind"] == "snap" and math.isfinite(snap_click(e))):
                 ev = event(n, v, e)
                 ev["searches"] += 1
                 if e["kind"] == "snap":

@@ -53,6 +53,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         k_best_paths as k_best_paths,
         least_resistance_path as least_resistance_path,
         no_path_document as no_path_document,
+        snap_click as snap_click,
         snap_targets as snap_targets,
         start_outcomes as start_outcomes,
     )
@@ -99,6 +100,7 @@ _SOURCES = {
         "k_best_paths",
         "least_resistance_path",
         "no_path_document",
+        "snap_click",
         "snap_targets",
         "start_outcomes",
     ),

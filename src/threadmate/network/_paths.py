@@ -32,6 +32,7 @@ __all__ = [
     "k_best_paths",
     "least_resistance_path",
     "no_path_document",
+    "snap_click",
     "snap_targets",
     "start_outcomes",
 ]
@@ -182,10 +183,10 @@ def snap_targets(graph: nx.DiGraph) -> list[str]:
     return [n for n, d in graph.nodes(data=True) if is_snapped(d)]
 
 
-def _click(edge: dict[str, Any]) -> float:
-    """The click of a snap edge: the fall a sensor sees, or its drop where the library
-    holds no click; NaN where the bolt passed into phase without a jump (a snap edge not
-    labelled unstable): there is no click to see."""
+def snap_click(edge: dict[str, Any]) -> float:
+    """The click of a snap edge (its attributes): the fall a sensor sees (spec units), or
+    its drop where the library holds no click; NaN where the bolt passed into phase
+    without a jump (a snap edge not labelled unstable): there is no click to see."""
     if edge["label"] != UNSTABLE:
         return math.nan
     click = float(edge.get("click", math.nan))
@@ -205,7 +206,7 @@ def _result(
     last = graph.nodes[path[-1]]
     snap_edges = [e for e in edges if e["kind"] == "snap"]
     drop = float(snap_edges[-1]["drop"]) if snap_edges else 0.0
-    click = _click(snap_edges[-1]) if snap_edges else 0.0
+    click = snap_click(snap_edges[-1]) if snap_edges else 0.0
     if not math.isfinite(click):
         click = 0.0  # into phase without a jump: no click, as for a start in phase
     return PathResult(
@@ -403,7 +404,7 @@ def start_outcomes(graph: nx.DiGraph) -> pd.DataFrame:
         for m, e in reversed(trail):
             reaches, turn, work, click, ph, peak, unstable, window = memo[n]
             if e["kind"] == "snap":
-                click = _click(e)
+                click = snap_click(e)
                 window = float(e.get("snap_window", nan))
             peak = _larger(peak, e["torque_peak"])
             unstable = unstable or (e["label"] == UNSTABLE and e["kind"] != "snap")
