@@ -81,9 +81,7 @@ def walk(rows: pd.DataFrame) -> pd.DataFrame:
             click = r["click"] if np.isfinite(r["click"]) else r["drop"]
             if r["transition"] in ("snap", "jump"):
                 change = float(np.hypot(*(lateral(by_id.loc[r["next_id"]]) - lateral(r))))
-            if r["transition"] == "snap" and r["transition_label"] != "unstable":
-                pass
-            elif r["transition"] == "snap":
+            if r["transition"] == "snap" and r["transition_label"] == "unstable":
                 snap, snap_lateral = click, change
             elif r["transition"] == "jump":
                 jumps.append(click)
