@@ -10,7 +10,7 @@ Each held tilt runs as the sweep runs it (every start phase of ``--phase`` searc
 snap proved by screwing in), one process per worker, on 1/4-20 UNC-2A/2B at mean material
 with its default parts (chamfered point, countersunk nut), default chord and compliance.
 The settles (each a descent to a rest state, its first touch included), the
-continuation's stages and the python-fcl queries are timed call by call: the methods are
+continuation's stages and the collision queries are timed call by call: the methods are
 wrapped, not profiled (a profiler's own cost per Python call inflates the Python part
 several times). A settle's CPU goes to the stage it serves:
 
@@ -25,8 +25,8 @@ several times). A settle's CPU goes to the stage it serves:
 
 A descent of 30 steps or more counts also as ``long`` (the step limit is 60). A proof's
 whole cost, its settles and all else, is printed beside. The
-python-fcl queries are counted by kind, yes/no (free or colliding) and enumerations (with
-the pairs they report, each one a Python object python-fcl builds), and by the part of
+collision queries are counted by kind, yes/no (free or colliding) and enumerations (with
+the pairs they report), and by the part of
 the lowering that asks them (``_lowering``): the bracket, the verification of a kept
 lowering, the deepening of a continued one, the nut's material over the bolt.
 
@@ -282,7 +282,7 @@ def main() -> None:
         f"  proofs whole (descents and all else): {n} proofs, {cpu:.1f} s "
         f"({100 * cpu / total:.1f} %)"
     )
-    print("\npython-fcl queries: count, CPU (share), pairs reported")
+    print("\ncollision queries: count, CPU (share), pairs reported")
     for name, (n, cpu, pairs) in sorted(result["queries"].items(), key=lambda kv: -kv[1][1]):
         print(f"  {name:46s} {n:7d} {cpu:7.1f} s ({100 * cpu / total:4.1f} %) {pairs:9d} pairs")
     print("\nheld tilts, dearest first (s of CPU)")

@@ -24,7 +24,7 @@ from _cli import THESIS_PARTS, run_cli
 from _libraries import DESIGNATION, REAL_GRID, mechanics_library, synthetic_library
 
 #: The packages a command must not import before it needs them (seconds of start-up).
-HEAVY = ("scipy", "pandas", "matplotlib", "trimesh", "fcl")
+HEAVY = ("scipy", "pandas", "matplotlib", "trimesh", "numba")
 #: The public packages whose names load on first use (PEP 562).
 PACKAGES = (
     "geometry",

@@ -14,8 +14,12 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
     # An internal with no public form: the grouping of contact points.
     from threadmate.contact.mechanics._contact_set import _linked
 
+    # And the collision query's walk of the trees.
+    from threadmate.contact.scene._obb import _crossing
+
     assert COMPILED
-    assert _linked._cache.__class__.__name__ == "FunctionCache"  # numba's cache=True
+    for kernel in (_linked, _crossing):
+        assert kernel._cache.__class__.__name__ == "FunctionCache"  # numba's cache=True
 
 
 def test_contact_points_group_as_the_connected_components_of_their_links():

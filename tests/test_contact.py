@@ -188,6 +188,70 @@ def test_sector_queries_agree_with_the_whole_nut(analyzer):
     assert seen == {True, False}
 
 
+def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):
+    """The collision query's trees (contact/scene/_obb.py): each tree's leaves are its
+    group's triangles, once each, and every node's box (centre, orthonormal axes,
+    half-extents) holds every vertex of the triangles below it, checked vertex by vertex."""
+    from threadmate.contact.scene._obb import obb_forest
+
+    eng = analyzer.engine
+    groups = [np.flatnonzero(eng.nut_sector == k) for k in (0, 9, 18)]
+    forest = obb_forest(eng.nut_vertices, eng.nut_faces, groups)
+    np.testing.assert_allclose(
+        np.einsum("nai,naj->nij", forest.axes, forest.axes),
+        np.broadcast_to(np.eye(3), forest.axes.shape),
+        atol=1e-12,
+    )
+    for root, group in zip(forest.roots.tolist(), groups, strict=True):
+        below: dict[int, list[int]] = {}
+        order, stack = [], [root]
+        while stack:  # every node of the tree, parents first
+            node = stack.pop()
+            order.append(node)
+            if forest.leaf[node] < 0:
+                stack += [int(forest.left[node]), int(forest.right[node])]
+        for node in reversed(order):  # the triangles below each node, children first
+            leaf = int(forest.leaf[node])
+            below[node] = (
+                [leaf]
+                if leaf >= 0
+                else below[int(forest.left[node])] + below[int(forest.right[node])]
+            )
+        assert sorted(forest.faces[below[root]].tolist()) == sorted(group.tolist())
+        for node in order:
+            points = forest.triangles[below[node]].reshape(-1, 3) - forest.centre[node]
+            local = np.abs(points @ forest.axes[node])
+            assert np.all(local <= forest.extent[node] * (1 + 1e-9) + 1e-12)
+
+
+def test_crossing_pairs_at_the_touch_are_python_fcls(quarter_20):
+    """At the first touch of the bolt lowered onto the nut (python-fcl's yes/no bisected to
+    the last bit, tests/_fcl.py) and a hair either side, the collision query's crossing
+    pairs and yes/no are python-fcl's on the two whole meshes, pair for pair: the same
+    triangle test where triangles touch, at tilts and phases of all kinds."""
+    from _fcl import Collider
+    from threadmate.contact.scene import CollisionPair
+    from threadmate.geometry import Pose, thread_meshes
+
+    bolt, nut = thread_meshes(quarter_20)
+    eng, whole = CollisionPair(bolt.mesh, nut.mesh), Collider(quarter_20)
+    rng = np.random.default_rng(3)
+    crossing = 0
+    for _ in range(12):
+        size, direction = rng.uniform(0, 4), rng.uniform(0, 2 * np.pi)
+        rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
+        x, y = rng.uniform(-0.002, 0.002, 2)
+        touch = whole.first_touch(rotation, x, y, -eng.lowest_bolt_z(rotation), 0.01)
+        for dz in (1e-9, 0.0, -1e-9, -1e-6, -1e-4):
+            origin = np.array([x, y, touch + dz])
+            expected = whole.pairs(rotation, origin)
+            pose = Pose(rotation, origin)
+            assert set(map(tuple, eng.pairs(pose).tolist())) == expected
+            assert eng.collides(pose) == bool(expected) == whole.collides(rotation, origin)
+            crossing += len(expected)
+    assert crossing > 0
+
+
 @pytest.mark.parametrize("point", ["flat", "chamfer"])
 def test_queries_without_the_bolts_core_answer_as_the_whole_meshes(point):
     """Where the engine asks the bolt without its core, its answers are those of the whole

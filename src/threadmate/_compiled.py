@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, TypeVar, cast
 
-__all__ = ["COMPILED", "compiled"]
+__all__ = ["COMPILED", "compiled", "inlined"]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 
@@ -39,3 +39,12 @@ def compiled(func: _F) -> _F:
     if _njit is None:  # pragma: no cover
         return func
     return cast("_F", _njit(cache=True, nogil=True)(func))
+
+
+def inlined(func: _F) -> _F:
+    """``func`` compiled into each compiled caller (numba's ``inline="always"``): a small
+    function asked at every step of a compiled loop, which a call would cost more than
+    its arithmetic; as Python without numba."""
+    if _njit is None:  # pragma: no cover
+        return func
+    return cast("_F", _njit(cache=True, nogil=True, inline="always")(func))

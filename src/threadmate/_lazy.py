@@ -2,7 +2,7 @@
 
 A package lists which private submodule holds each public name; importing the package
 loads none of them, so that a command that does not need a stage's heavy dependencies
-(scipy, trimesh, fcl, pandas, matplotlib) never imports them.
+(scipy, trimesh, numba, pandas, matplotlib) never imports them.
 
 Each public ``__init__`` names an export twice: once in its ``TYPE_CHECKING`` block, as
 an explicit re-export (``from ._x import name as name``) that type checkers read, also

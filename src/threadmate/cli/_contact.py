@@ -158,7 +158,7 @@ def contact(
     spec = resolve_spec(spec_text, condition, parts)
     check_chord(spec, chord)  # the meshes' own range, before any mesh is built
     # The analyser checks the compliance centre and the meshes before it builds anything.
-    from ..contact import ContactAnalyzer  # the mechanics (trimesh, fcl), once input is read
+    from ..contact import ContactAnalyzer  # the mechanics (trimesh, numba), once input is read
 
     analyzer = ContactAnalyzer(spec, chord=chord, compliance_z=compliance_z, **meshes.arguments())
     echo_mesh_notes(analyzer.mesh_info, spec.units)

@@ -34,7 +34,7 @@ def cli() -> None:
 
 def _register() -> None:
     # Each command lives in its own module and registers itself on import. The modules
-    # import their stages (scipy, trimesh, fcl, pandas, matplotlib) inside the commands, so
+    # import their stages (scipy, trimesh, numba, pandas, matplotlib) inside the commands, so
     # that --help, --version and a refused option answer at once.
     from . import _thread  # noqa: F401, I001  (registers: thread)
     from . import _planar  # noqa: F401  (registers: planar)

@@ -56,7 +56,7 @@ from ._options import (
 )
 from ._progress import progress_bar
 
-# The mechanics (scipy, trimesh, fcl) and the figures (matplotlib) are imported where they
+# The mechanics (scipy, trimesh, numba) and the figures (matplotlib) are imported where they
 # are used, so that --help and a refused option answer at once.
 if TYPE_CHECKING:
     from ..contact import Mechanics, RestState, ScrewResult, SearchEvent, SearchResult

@@ -36,7 +36,7 @@ that leave this package: a *state record* of the mechanics (a contact state and 
 passive transition that leaves it: settling, turning, jump or snap) and the thesis's
 configuration record.
 
-Both stand on one :class:`ContactScene` (:mod:`.scene`): python-fcl queries of the
+Both stand on one :class:`ContactScene` (:mod:`.scene`): collision queries of the
 meshes, contact location from triangle pairs and exact vertical touches, and the exact
 bodies for regions, normals and edge contact points. Lengths are in the spec's
 units, angles in degrees, forces in N, torques in N m, energies in mJ.
@@ -140,7 +140,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
 
 #: The submodule of each public name, imported when the name is first used (PEP 562):
 #: importing the package loads none of them, so that a command that does not need
-#: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
+#: a stage's heavy dependencies (scipy, trimesh, numba, pandas, matplotlib) never
 #: imports them; __all__ is made from it. tests/test_cli_contract.py checks it against
 #: the re-exports above.
 _SOURCES = {

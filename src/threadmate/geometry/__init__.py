@@ -80,7 +80,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
 
 #: The submodule of each public name, imported when the name is first used (PEP 562):
 #: importing the package loads none of them, so that a command that does not need
-#: a stage's heavy dependencies (scipy, trimesh, fcl, pandas, matplotlib) never
+#: a stage's heavy dependencies (scipy, trimesh, numba, pandas, matplotlib) never
 #: imports them; __all__ is made from it. tests/test_cli_contract.py checks it against
 #: the re-exports above.
 _SOURCES = {

@@ -9,10 +9,11 @@ at the angles where a station crosses an end plane, so the cap outline passes th
 every profile corner (otherwise it cuts the corners by about 6e-5 in on a 1/4-20), and,
 on a trimmed body, where the ridge crosses a station's helix (:mod:`._mesh_trim`).
 
-Why bolt and nut do not share meridian planes: python-fcl's triangle-triangle test can
-miss intersecting pairs whose edges are coplanar, which happens when both meshes are built
-on the same meridian half-planes (for instance both with a meridian at angle 0, or on
-regular grids of the same count, at a round phase). So
+Why bolt and nut do not share meridian planes: the collision query's triangle-triangle
+test (FCL's, see :mod:`threadmate.contact.scene._obb`) can miss intersecting pairs whose
+edges are coplanar, which happens when both meshes are built on the same meridian
+half-planes (for instance both with a meridian at angle 0, or on regular grids of the
+same count, at a round phase). So
 
 * the regular grids have different, co-prime counts: the bolt's count is a prime ``= 1
   (mod 4)``, the nut's a prime ``= 3 (mod 4)``, so they never coincide and at any phase at
@@ -26,8 +27,8 @@ regular grids of the same count, at a round phase). So
   and nut for any pair with clearance.
 
 These measures are the same at every chord. Near coincidences (meridians 1e-8 rad apart at
-some phase) are harmless: python-fcl's separating-axis test builds its axes from edge
-cross products, which go wrong only when two edges are parallel to rounding precision.
+some phase) are harmless: that test builds its separating axes from edge cross products,
+which go wrong only when two edges are parallel to rounding precision.
 """
 
 from __future__ import annotations

@@ -2,10 +2,11 @@
 
 A :class:`Job` is everything a worker needs (small and picklable: it travels to a pool
 process or a Dask worker). Each worker process (or Dask worker thread) builds ONE
-:class:`~threadmate.contact.Mechanics` (or thesis analyser), meshes and python-fcl BVHs
-included, the first time it sees a job, and keeps it for every later chunk: fcl objects
-neither pickle nor share between threads. :func:`run_chunk` turns a chunk of
-``config_id`` into rows of the library schema.
+:class:`~threadmate.contact.Mechanics` (or thesis analyser), meshes and collision trees
+included, the first time it sees a job, and keeps it for every later chunk: building the
+meshes and trees is the cost, and an analyser's queries reuse buffers of their own, so
+threads do not share one. :func:`run_chunk` turns a chunk of ``config_id`` into rows of
+the library schema.
 """
 
 from __future__ import annotations
@@ -50,9 +51,9 @@ __all__ = [
 
 @dataclass(frozen=True)
 class MeshFile:
-    """A mesh from CAD as a worker receives it: the path (fcl objects do not pickle: each
-    worker loads the file once), its units and the SHA-256 the sweep started with (a file
-    changed meanwhile is refused).
+    """A mesh from CAD as a worker receives it: the path (each worker loads the file
+    once, when it builds its analyser), its units and the SHA-256 the sweep started with
+    (a file changed meanwhile is refused).
 
     ``content``, when given, is the file's bytes, shipped with the job to workers that
     need not share the sweep's file system (a Dask cluster): such a worker writes them

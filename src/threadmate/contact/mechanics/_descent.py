@@ -145,7 +145,7 @@ class _Descent:
         self.noise = 2.0 * f * max(mech.scene.deviation, mech.tolerance) * mech.metres
         self.in_phase = mech.engaged(self.near)  # the pose in phase (the path records it)
         self.last_step = np.zeros(2)
-        self.nudged = 0.0  # bolt motion since python-fcl last lowered the bolt (_nudged)
+        self.nudged = 0.0  # bolt motion since the collision queries last lowered the bolt (_nudged)
         self.ahead: list[_Near] = []  # contacts met by rejected steps (see reject)
         self.progress: list[tuple[float, float]] = []  # potential and residual (stalled)
         self.support: tuple[int, ...] = ()
@@ -417,8 +417,9 @@ class _Descent:
             new_xy = self.d.xy + step.dxy
         else:
             new_xy = self.d.xy
-        # Nudges add up: all of them since python-fcl last lowered the bolt stay within
-        # the tolerance, so that no run of them walks into a contact it does not know.
+        # Nudges add up: all of them since the collision queries last lowered the bolt
+        # stay within the tolerance, so that no run of them walks into a contact it does
+        # not know.
         nudge = self.nudged + step.moved <= mech.tolerance
         trial = self.lowered(step, new_tilt, new_xy, nudge, G, gap)
         if trial is None:
@@ -443,9 +444,9 @@ class _Descent:
         gap: NDArray[np.float64],
     ) -> _Drop | None:
         """The bolt at the step's tilt lowered onto the nut: onto the pairs it knows when
-        the step is a nudge (:meth:`Mechanics._nudged`), else with python-fcl from a little
-        above where the linearised contacts put it (None: it passes the nut, or meets
-        material above it can only leave by climbing)."""
+        the step is a nudge (:meth:`Mechanics._nudged`), else by the collision queries from a
+        little above where the linearised contacts put it (None: it passes the nut, or
+        meets material above it can only leave by climbing)."""
         mech = self.mech
         span = max(4 * mech.tolerance, 0.25 * step.moved)
         over = step.over

@@ -2,7 +2,7 @@
 
 :class:`Mechanics` is composed by concern, each layer standing on the ones before it:
 this one (the thread pair, the compliance, the scene of exact bodies, meshes and
-python-fcl pair, the tolerances of the descent), lowering (:mod:`._lowering`), the
+collision queries, the tolerances of the descent), lowering (:mod:`._lowering`), the
 contact set (:mod:`._contact_set`), the potential and the forces (:mod:`._forces`),
 where the bolt sits (:mod:`._seat`) and the descent (:mod:`._descent`). Here too is the
 bolt's pose from its free coordinates: the compliance centre's position and the tilt

@@ -271,7 +271,7 @@ class _Lowering(_HeldBolt):
         """``d`` at the first touch below its free top.
 
         The pairs crossing at the bracket's foot can miss what the bolt meets first, as
-        python-fcl sees crossing triangles, never containment:
+        the collision query sees crossing triangles, never containment:
 
         - a bolt triangle meeting a nut flank nearly parallel to it sinks whole into the
           nut within the bracket and then crosses no nut triangle. The pairs crossing just
@@ -327,13 +327,13 @@ class _Lowering(_HeldBolt):
 
     def _nudged(self, d: _Drop, rotation: NDArray[np.float64], xy: NDArray[np.float64]) -> _Drop:
         """``d`` turned to ``rotation`` over ``xy`` by a motion that moves no bolt point
-        by more than :attr:`tolerance` (with the nudges before it, since python-fcl last
-        lowered the bolt), lowered onto its own pairs.
+        by more than :attr:`tolerance` (with the nudges before it, since the collision
+        queries last lowered the bolt), lowered onto its own pairs.
 
         The balance asks for tilts far finer than the length tolerance (the last steps
         of a descent move the bolt by nanometres), and any pair the motion brings to touch
         was within ``near`` below the touch before it, so among the pairs ``d`` knows: the
-        exact drops of those pairs from ``d``'s free top, with no python-fcl query, give
+        exact drops of those pairs from ``d``'s free top, with no collision query, give
         the touch (what a query could add lies within the tolerance).
         """
         eng = self.engine

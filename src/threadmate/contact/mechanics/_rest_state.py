@@ -307,7 +307,7 @@ class RestState:
         (spec units) for a rest state found within the meshes' accuracy: the gap below
         which its balance counts a contact (mechanics.md, "Stop").
     iterations, queries : int
-        Descent steps and python-fcl queries spent.
+        Descent steps and collision queries spent.
     """
 
     units: str

@@ -72,9 +72,9 @@ __all__ = ["Mechanics", "mechanics", "settle"]
 class Mechanics(_Seat):
     """Rest states and the counter-clockwise search of one thread pair and compliance.
 
-    Its world (exact bodies, meshes, the python-fcl pair, the tolerances) is a
+    Its world (exact bodies, meshes, the collision queries, the tolerances) is a
     :class:`ContactScene`, built once per process and shared with the thesis's procedure;
-    one instance per process (python-fcl objects neither pickle nor release the GIL).
+    one instance per process (building the meshes and their collision trees is the cost).
     Its methods come from the layers the module docstring lists, :class:`._seat._Seat` and
     those it stands on; the descent of :meth:`settle` is a :class:`._descent._Descent`.
 

@@ -1,8 +1,8 @@
 """The contact scene and its queries: the world both contact models see.
 
 :class:`ContactScene` holds one thread pair's exact bodies, its meshes (generated or from
-CAD, with their fit to the spec), the python-fcl collision pair on them and the tolerances
-that follow; :func:`contact_scene` builds it once per process, and :func:`scene_for` gives
+CAD, with their fit to the spec), the collision queries on them and the tolerances that
+follow; :func:`contact_scene` builds it once per process, and :func:`scene_for` gives
 a model the scene it was handed or that one. Around it, the queries both models ask:
 collisions and triangle pairs (:mod:`._collision`, :mod:`._triangles`), the vertical
 touch of a lowering (:mod:`._vertical`), and the exact contact geometry on the exact

@@ -1,14 +1,15 @@
-"""python-fcl wrapper: the bolt and nut BVHs, built once, queried by bolt pose.
+"""The collision queries: the bolt and nut as trees of oriented boxes, built once, queried
+by bolt pose.
 
-The BVHs are built once per analyser; a query only moves the bolt's collision object with
-``setTransform``. fcl objects neither pickle nor release the GIL, so a process pool builds
-one analyser per worker.
+The trees (:mod:`._obb`: FCL's kind of tree and FCL's tests, walked by compiled code that
+returns the crossing triangle pairs as integers) are built once per analyser; a query
+only names the bolt's pose. A process pool builds one analyser per worker.
 
 The nut is held split into :data:`SECTORS` angular sectors about its axis (each face by
-its centroid's angle), each its own BVH, and every query is asked of the sectors. A
+its centroid's angle), each its own tree, and every query is asked of the sectors. A
 threaded pair is close to contact all round its circumference, so a query must prove
 separation nearly everywhere, and the sectors' bounding volumes fit a ring of thread far
-more tightly than those of one BVH of the whole nut: a yes/no query of all the sectors,
+more tightly than those of one tree of the whole nut: a yes/no query of all the sectors,
 and an enumeration of the pairs, costs less than one of the whole nut, with the same
 answers (docs/validation.md, "Cost: meshes and queries"). The sectors serve two ends
 besides. The turning stages look for a new contact while ignoring the interference beside
@@ -25,23 +26,19 @@ pose alone, that every point of the core lies nearer the nut's axis than any poi
 nut's mesh (:meth:`CollisionPair._core_clear`), and asks the whole bolt where it does not:
 the answers are those of the whole meshes, at most of the cost. A core of fewer than
 :data:`CORE_SHARE` of the bolt's faces (a mesh from CAD with a coarse root, say) is not
-worth a second BVH's memory: the bolt is then always asked whole.
+worth a second tree's memory: the bolt is then always asked whole.
 
 Queries, each one yes/no question counted in :attr:`queries`:
 
 - :meth:`collides`: whether the bolt intersects the nut;
 - :meth:`collides_outside`: the same for every sector but the excluded ones;
 - :meth:`colliding_sectors`: which sectors (of those not excluded) the bolt intersects;
-- :meth:`pairs`: every intersecting bolt/nut triangle pair (python-fcl still reports the
-  triangle ids ``b1``/``b2`` with ``enable_contact=False``; we compute the intersection
-  geometry ourselves, see :mod:`._triangles`);
+- :meth:`pairs`: every intersecting bolt/nut triangle pair (their faces; the intersection
+  geometry is computed from the triangles, see :mod:`._triangles`);
 - :meth:`pairs_under_material`: the same, of only the nut faces turned down and the bolt
   faces that can face up at the bolt's tilt: every pair of the nut's material over the
   bolt, without asking of the flanks that carry the bolt, close to the nut all round,
   which a query spends most of its time proving apart.
-
-``continuousCollide`` (wrong times on thread meshes, alters models in place) and
-``penetration_depth`` (a per-triangle figure) are deliberately not used.
 
 A mesh from CAD is taken as given: where it does not follow the spec (a point, a
 countersink or a chamfer the spec does not state) the spec's exact body is no measure of
@@ -54,7 +51,6 @@ from __future__ import annotations
 import itertools
 import math
 
-import fcl
 import numpy as np
 import trimesh
 from numpy.typing import NDArray
@@ -62,12 +58,11 @@ from scipy.spatial import ConvexHull, cKDTree
 
 from ..._angles import TWO_PI
 from ...geometry import Pose
+from ._obb import ALL, ANY, EACH, CrossingQuery, ObbForest, obb_forest
 
 __all__ = ["CollisionPair", "MeshSolid", "pair_keys", "upward"]
 
-#: Pair enumeration stops here; far more than any contact the stages look at.
-MAX_PAIRS = 200_000
-#: Angular sectors of the nut, each its own BVH (see the module docstring).
+#: Angular sectors of the nut, each its own tree (see the module docstring).
 SECTORS = 36
 #: Multiplier of the bolt face in a pair's integer key (above any nut face count).
 _KEY = 1 << 31
@@ -85,8 +80,9 @@ CORE_TILT = 5.0
 CORE_SHARE = 0.25
 
 
-#: Some faces of a mesh as a collision object, and their numbers in the mesh.
-_Subset = tuple[fcl.CollisionObject, NDArray[np.int64]]
+#: Some of the bolt's faces as a tree (:class:`._obb.ObbForest` and the tree's number in
+#: it), and the same without the core's faces (None where the core holds none of them).
+_Bolt = tuple[ObbForest, int, int | None]
 
 
 def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -94,15 +90,12 @@ def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
     return pairs[:, 0] * _KEY + pairs[:, 1]
 
 
-def _pair_keys_of(bolt: _Subset, nut: _Subset, request: fcl.CollisionRequest) -> NDArray[np.int64]:
-    """Keys (:func:`pair_keys`) of the intersecting (bolt face, nut face) pairs of two
-    meshes' subsets, with repeats."""
-    result = fcl.CollisionResult()
-    fcl.collide(bolt[0], nut[0], request, result)
-    if not result.contacts:
-        return np.empty(0, dtype=np.int64)
-    ids = np.array([(c.b1, c.b2) for c in result.contacts], dtype=np.int64)
-    return bolt[1][ids[:, 0]] * _KEY + nut[1][ids[:, 1]]
+def _unique_pairs(found: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The distinct ``(bolt_face, nut_face)`` pairs of a query's rows, sorted (bolt face
+    major): one integer key each, whose 1-D unique sorts them as the rows'
+    lexicographic unique would, at a fraction of its cost."""
+    key = np.unique(pair_keys(found[:, :2]))
+    return np.column_stack([key // _KEY, key % _KEY])
 
 
 def upward(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -126,16 +119,6 @@ def _axis_distance(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
     side = a[..., 0] * ab[..., 1] - a[..., 1] * ab[..., 0]
     inside = np.all(side > 0, axis=1) | np.all(side < 0, axis=1)
     return np.where(inside, 0.0, nearest)
-
-
-def _bvh(vertices: NDArray[np.float64], faces: NDArray[np.int64]) -> fcl.BVHModel:
-    model = fcl.BVHModel()
-    vertices = np.ascontiguousarray(vertices, dtype=np.float64)
-    faces = np.ascontiguousarray(faces, dtype=np.int64)
-    model.beginModel(len(faces), len(vertices))  # (triangles, vertices): capacity hints
-    model.addSubModel(vertices, faces)
-    model.endModel()
-    return model
 
 
 def closest_on_triangles(
@@ -334,7 +317,7 @@ class MeshSolid:
 
 
 class CollisionPair:
-    """The bolt (in its frame) and nut (in the fixed frame) as python-fcl objects.
+    """The bolt (in its frame) and nut (in the fixed frame) as trees of oriented boxes.
 
     Parameters
     ----------
@@ -365,28 +348,31 @@ class CollisionPair:
             float(height[core].max(initial=0.0)),
         )
         self._bolt = self._without_core(np.ones(len(self.bolt_faces), dtype=bool))
-        #: The bolt as asked at the last pose placed (:meth:`_place`).
-        self._placed = self._bolt[0]
+        #: The bolt's tree asked at the last pose placed (:meth:`_place`).
+        self._placed = (self._bolt[0], self._bolt[1])
+        self._pose = Pose(np.eye(3), np.zeros(3))
         centroid = self.nut_vertices[self.nut_faces].mean(axis=1)
         angle = np.arctan2(centroid[:, 1], centroid[:, 0])
         #: Sector (0 .. SECTORS-1, counter-clockwise from -pi) of each nut face.
         sector = np.floor((angle + np.pi) / TWO_PI * SECTORS).astype(np.intp)
         self.nut_sector = sector % SECTORS
-        self._sectors: dict[int, _Subset] = {}
-        for k in range(SECTORS):
-            if np.any(self.nut_sector == k):
-                self._sectors[k] = self._subset(
-                    self.nut_vertices, self.nut_faces, self.nut_sector == k
-                )
+        #: The sectors that hold faces, each its own tree of the nut's query (in order).
+        self._sectors = [k for k in range(SECTORS) if np.any(self.nut_sector == k)]
+        self._tree = {k: i for i, k in enumerate(self._sectors)}
+        self._nut = CrossingQuery(
+            obb_forest(
+                self.nut_vertices,
+                self.nut_faces,
+                [np.flatnonzero(self.nut_sector == k) for k in self._sectors],
+            )
+        )
         #: The sectors in the order a yes/no query asks them: the last to collide first.
         self._order = list(self._sectors)
         #: The Z part of each nut face's outward normal (unnormalised; F): the nut does
         #: not move, so whether a face is turned down is known once.
         self.nut_upward = upward(self.nut_vertices[self.nut_faces])
         # The faces :meth:`pairs_under_material` asks, built on its first use.
-        self._under_material: tuple[tuple[_Subset, _Subset | None], _Subset] | None = None
-        self._yes_no = fcl.CollisionRequest(num_max_contacts=1, enable_contact=False)
-        self._all = fcl.CollisionRequest(num_max_contacts=MAX_PAIRS, enable_contact=False)
+        self._under_material: tuple[_Bolt, CrossingQuery] | None = None
         #: Collision queries spent since construction (or the last reset).
         self.queries = 0
         # Bounding radius of the bolt about its origin: bounds the motion of any bolt point.
@@ -414,16 +400,15 @@ class CollisionPair:
         on the mesh itself (see :meth:`solid` for the frames)."""
         return self.solid(body).signed_distance(points)
 
-    def _without_core(self, faces: NDArray[np.bool_]) -> tuple[_Subset, _Subset | None]:
-        """The bolt's ``faces`` as a collision object, and without the core's (None where
-        the core holds none of them)."""
+    def _without_core(self, faces: NDArray[np.bool_]) -> _Bolt:
+        """The bolt's ``faces`` as a tree, and without the core's (None where the core
+        holds none of them)."""
         rim = faces & ~self._core_faces
-        return (
-            self._subset(self.bolt_vertices, self.bolt_faces, faces),
-            self._subset(self.bolt_vertices, self.bolt_faces, rim)
-            if rim.sum() < faces.sum()
-            else None,
-        )
+        groups = [np.flatnonzero(faces)]
+        if rim.sum() < faces.sum():
+            groups.append(np.flatnonzero(rim))
+        forest = obb_forest(self.bolt_vertices, self.bolt_faces, groups)
+        return forest, 0, (1 if len(groups) == 2 else None)
 
     def _core_clear(self, pose: Pose) -> bool:
         """Whether every point of the bolt's core at ``pose`` lies nearer the Z axis than
@@ -436,31 +421,40 @@ class CollisionPair:
         reach = max(math.hypot(*(foot + low * sway)), math.hypot(*(foot + high * sway)))
         return reach + radius < self.nut_bore * (1 - 1e-9)
 
-    def _placed_at(self, bolt: tuple[_Subset, _Subset | None], pose: Pose) -> _Subset:
-        """``bolt`` (:meth:`_without_core`) placed at ``pose``: without its core where
+    def _placed_at(self, bolt: _Bolt, pose: Pose) -> tuple[ObbForest, int]:
+        """``bolt`` (:meth:`_without_core`) at ``pose``: its tree without the core where
         that cannot reach the nut."""
-        whole, rim = bolt
-        placed = rim if rim is not None and self._core_clear(pose) else whole
-        placed[0].setTransform(fcl.Transform(pose.rotation, pose.origin))
-        return placed
+        forest, whole, rim = bolt
+        self._pose = pose
+        return forest, (rim if rim is not None and self._core_clear(pose) else whole)
 
     def _place(self, pose: Pose) -> None:
         self._placed = self._placed_at(self._bolt, pose)
 
-    def _hits(self, other: fcl.CollisionObject) -> bool:
-        return fcl.collide(self._placed[0], other, self._yes_no, fcl.CollisionResult()) > 0
+    def _ask(self, sectors: list[int], mode: int) -> NDArray[np.int64]:
+        """The crossing pairs of the bolt as placed and the nut's ``sectors`` (in that
+        order; :class:`._obb.CrossingQuery`): ``(bolt face, nut face, sector)`` rows."""
+        forest, tree = self._placed
+        found = self._nut(
+            forest,
+            tree,
+            np.array([self._tree[k] for k in sectors], dtype=np.int64),
+            self._pose.rotation,
+            self._pose.origin,
+            mode,
+        )
+        found[:, 2] = np.asarray(sectors, dtype=np.int64)[found[:, 2]]
+        return found
 
     def collides(self, pose: Pose) -> bool:
         """Whether the bolt at ``pose`` intersects the nut (one query)."""
         self._place(pose)
         self.queries += 1
-        order = self._order
-        for i, k in enumerate(order):
-            if self._hits(self._sectors[k][0]):
-                if i:
-                    order.insert(0, order.pop(i))
-                return True
-        return False
+        hit = self._ask(self._order, ANY)
+        if len(hit):
+            order = self._order
+            order.insert(0, order.pop(order.index(int(hit[0, 2]))))
+        return len(hit) > 0
 
     def collides_outside(self, pose: Pose, excluded: frozenset[int]) -> bool:
         """Whether the bolt at ``pose`` intersects the nut outside the ``excluded`` sectors
@@ -469,7 +463,7 @@ class CollisionPair:
             return self.collides(pose)
         self._place(pose)
         self.queries += 1
-        return any(self._hits(obj) for k, (obj, _) in self._sectors.items() if k not in excluded)
+        return len(self._ask([k for k in self._sectors if k not in excluded], ANY)) > 0
 
     def colliding_sectors(
         self,
@@ -481,8 +475,9 @@ class CollisionPair:
         bolt at ``pose`` intersects (one query)."""
         self._place(pose)
         self.queries += 1
-        keys = self._sectors.keys() if among is None else sorted(among & self._sectors.keys())
-        return frozenset(k for k in keys if k not in excluded and self._hits(self._sectors[k][0]))
+        keys = self._sectors if among is None else sorted(among & set(self._sectors))
+        hit = self._ask([k for k in keys if k not in excluded], EACH)
+        return frozenset(hit[:, 2].tolist())
 
     def sectors_near(
         self, points: NDArray[np.float64], reach: float, min_radius: float
@@ -510,15 +505,8 @@ class CollisionPair:
         nut or only its ``sectors`` (one query)."""
         self._place(pose)
         self.queries += 1
-        found = [
-            _pair_keys_of(self._placed, sector, self._all)
-            for k, sector in self._sectors.items()
-            if sectors is None or k in sectors
-        ]
-        # One integer key per pair (bolt face major), all sectors at once: a 1-D unique
-        # sorts them as the rows' lexicographic unique would, at a fraction of its cost.
-        key = np.unique(np.concatenate(found)) if found else np.empty(0, dtype=np.int64)
-        return np.column_stack([key // _KEY, key % _KEY])
+        asked = self._sectors if sectors is None else [k for k in self._sectors if k in sectors]
+        return _unique_pairs(self._ask(asked, ALL))
 
     def pairs_under_material(self, pose: Pose) -> NDArray[np.int64]:
         """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose`` of a nut face
@@ -529,7 +517,7 @@ class CollisionPair:
 
         The nut's material over the bolt is looked for at every lowering in the thread,
         and mostly not found: the flanks below, close to the nut all round, are what
-        python-fcl spends its time proving apart, and they are not asked.
+        a query spends its time proving apart, and they are not asked.
         """
         if pose.rotation[2, 2] < np.cos(np.radians(UNDER_TILT)):
             return self.pairs(pose)
@@ -543,26 +531,16 @@ class CollisionPair:
             tri = self.bolt_vertices[self.bolt_faces]
             cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
             steep = np.sin(np.radians(UNDER_TILT + 1.0)) * np.linalg.norm(cross, axis=1)
+            down = np.flatnonzero(self.nut_upward < 0)
             self._under_material = (
                 self._without_core(cross[:, 2] >= -steep),
-                self._subset(self.nut_vertices, self.nut_faces, self.nut_upward < 0),
+                CrossingQuery(obb_forest(self.nut_vertices, self.nut_faces, [down])),
             )
         bolt, nut = self._under_material
-        placed = self._placed_at(bolt, pose)
+        forest, tree = self._placed_at(bolt, pose)
         self.queries += 1
-        key = np.unique(_pair_keys_of(placed, nut, self._all))
-        return np.column_stack([key // _KEY, key % _KEY])
-
-    @staticmethod
-    def _subset(
-        vertices: NDArray[np.float64], faces: NDArray[np.int64], keep: NDArray[np.bool_]
-    ) -> _Subset:
-        """The faces ``keep`` of a mesh as their own collision object, and their numbers
-        in the mesh."""
-        ids = np.flatnonzero(keep)
-        used, local = np.unique(faces[ids], return_inverse=True)
-        model = _bvh(vertices[used], local.reshape(-1, 3))
-        return fcl.CollisionObject(model, fcl.Transform()), ids
+        found = nut(forest, tree, np.zeros(1, dtype=np.int64), pose.rotation, pose.origin, ALL)
+        return _unique_pairs(found)
 
     def triangles(
         self, pose: Pose, pairs: NDArray[np.int64]

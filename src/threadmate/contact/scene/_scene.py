@@ -8,14 +8,14 @@ procedure (:class:`._analyzer.ContactAnalyzer`) and the mechanics of the held bo
   them, also under a mesh from CAD, which the spec describes where the mesh follows it);
 - the two meshes: generated within a chord tolerance of the exact surfaces, or from CAD
   (validated, scaled into the spec's units, with their fit to the spec: :mod:`._cad`);
-- the python-fcl collision pair on them (:class:`._collision.CollisionPair`);
+- the collision queries on them (:class:`._collision.CollisionPair`);
 - the tolerances that follow from the meshes: the travel tolerance of bisections, the
   feature tolerance within which a point lies on a face or edge, and, with a mesh from
   CAD, the distance beyond which a contact lies where the mesh does not follow the spec.
 
 :func:`contact_scene` builds a scene once per (spec, chord, mesh files) in a process and
-hands the same one out again: python-fcl objects neither pickle nor release the GIL, so
-each worker process builds its own, once.
+hands the same one out again: building the meshes and their collision trees is the cost,
+so each worker process builds its own, once.
 """
 
 from __future__ import annotations
@@ -179,7 +179,7 @@ class ContactScene:
     bolt, nut : ThreadBody
         The exact bodies.
     engine : CollisionPair
-        python-fcl on the two meshes (its query counter is the scene's cost).
+        The collision queries on the two meshes (its query counter is the scene's cost).
     deviation : float
         The meshes' largest deviation from the exact surfaces (where they follow them).
     travel : float

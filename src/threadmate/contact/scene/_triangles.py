@@ -49,10 +49,10 @@ class IntersectionSegments:
     Attributes
     ----------
     start, end : (n, 3) arrays
-        Segment end points. For a pair whose triangles do not actually cross (python-fcl
-        reports pairs that only touch within its tolerance, the thesis's fourth case, or
-        the triangles are coplanar) both are the midpoint of the closest points of the
-        two triangles: where they touch.
+        Segment end points. For a pair whose triangles do not actually cross (the
+        collision query reports pairs that only touch, within rounding, the thesis's
+        fourth case, or the triangles are coplanar) both are the midpoint of the closest
+        points of the two triangles: where they touch.
     valid : (n,) bool array
         Whether the pair has a proper intersection segment.
     """

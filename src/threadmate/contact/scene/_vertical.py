@@ -8,7 +8,7 @@ inside the other's projection, or a crossing of two edges' projections. Every ca
 is evaluated and the least kept. A pair whose projections do not overlap never touches
 (``inf``).
 
-This turns one python-fcl pair enumeration below a collision-free pose into the exact
+This turns one enumeration of the crossing pairs below a collision-free pose into the exact
 drop at which the meshes first touch, and the vertical gap of every other contact within
 that depth, without bisection.
 """

@@ -111,10 +111,10 @@ class ContactAnalyzer:
     """First, second and third contact of a bolt on its nut, for any orientation: the
     thesis's fixed-pivot procedure, classified by its criteria of section 4.2.
 
-    Its world (exact bodies, meshes and their python-fcl BVHs, tolerances) is a
+    Its world (exact bodies, meshes and their collision trees, tolerances) is a
     :class:`ContactScene`, built once per process and reused by every :meth:`analyze`
-    call (the bolt only moves) and by the mechanics. fcl objects neither pickle nor
-    release the GIL: one scene per process.
+    call (the bolt only moves) and by the mechanics. Building the meshes and trees is
+    the cost: one scene per process.
 
     Parameters
     ----------

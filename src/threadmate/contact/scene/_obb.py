@@ -1,0 +1,488 @@
+"""Oriented-bounding-box trees of triangles, and the compiled query of the triangle pairs
+of two of them that cross.
+
+The collision queries (:class:`._collision.CollisionPair`) ask two things of the bolt at
+a pose against the nut's sectors: whether any bolt triangle crosses a nut triangle, and
+every pair that does. A threaded pair lies close all round its circumference, so each
+query descends deep into both trees, and an enumeration meets tens to thousands of
+crossing pairs. Asked through python-fcl, every pair comes back as a Python object with
+two numpy arrays and each sector is its own call; here one compiled call walks the
+sectors' trees and returns the pairs as integers.
+
+The trees are FCL's kind, rebuilt: one triangle per leaf, each node's box oriented along
+the principal axes of its triangles' vertices (their covariance), its triangles split at
+the mean of their centroids along the box's major axis. A query works in the bolt's
+frame, as FCL's mesh traversal does: the nut's boxes and triangles are moved into it
+(lazily, once per query each), a pair of boxes is kept unless one of the 15 axes of the
+separating-axis test parts them (with FCL's allowance of 1e-6 on the rotation's entries,
+which only keeps more pairs), the larger box (by its diagonal) is split first, and two
+leaves' triangles cross unless one of the 17 axes of RAPID's triangle test (Gottschalk,
+Lin and Manocha, SIGGRAPH 1996: the two normals, the nine products of their edges and
+the six in-plane edge normals) separates them, touching counting as crossing. These are
+the tests python-fcl applies, and on the queries of the default parts' searches the two
+return the same pairs (``tests/test_contact.py`` checks it at poses of its own).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..._compiled import compiled, inlined
+
+__all__ = ["CrossingQuery", "ObbForest", "obb_forest"]
+
+#: Box pairs a query's walk holds at once: far more than two trees' depths need.
+_STACK = 4096
+#: What a query asks (:func:`_crossing`): every crossing pair, whether any, or whether any
+#: in each tree of the nut asked.
+ALL, ANY, EACH = 0, 1, 2
+
+
+class ObbForest(NamedTuple):
+    """Trees of oriented boxes over groups of a mesh's triangles, in one set of arrays.
+
+    Attributes
+    ----------
+    centre, axes, extent : ndarray
+        Each node's box: its centre ``(n, 3)``, its axes as the columns of ``(n, 3, 3)``
+        and its half-extents along them ``(n, 3)``, in the mesh's frame.
+    left, right : ndarray of int64
+        Each node's children (-1 at a leaf).
+    leaf : ndarray of int64
+        A leaf's triangle (a row of ``triangles``; -1 at an inner node).
+    triangles : ndarray
+        The triangles' vertices ``(m, 3, 3)``.
+    faces : ndarray of int64
+        Each triangle's face in the mesh.
+    roots : ndarray of int64
+        Each tree's root node, in the groups' order.
+    """
+
+    centre: NDArray[np.float64]
+    axes: NDArray[np.float64]
+    extent: NDArray[np.float64]
+    left: NDArray[np.int64]
+    right: NDArray[np.int64]
+    leaf: NDArray[np.int64]
+    triangles: NDArray[np.float64]
+    faces: NDArray[np.int64]
+    roots: NDArray[np.int64]
+
+
+@compiled
+def _fit(
+    tri: NDArray[np.float64], order: NDArray[np.int64], lo: int, hi: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The box of the triangles ``order[lo:hi]``: centre, axes (columns, by decreasing
+    variance of the vertices along them) and half-extents."""
+    n = 3 * (hi - lo)
+    mean = np.zeros(3)
+    for k in range(lo, hi):
+        for v in range(3):
+            for a in range(3):
+                mean[a] += tri[order[k], v, a]
+    mean /= n
+    cov = np.zeros((3, 3))
+    for k in range(lo, hi):
+        for v in range(3):
+            for a in range(3):
+                da = tri[order[k], v, a] - mean[a]
+                for b in range(3):
+                    cov[a, b] += da * (tri[order[k], v, b] - mean[b])
+    _, vectors = np.linalg.eigh(cov)
+    axes = np.empty((3, 3))
+    for c in range(3):
+        for a in range(3):
+            axes[a, c] = vectors[a, 2 - c]
+    low = np.full(3, np.inf)
+    high = np.full(3, -np.inf)
+    for k in range(lo, hi):
+        for v in range(3):
+            for c in range(3):
+                p = 0.0
+                for a in range(3):
+                    p += tri[order[k], v, a] * axes[a, c]
+                low[c] = min(low[c], p)
+                high[c] = max(high[c], p)
+    centre = np.zeros(3)
+    extent = np.empty(3)
+    for c in range(3):
+        extent[c] = 0.5 * (high[c] - low[c])
+        middle = 0.5 * (low[c] + high[c])
+        for a in range(3):
+            centre[a] += axes[a, c] * middle
+    return centre, axes, extent
+
+
+@compiled
+def _build(
+    tri: NDArray[np.float64], groups: NDArray[np.int64]
+) -> tuple[
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+]:
+    """The trees over consecutive runs of ``tri`` (run ``g`` ends at ``groups[g]``)."""
+    m = tri.shape[0]
+    count = 2 * m - len(groups)
+    centre = np.empty((count, 3))
+    axes = np.empty((count, 3, 3))
+    extent = np.empty((count, 3))
+    left = np.full(count, -1, np.int64)
+    right = np.full(count, -1, np.int64)
+    leaf = np.full(count, -1, np.int64)
+    roots = np.empty(len(groups), np.int64)
+    order = np.arange(m)
+    centroid = np.empty((m, 3))
+    for t in range(m):
+        for a in range(3):
+            centroid[t, a] = (tri[t, 0, a] + tri[t, 1, a] + tri[t, 2, a]) / 3.0
+    stack = np.empty((count, 3), np.int64)
+    along = np.empty(m)
+    used = 0
+    start = 0
+    for g in range(len(groups)):
+        roots[g] = used
+        stack[0, 0], stack[0, 1], stack[0, 2] = used, start, groups[g]
+        used += 1
+        depth = 1
+        while depth > 0:
+            depth -= 1
+            node, lo, hi = stack[depth, 0], stack[depth, 1], stack[depth, 2]
+            c, ax, ex = _fit(tri, order, lo, hi)
+            centre[node] = c
+            axes[node] = ax
+            extent[node] = ex
+            if hi - lo == 1:
+                leaf[node] = order[lo]
+                continue
+            mean = 0.0
+            for k in range(lo, hi):
+                t = order[k]
+                along[k] = centroid[t, 0] * ax[0, 0] + centroid[t, 1] * ax[1, 0]
+                along[k] += centroid[t, 2] * ax[2, 0]
+                mean += along[k]
+            mean /= hi - lo
+            i, j = lo, hi - 1
+            while i <= j:
+                if along[i] < mean:
+                    i += 1
+                else:
+                    order[i], order[j] = order[j], order[i]
+                    along[i], along[j] = along[j], along[i]
+                    j -= 1
+            mid = i if lo < i < hi else (lo + hi) // 2
+            left[node], right[node] = used, used + 1
+            stack[depth, 0], stack[depth, 1], stack[depth, 2] = used, lo, mid
+            stack[depth + 1, 0], stack[depth + 1, 1], stack[depth + 1, 2] = used + 1, mid, hi
+            used += 2
+            depth += 2
+        start = groups[g]
+    return centre, axes, extent, left, right, leaf, roots
+
+
+def obb_forest(
+    vertices: NDArray[np.float64], faces: NDArray[np.int64], groups: list[NDArray[np.int64]]
+) -> ObbForest:
+    """One tree per group of a mesh's faces (each group a non-empty array of face
+    numbers)."""
+    ids = np.concatenate([np.asarray(g, dtype=np.int64) for g in groups])
+    tri = np.ascontiguousarray(np.asarray(vertices, dtype=float)[np.asarray(faces)[ids]])
+    ends = np.cumsum([len(g) for g in groups]).astype(np.int64)
+    centre, axes, extent, left, right, leaf, roots = _build(tri, ends)
+    return ObbForest(centre, axes, extent, left, right, leaf, tri, ids, roots)
+
+
+@inlined
+def _apart(
+    p2: NDArray[np.float64],
+    p3: NDArray[np.float64],
+    q1: NDArray[np.float64],
+    q2: NDArray[np.float64],
+    q3: NDArray[np.float64],
+    x: float,
+    y: float,
+    z: float,
+) -> bool:
+    """Whether the axis ``(x, y, z)`` separates the triangles ``(0, p2, p3)`` and
+    ``(q1, q2, q3)`` strictly (a zero axis separates nothing)."""
+    a2 = x * p2[0] + y * p2[1] + z * p2[2]
+    a3 = x * p3[0] + y * p3[1] + z * p3[2]
+    b1 = x * q1[0] + y * q1[1] + z * q1[2]
+    b2 = x * q2[0] + y * q2[1] + z * q2[2]
+    b3 = x * q3[0] + y * q3[1] + z * q3[2]
+    return min(0.0, a2, a3) > max(b1, b2, b3) or min(b1, b2, b3) > max(0.0, a2, a3)
+
+
+@compiled
+def _cross(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64]) -> bool:
+    """Whether the triangles ``p`` and ``q`` (``(3, 3)`` each) intersect or touch: no axis
+    of RAPID's 17 separates them (``w``: ``(11, 3)`` scratch)."""
+    p2, p3, q1, q2, q3, e, f = w[0], w[1], w[2], w[3], w[4], w[5:8], w[8:11]
+    for a in range(3):
+        o = p[0, a]  # both relative to p's first vertex, as FCL has them
+        p2[a] = p[1, a] - o
+        p3[a] = p[2, a] - o
+        q1[a] = q[0, a] - o
+        q2[a] = q[1, a] - o
+        q3[a] = q[2, a] - o
+    for a in range(3):
+        e[0, a], e[1, a], e[2, a] = p2[a], p3[a] - p2[a], -p3[a]
+        f[0, a], f[1, a], f[2, a] = q2[a] - q1[a], q3[a] - q2[a], q1[a] - q3[a]
+    n0 = e[0, 1] * e[1, 2] - e[0, 2] * e[1, 1]
+    n1 = e[0, 2] * e[1, 0] - e[0, 0] * e[1, 2]
+    n2 = e[0, 0] * e[1, 1] - e[0, 1] * e[1, 0]
+    if _apart(p2, p3, q1, q2, q3, n0, n1, n2):
+        return False
+    m0 = f[0, 1] * f[1, 2] - f[0, 2] * f[1, 1]
+    m1 = f[0, 2] * f[1, 0] - f[0, 0] * f[1, 2]
+    m2 = f[0, 0] * f[1, 1] - f[0, 1] * f[1, 0]
+    if _apart(p2, p3, q1, q2, q3, m0, m1, m2):
+        return False
+    for i in range(3):
+        for j in range(3):
+            x = e[i, 1] * f[j, 2] - e[i, 2] * f[j, 1]
+            y = e[i, 2] * f[j, 0] - e[i, 0] * f[j, 2]
+            z = e[i, 0] * f[j, 1] - e[i, 1] * f[j, 0]
+            if _apart(p2, p3, q1, q2, q3, x, y, z):
+                return False
+    for i in range(3):
+        x = e[i, 1] * n2 - e[i, 2] * n1
+        y = e[i, 2] * n0 - e[i, 0] * n2
+        z = e[i, 0] * n1 - e[i, 1] * n0
+        if _apart(p2, p3, q1, q2, q3, x, y, z):
+            return False
+    for j in range(3):
+        x = f[j, 1] * m2 - f[j, 2] * m1
+        y = f[j, 2] * m0 - f[j, 0] * m2
+        z = f[j, 0] * m1 - f[j, 1] * m0
+        if _apart(p2, p3, q1, q2, q3, x, y, z):
+            return False
+    return True
+
+
+@inlined
+def _disjoint(
+    ca: NDArray[np.float64],
+    ua: NDArray[np.float64],
+    ea: NDArray[np.float64],
+    cb: NDArray[np.float64],
+    ub: NDArray[np.float64],
+    eb: NDArray[np.float64],
+) -> bool:
+    """Whether the boxes ``a`` and ``b`` (centre, axes as columns, half-extents; in one
+    frame) are parted by one of the 15 axes of the separating-axis test. (Unrolled: an
+    array made here would be allocated at every one of a query's many box pairs.)"""
+    d0, d1, d2 = cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]
+    t0 = ua[0, 0] * d0 + ua[1, 0] * d1 + ua[2, 0] * d2
+    t1 = ua[0, 1] * d0 + ua[1, 1] * d1 + ua[2, 1] * d2
+    t2 = ua[0, 2] * d0 + ua[1, 2] * d1 + ua[2, 2] * d2
+    # b's axes in a's: r_ij = a_i . b_j, and |r_ij| with FCL's allowance.
+    r00 = ua[0, 0] * ub[0, 0] + ua[1, 0] * ub[1, 0] + ua[2, 0] * ub[2, 0]
+    r01 = ua[0, 0] * ub[0, 1] + ua[1, 0] * ub[1, 1] + ua[2, 0] * ub[2, 1]
+    r02 = ua[0, 0] * ub[0, 2] + ua[1, 0] * ub[1, 2] + ua[2, 0] * ub[2, 2]
+    r10 = ua[0, 1] * ub[0, 0] + ua[1, 1] * ub[1, 0] + ua[2, 1] * ub[2, 0]
+    r11 = ua[0, 1] * ub[0, 1] + ua[1, 1] * ub[1, 1] + ua[2, 1] * ub[2, 1]
+    r12 = ua[0, 1] * ub[0, 2] + ua[1, 1] * ub[1, 2] + ua[2, 1] * ub[2, 2]
+    r20 = ua[0, 2] * ub[0, 0] + ua[1, 2] * ub[1, 0] + ua[2, 2] * ub[2, 0]
+    r21 = ua[0, 2] * ub[0, 1] + ua[1, 2] * ub[1, 1] + ua[2, 2] * ub[2, 1]
+    r22 = ua[0, 2] * ub[0, 2] + ua[1, 2] * ub[1, 2] + ua[2, 2] * ub[2, 2]
+    s00, s01, s02 = abs(r00) + 1e-6, abs(r01) + 1e-6, abs(r02) + 1e-6
+    s10, s11, s12 = abs(r10) + 1e-6, abs(r11) + 1e-6, abs(r12) + 1e-6
+    s20, s21, s22 = abs(r20) + 1e-6, abs(r21) + 1e-6, abs(r22) + 1e-6
+    a0, a1, a2 = ea[0], ea[1], ea[2]
+    b0, b1, b2 = eb[0], eb[1], eb[2]
+    return (
+        # a's axes
+        abs(t0) > a0 + b0 * s00 + b1 * s01 + b2 * s02
+        or abs(t1) > a1 + b0 * s10 + b1 * s11 + b2 * s12
+        or abs(t2) > a2 + b0 * s20 + b1 * s21 + b2 * s22
+        # b's axes
+        or abs(t0 * r00 + t1 * r10 + t2 * r20) > b0 + a0 * s00 + a1 * s10 + a2 * s20
+        or abs(t0 * r01 + t1 * r11 + t2 * r21) > b1 + a0 * s01 + a1 * s11 + a2 * s21
+        or abs(t0 * r02 + t1 * r12 + t2 * r22) > b2 + a0 * s02 + a1 * s12 + a2 * s22
+        # a_0 x b_j
+        or abs(t2 * r10 - t1 * r20) > a1 * s20 + a2 * s10 + b1 * s02 + b2 * s01
+        or abs(t2 * r11 - t1 * r21) > a1 * s21 + a2 * s11 + b0 * s02 + b2 * s00
+        or abs(t2 * r12 - t1 * r22) > a1 * s22 + a2 * s12 + b0 * s01 + b1 * s00
+        # a_1 x b_j
+        or abs(t0 * r20 - t2 * r00) > a0 * s20 + a2 * s00 + b1 * s12 + b2 * s11
+        or abs(t0 * r21 - t2 * r01) > a0 * s21 + a2 * s01 + b0 * s12 + b2 * s10
+        or abs(t0 * r22 - t2 * r02) > a0 * s22 + a2 * s02 + b0 * s11 + b1 * s10
+        # a_2 x b_j
+        or abs(t1 * r00 - t0 * r10) > a0 * s10 + a1 * s00 + b1 * s22 + b2 * s21
+        or abs(t1 * r01 - t0 * r11) > a0 * s11 + a1 * s01 + b0 * s22 + b2 * s20
+        or abs(t1 * r02 - t0 * r12) > a0 * s12 + a1 * s02 + b0 * s21 + b1 * s20
+    )
+
+
+@inlined
+def _moved(
+    rt: NDArray[np.float64],
+    tt: NDArray[np.float64],
+    x: NDArray[np.float64],
+    out: NDArray[np.float64],
+) -> None:
+    """``out = rt @ x + tt`` for a point ``x``."""
+    for a in range(3):
+        out[a] = rt[a, 0] * x[0] + rt[a, 1] * x[1] + rt[a, 2] * x[2] + tt[a]
+
+
+@compiled
+def _crossing(
+    b: tuple[
+        NDArray[np.float64],
+        NDArray[np.float64],
+        NDArray[np.float64],
+        NDArray[np.int64],
+        NDArray[np.int64],
+        NDArray[np.int64],
+        NDArray[np.float64],
+    ],
+    b_root: int,
+    n: tuple[
+        NDArray[np.float64],
+        NDArray[np.float64],
+        NDArray[np.float64],
+        NDArray[np.int64],
+        NDArray[np.int64],
+        NDArray[np.int64],
+        NDArray[np.float64],
+    ],
+    n_roots: NDArray[np.int64],
+    rotation: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    mode: int,
+    out: NDArray[np.int64],
+    moved: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]],
+    stamp: int,
+) -> int:
+    """The crossing pairs of the bolt tree at ``b_root`` (the bolt's frame) at the pose
+    ``(rotation, origin)`` and the nut trees at ``n_roots`` (the fixed frame), in that
+    order: ``out[k] = (bolt triangle, nut triangle, position in n_roots)``; returns how
+    many (those past ``out``'s rows are counted, not written). ``mode``: :data:`ALL`
+    pairs, :data:`ANY` (the first only), or :data:`EACH` tree's first.
+
+    ``moved`` holds the nut's boxes and triangles moved into the bolt's frame (centres,
+    axes, triangles) and, per node, the ``stamp`` of the query that moved it: each is
+    moved once, when the walk first meets it."""
+    bc, ba, be, bl, br, bleaf, btri = b
+    nc, na, ne, nl, nr, nleaf, ntri = n
+    mc, ma, mtri, seen = moved
+    rt = rotation.T.copy()
+    tt = np.empty(3)
+    for a in range(3):
+        tt[a] = -(rt[a, 0] * origin[0] + rt[a, 1] * origin[1] + rt[a, 2] * origin[2])
+    w = np.empty((11, 3))
+    stack = np.empty((_STACK, 2), np.int64)
+    count = 0
+    for k in range(len(n_roots)):
+        stack[0, 0], stack[0, 1] = b_root, n_roots[k]
+        depth = 1
+        while depth > 0:
+            depth -= 1
+            i, j = stack[depth, 0], stack[depth, 1]
+            if seen[j] != stamp:
+                _moved(rt, tt, nc[j], mc[j])
+                for c in range(3):
+                    for a in range(3):
+                        ma[j, a, c] = rt[a, 0] * na[j, 0, c] + rt[a, 1] * na[j, 1, c]
+                        ma[j, a, c] += rt[a, 2] * na[j, 2, c]
+                q = nleaf[j]
+                if q >= 0:
+                    for v in range(3):
+                        _moved(rt, tt, ntri[q, v], mtri[q, v])
+                seen[j] = stamp
+            if _disjoint(bc[i], ba[i], be[i], mc[j], ma[j], ne[j]):
+                continue
+            p, q = bleaf[i], nleaf[j]
+            if p >= 0 and q >= 0:
+                if _cross(btri[p], mtri[q], w):
+                    if count < len(out):
+                        out[count, 0], out[count, 1], out[count, 2] = p, q, k
+                    count += 1
+                    if mode == ANY:
+                        return count
+                    if mode == EACH:
+                        depth = 0
+                continue
+            # The larger box (by its diagonal) is split first, as FCL does.
+            if q >= 0 or (
+                p < 0
+                and be[i, 0] ** 2 + be[i, 1] ** 2 + be[i, 2] ** 2
+                > ne[j, 0] ** 2 + ne[j, 1] ** 2 + ne[j, 2] ** 2
+            ):
+                stack[depth, 0], stack[depth, 1] = bl[i], j
+                stack[depth + 1, 0], stack[depth + 1, 1] = br[i], j
+            else:
+                stack[depth, 0], stack[depth, 1] = i, nl[j]
+                stack[depth + 1, 0], stack[depth + 1, 1] = i, nr[j]
+            depth += 2
+    return count
+
+
+class CrossingQuery:
+    """The crossing pairs of a bolt's trees and a nut's forest (:func:`_crossing`), with the
+    buffers a query reuses.
+
+    Parameters
+    ----------
+    nut : ObbForest
+        The nut's trees, in the fixed frame.
+    """
+
+    def __init__(self, nut: ObbForest) -> None:
+        self.nut = nut
+        self._n = (nut.centre, nut.axes, nut.extent, nut.left, nut.right, nut.leaf, nut.triangles)
+        self._moved = (
+            np.empty_like(nut.centre),
+            np.empty_like(nut.axes),
+            np.empty_like(nut.triangles),
+            np.zeros(len(nut.centre), dtype=np.int64),
+        )
+        self._stamp = 0
+        self._out = np.empty((1024, 3), dtype=np.int64)
+
+    def __call__(
+        self,
+        bolt: ObbForest,
+        tree: int,
+        trees: NDArray[np.int64],
+        rotation: NDArray[np.float64],
+        origin: NDArray[np.float64],
+        mode: int = ALL,
+    ) -> NDArray[np.int64]:
+        """``(bolt face, nut face, position in trees)`` of each crossing pair of the bolt's
+        tree ``tree`` at the pose ``(rotation, origin)`` and the nut's ``trees`` (indices
+        of its roots), asked in that order; in :data:`ANY` or :data:`EACH` ``mode``, the
+        first pair found (of each tree)."""
+        b = (bolt.centre, bolt.axes, bolt.extent, bolt.left, bolt.right, bolt.leaf, bolt.triangles)
+        roots = self.nut.roots[trees]
+        rotation = np.ascontiguousarray(rotation, dtype=float)
+        origin = np.ascontiguousarray(origin, dtype=float)
+        while True:
+            self._stamp += 1
+            found = _crossing(
+                b,
+                int(bolt.roots[tree]),
+                self._n,
+                roots,
+                rotation,
+                origin,
+                mode,
+                self._out,
+                self._moved,
+                self._stamp,
+            )
+            if found <= len(self._out):
+                break
+            self._out = np.empty((2 * found, 3), dtype=np.int64)
+        rows = self._out[:found]
+        return np.column_stack([bolt.faces[rows[:, 0]], self.nut.faces[rows[:, 1]], rows[:, 2]])
