@@ -348,7 +348,7 @@ class CollisionPair:
             float(height[core].max(initial=0.0)),
         )
         self._bolt = self._without_core(np.ones(len(self.bolt_faces), dtype=bool))
-        #: The bolt's tree asked at the last pose placed (:meth:`_place`).
+        #: The bolt's tree asked at the last pose placed (:meth:`_place`), and the pose.
         self._placed = (self._bolt[0], self._bolt[1])
         self._pose = Pose(np.eye(3), np.zeros(3))
         centroid = self.nut_vertices[self.nut_faces].mean(axis=1)
@@ -425,11 +425,11 @@ class CollisionPair:
         """``bolt`` (:meth:`_without_core`) at ``pose``: its tree without the core where
         that cannot reach the nut."""
         forest, whole, rim = bolt
-        self._pose = pose
         return forest, (rim if rim is not None and self._core_clear(pose) else whole)
 
     def _place(self, pose: Pose) -> None:
         self._placed = self._placed_at(self._bolt, pose)
+        self._pose = pose
 
     def _ask(self, sectors: list[int], mode: int) -> NDArray[np.int64]:
         """The crossing pairs of the bolt as placed and the nut's ``sectors`` (in that
