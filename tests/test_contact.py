@@ -188,6 +188,41 @@ def test_sector_queries_agree_with_the_whole_nut(analyzer):
     assert seen == {True, False}
 
 
+@pytest.mark.parametrize("point", ["flat", "chamfer"])
+def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
+    """The bracket's two questions asked in one walk of the trees (``pairs_below``):
+    whether the bolt at a height is free and the pairs crossing a little lower are, pose by
+    pose, those of the yes/no query at the one and the enumeration at the other, at
+    heights from above the nut to deep in it and drops from a hair to a pitch."""
+    from threadmate.contact.scene import CollisionPair
+    from threadmate.geometry import Pose, spec_from_designation, thread_meshes
+
+    if point == "flat":
+        spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    else:
+        spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    bolt, nut = thread_meshes(spec)
+    eng = CollisionPair(bolt.mesh, nut.mesh)
+    rng = np.random.default_rng(17)
+    seen = set()
+    for _ in range(80):
+        size, direction = rng.uniform(0, 8), rng.uniform(0, 2 * np.pi)
+        rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
+        shift = rng.uniform(-1, 1, 2) * 0.004
+        h = -eng.lowest_bolt_z(rotation) - rng.uniform(-0.002, 0.03)
+        drop = 10.0 ** rng.uniform(-7, np.log10(spec.pitch))
+        top = Pose(rotation, np.array([shift[0], shift[1], h]))
+        low = Pose(rotation, np.array([shift[0], shift[1], h - drop]))
+        found = eng.pairs_below(low, top)
+        if eng.collides(top):
+            assert found is None
+        else:
+            assert found is not None
+            np.testing.assert_array_equal(found, eng.pairs(low))
+        seen.add((found is None, found is not None and len(found) > 0))
+    assert seen == {(True, False), (False, True), (False, False)}
+
+
 def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):
     """The collision query's trees (contact/scene/_obb.py): each tree's leaves are its
     group's triangles, once each, and every node's box (centre, orthonormal axes,

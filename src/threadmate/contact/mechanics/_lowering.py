@@ -128,37 +128,41 @@ class _Lowering(_HeldBolt):
         start, hit = top, -math.inf  # hit: the highest height known to collide
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
-            # longer cross a little lower, so one enumeration below cannot tell.
-            if not known_free:
-                if eng.collides(self._pose(rotation, xy, top)):
-                    if reach is not None:
-                        under = self._under(rotation, xy, top, reach)
-                        if under is None:
-                            return None
-                        top, known_free = under, True
-                        continue
-                    hit = top
-                    if ceiling is not None and hit > ceiling:
-                        return _Drop(
-                            rotation,
-                            np.array(xy, dtype=float),
-                            hit,
-                            hit,
-                            start,
-                            span,
-                            cap,
-                            np.empty((0, 2), dtype=np.int64),
-                            np.empty(0),
-                            np.empty((0, 3)),
-                            verified=True,
-                            above_ceiling=True,
-                        )
-                    top += span
-                    span = min(2 * span, cap)
-                    continue
-                known_free = True
+            # longer cross a little lower, so one enumeration below cannot tell. Where it is
+            # not known free, one walk asks both: whether it is, and the pairs at ``low``.
             low = top - span - self.near
-            pairs = eng.pairs(self._pose(rotation, xy, low))
+            found = (
+                eng.pairs(self._pose(rotation, xy, low))
+                if known_free
+                else eng.pairs_below(self._pose(rotation, xy, low), self._pose(rotation, xy, top))
+            )
+            if found is None:  # ``top`` collides
+                if reach is not None:
+                    under = self._under(rotation, xy, top, reach)
+                    if under is None:
+                        return None
+                    top, known_free = under, True
+                    continue
+                hit = top
+                if ceiling is not None and hit > ceiling:
+                    return _Drop(
+                        rotation,
+                        np.array(xy, dtype=float),
+                        hit,
+                        hit,
+                        start,
+                        span,
+                        cap,
+                        np.empty((0, 2), dtype=np.int64),
+                        np.empty(0),
+                        np.empty((0, 3)),
+                        verified=True,
+                        above_ceiling=True,
+                    )
+                top += span
+                span = min(2 * span, cap)
+                continue
+            known_free, pairs = True, found
             if len(pairs) == 0:
                 top = low
                 span = min(2 * span, cap)

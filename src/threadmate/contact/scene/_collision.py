@@ -508,6 +508,30 @@ class CollisionPair:
         asked = self._sectors if sectors is None else [k for k in self._sectors if k in sectors]
         return _unique_pairs(self._ask(asked, ALL))
 
+    def pairs_below(self, pose: Pose, above: Pose) -> NDArray[np.int64] | None:
+        """None where the bolt at ``above`` (the same rotation as ``pose``) intersects the
+        nut (:meth:`collides`); else the intersecting pairs at ``pose`` (:meth:`pairs`).
+        Two queries (one where ``above`` intersects), asked in one walk of the trees."""
+        self._place(pose)
+        forest, tree = self._placed
+        if tree != self._placed_at(self._bolt, above)[1]:
+            tree = self._bolt[1]  # the whole bolt: its core can reach the nut at one pose
+        order = self._order
+        hit, found = self._nut.below(
+            forest,
+            tree,
+            np.array([self._tree[k] for k in order], dtype=np.int64),
+            pose.rotation,
+            pose.origin,
+            above.origin,
+        )
+        self.queries += 1
+        if hit:
+            order.insert(0, order.pop(int(found[0, 2])))
+            return None
+        self.queries += 1
+        return _unique_pairs(found)
+
     def pairs_under_material(self, pose: Pose) -> NDArray[np.int64]:
         """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose`` of a nut face
         turned down and a bolt face that can face up at the bolt's tilt (one query): every

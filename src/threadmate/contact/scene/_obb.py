@@ -39,6 +39,9 @@ _STACK = 4096
 #: What a query asks (:func:`_crossing`): every crossing pair, whether any, or whether any
 #: in each tree of the nut asked.
 ALL, ANY, EACH = 0, 1, 2
+#: Slack (spec units) of a box swept between two poses: it holds the box at either pose
+#: as another query computes it, whatever the rounding.
+_SWEPT_SLACK = 1e-12
 
 
 class ObbForest(NamedTuple):
@@ -361,8 +364,16 @@ def _crossing(
     origin: NDArray[np.float64],
     mode: int,
     out: NDArray[np.int64],
-    moved: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]],
+    moved: tuple[
+        NDArray[np.float64],
+        NDArray[np.float64],
+        NDArray[np.float64],
+        NDArray[np.int64],
+        NDArray[np.float64],
+        NDArray[np.float64],
+    ],
     stamp: int,
+    above: NDArray[np.float64],
 ) -> int:
     """The crossing pairs of the bolt tree at ``b_root`` (the bolt's frame) at the pose
     ``(rotation, origin)`` and the nut trees at ``n_roots`` (the fixed frame), in that
@@ -370,17 +381,29 @@ def _crossing(
     many (those past ``out``'s rows are counted, not written). ``mode``: :data:`ALL`
     pairs, :data:`ANY` (the first only), or :data:`EACH` tree's first.
 
+    Where ``above`` differs from ``origin`` (a second origin, the bolt as rotated), the
+    walk asks also whether the bolt at that pose crosses the nut: its boxes hold the nut's
+    at both poses, and a leaf's triangles are tested at both. At the first pair crossing
+    there, ``out[0]`` is that pair and the walk returns -1; else it returns the pairs at
+    ``origin`` (in :data:`ALL` mode). The two answers are those of two queries.
+
     ``moved`` holds the nut's boxes and triangles moved into the bolt's frame (centres,
-    axes, triangles) and, per node, the ``stamp`` of the query that moved it: each is
-    moved once, when the walk first meets it."""
+    axes, triangles), per node the ``stamp`` of the query that moved it (each is moved
+    once, when the walk first meets it), and the boxes swept to the pose ``above``
+    (centres, half-extents)."""
     bc, ba, be, bl, br, bleaf, btri = b
     nc, na, ne, nl, nr, nleaf, ntri = n
-    mc, ma, mtri, seen = moved
+    mc, ma, mtri, seen, sc, se = moved
     rt = rotation.T.copy()
     tt = np.empty(3)
+    tu = np.empty(3)
     for a in range(3):
         tt[a] = -(rt[a, 0] * origin[0] + rt[a, 1] * origin[1] + rt[a, 2] * origin[2])
+        tu[a] = -(rt[a, 0] * above[0] + rt[a, 1] * above[1] + rt[a, 2] * above[2])
+    swept = tu[0] != tt[0] or tu[1] != tt[1] or tu[2] != tt[2]
+    u = tu - tt  # the nut's shift in the bolt's frame from the one pose to the other
     w = np.empty((11, 3))
+    lifted = np.empty((3, 3))
     stack = np.empty((_STACK, 2), np.int64)
     count = 0
     for k in range(len(n_roots)):
@@ -399,11 +422,25 @@ def _crossing(
                 if q >= 0:
                     for v in range(3):
                         _moved(rt, tt, ntri[q, v], mtri[q, v])
+                if swept:
+                    for c in range(3):
+                        along = u[0] * ma[j, 0, c] + u[1] * ma[j, 1, c] + u[2] * ma[j, 2, c]
+                        se[j, c] = ne[j, c] + 0.5 * abs(along) + _SWEPT_SLACK
+                        sc[j, c] = mc[j, c] + 0.5 * u[c]
                 seen[j] = stamp
-            if _disjoint(bc[i], ba[i], be[i], mc[j], ma[j], ne[j]):
+            if swept:
+                if _disjoint(bc[i], ba[i], be[i], sc[j], ma[j], se[j]):
+                    continue
+            elif _disjoint(bc[i], ba[i], be[i], mc[j], ma[j], ne[j]):
                 continue
             p, q = bleaf[i], nleaf[j]
             if p >= 0 and q >= 0:
+                if swept:
+                    for v in range(3):
+                        _moved(rt, tu, ntri[q, v], lifted[v])
+                    if _cross(btri[p], lifted, w):
+                        out[0, 0], out[0, 1], out[0, 2] = p, q, k
+                        return -1
                 if _cross(btri[p], mtri[q], w):
                     if count < len(out):
                         out[count, 0], out[count, 1], out[count, 2] = p, q, k
@@ -446,6 +483,8 @@ class CrossingQuery:
             np.empty_like(nut.axes),
             np.empty_like(nut.triangles),
             np.zeros(len(nut.centre), dtype=np.int64),
+            np.empty_like(nut.centre),
+            np.empty_like(nut.extent),
         )
         self._stamp = 0
         self._out = np.empty((1024, 3), dtype=np.int64)
@@ -463,10 +502,39 @@ class CrossingQuery:
         tree ``tree`` at the pose ``(rotation, origin)`` and the nut's ``trees`` (indices
         of its roots), asked in that order; in :data:`ANY` or :data:`EACH` ``mode``, the
         first pair found (of each tree)."""
+        found, rows = self._walk(bolt, tree, trees, rotation, origin, mode, origin)
+        return rows
+
+    def below(
+        self,
+        bolt: ObbForest,
+        tree: int,
+        trees: NDArray[np.int64],
+        rotation: NDArray[np.float64],
+        origin: NDArray[np.float64],
+        above: NDArray[np.float64],
+    ) -> tuple[bool, NDArray[np.int64]]:
+        """Whether the bolt at ``(rotation, above)`` crosses the nut's ``trees``, and, where
+        it does not, the crossing pairs at ``(rotation, origin)`` (as :meth:`__call__`);
+        where it does, the first pair found there. One walk answers both."""
+        found, rows = self._walk(bolt, tree, trees, rotation, origin, ALL, above)
+        return found < 0, rows
+
+    def _walk(
+        self,
+        bolt: ObbForest,
+        tree: int,
+        trees: NDArray[np.int64],
+        rotation: NDArray[np.float64],
+        origin: NDArray[np.float64],
+        mode: int,
+        above: NDArray[np.float64],
+    ) -> tuple[int, NDArray[np.int64]]:
         b = (bolt.centre, bolt.axes, bolt.extent, bolt.left, bolt.right, bolt.leaf, bolt.triangles)
         roots = self.nut.roots[trees]
         rotation = np.ascontiguousarray(rotation, dtype=float)
         origin = np.ascontiguousarray(origin, dtype=float)
+        above = np.ascontiguousarray(above, dtype=float)
         while True:
             self._stamp += 1
             found = _crossing(
@@ -480,9 +548,11 @@ class CrossingQuery:
                 self._out,
                 self._moved,
                 self._stamp,
+                above,
             )
             if found <= len(self._out):
                 break
             self._out = np.empty((2 * found, 3), dtype=np.int64)
-        rows = self._out[:found]
-        return np.column_stack([bolt.faces[rows[:, 0]], self.nut.faces[rows[:, 1]], rows[:, 2]])
+        rows = self._out[: max(found, 1) if found < 0 else found]
+        faces = np.column_stack([bolt.faces[rows[:, 0]], self.nut.faces[rows[:, 1]], rows[:, 2]])
+        return found, faces
