@@ -21,6 +21,13 @@ Lin and Manocha, SIGGRAPH 1996: the two normals, the nine products of their edge
 the six in-plane edge normals) separates them, touching counting as crossing. These are
 the tests python-fcl applies, and on the queries of the default parts' searches the two
 return the same pairs (``tests/test_contact.py`` checks it at poses of its own).
+
+A lowering asks two questions of nearly one pose: whether the bolt is free at the top of
+its bracket, and which pairs cross at its foot a little lower. One walk answers both
+(:meth:`CrossingQuery.below`): each nut box is swept between the two poses (its
+half-extents grown by half the shift along each axis, which holds it at either pose), and
+a leaf's triangles are tested at each; the walk stops at the first pair crossing at the
+top. Near contact the two walks would visit nearly the same boxes.
 """
 
 from __future__ import annotations
@@ -207,66 +214,53 @@ def obb_forest(
 def _apart(
     p2: NDArray[np.float64],
     p3: NDArray[np.float64],
-    q1: NDArray[np.float64],
-    q2: NDArray[np.float64],
-    q3: NDArray[np.float64],
-    x: float,
-    y: float,
-    z: float,
+    q: NDArray[np.float64],
+    u: NDArray[np.float64],
+    v: NDArray[np.float64],
 ) -> bool:
-    """Whether the axis ``(x, y, z)`` separates the triangles ``(0, p2, p3)`` and
-    ``(q1, q2, q3)`` strictly (a zero axis separates nothing)."""
+    """Whether the axis ``u x v`` separates the triangles ``(0, p2, p3)`` and ``q`` (its
+    vertices the rows) strictly (a zero axis separates nothing)."""
+    x = u[1] * v[2] - u[2] * v[1]
+    y = u[2] * v[0] - u[0] * v[2]
+    z = u[0] * v[1] - u[1] * v[0]
     a2 = x * p2[0] + y * p2[1] + z * p2[2]
     a3 = x * p3[0] + y * p3[1] + z * p3[2]
-    b1 = x * q1[0] + y * q1[1] + z * q1[2]
-    b2 = x * q2[0] + y * q2[1] + z * q2[2]
-    b3 = x * q3[0] + y * q3[1] + z * q3[2]
+    b1 = x * q[0, 0] + y * q[0, 1] + z * q[0, 2]
+    b2 = x * q[1, 0] + y * q[1, 1] + z * q[1, 2]
+    b3 = x * q[2, 0] + y * q[2, 1] + z * q[2, 2]
     return min(0.0, a2, a3) > max(b1, b2, b3) or min(b1, b2, b3) > max(0.0, a2, a3)
 
 
 @compiled
 def _cross(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64]) -> bool:
     """Whether the triangles ``p`` and ``q`` (``(3, 3)`` each) intersect or touch: no axis
-    of RAPID's 17 separates them (``w``: ``(11, 3)`` scratch)."""
-    p2, p3, q1, q2, q3, e, f = w[0], w[1], w[2], w[3], w[4], w[5:8], w[8:11]
+    of RAPID's 17 separates them (``w``: ``(13, 3)`` scratch). The axes: the normals
+    ``e0 x e1`` and ``f0 x f1``, the products ``e_i x f_j`` of the edges, and the in-plane
+    edge normals ``e_i x n`` and ``f_j x m``."""
+    p2, p3, qs, e, f, n, m = w[0], w[1], w[2:5], w[5:8], w[8:11], w[11], w[12]
     for a in range(3):
         o = p[0, a]  # both relative to p's first vertex, as FCL has them
         p2[a] = p[1, a] - o
         p3[a] = p[2, a] - o
-        q1[a] = q[0, a] - o
-        q2[a] = q[1, a] - o
-        q3[a] = q[2, a] - o
+        for v in range(3):
+            qs[v, a] = q[v, a] - o
     for a in range(3):
         e[0, a], e[1, a], e[2, a] = p2[a], p3[a] - p2[a], -p3[a]
-        f[0, a], f[1, a], f[2, a] = q2[a] - q1[a], q3[a] - q2[a], q1[a] - q3[a]
-    n0 = e[0, 1] * e[1, 2] - e[0, 2] * e[1, 1]
-    n1 = e[0, 2] * e[1, 0] - e[0, 0] * e[1, 2]
-    n2 = e[0, 0] * e[1, 1] - e[0, 1] * e[1, 0]
-    if _apart(p2, p3, q1, q2, q3, n0, n1, n2):
-        return False
-    m0 = f[0, 1] * f[1, 2] - f[0, 2] * f[1, 1]
-    m1 = f[0, 2] * f[1, 0] - f[0, 0] * f[1, 2]
-    m2 = f[0, 0] * f[1, 1] - f[0, 1] * f[1, 0]
-    if _apart(p2, p3, q1, q2, q3, m0, m1, m2):
+        f[0, a], f[1, a], f[2, a] = qs[1, a] - qs[0, a], qs[2, a] - qs[1, a], qs[0, a] - qs[2, a]
+    n[0] = e[0, 1] * e[1, 2] - e[0, 2] * e[1, 1]
+    n[1] = e[0, 2] * e[1, 0] - e[0, 0] * e[1, 2]
+    n[2] = e[0, 0] * e[1, 1] - e[0, 1] * e[1, 0]
+    m[0] = f[0, 1] * f[1, 2] - f[0, 2] * f[1, 1]
+    m[1] = f[0, 2] * f[1, 0] - f[0, 0] * f[1, 2]
+    m[2] = f[0, 0] * f[1, 1] - f[0, 1] * f[1, 0]
+    if _apart(p2, p3, qs, e[0], e[1]) or _apart(p2, p3, qs, f[0], f[1]):
         return False
     for i in range(3):
         for j in range(3):
-            x = e[i, 1] * f[j, 2] - e[i, 2] * f[j, 1]
-            y = e[i, 2] * f[j, 0] - e[i, 0] * f[j, 2]
-            z = e[i, 0] * f[j, 1] - e[i, 1] * f[j, 0]
-            if _apart(p2, p3, q1, q2, q3, x, y, z):
+            if _apart(p2, p3, qs, e[i], f[j]):
                 return False
     for i in range(3):
-        x = e[i, 1] * n2 - e[i, 2] * n1
-        y = e[i, 2] * n0 - e[i, 0] * n2
-        z = e[i, 0] * n1 - e[i, 1] * n0
-        if _apart(p2, p3, q1, q2, q3, x, y, z):
-            return False
-    for j in range(3):
-        x = f[j, 1] * m2 - f[j, 2] * m1
-        y = f[j, 2] * m0 - f[j, 0] * m2
-        z = f[j, 0] * m1 - f[j, 1] * m0
-        if _apart(p2, p3, q1, q2, q3, x, y, z):
+        if _apart(p2, p3, qs, e[i], n) or _apart(p2, p3, qs, f[i], m):
             return False
     return True
 
@@ -402,7 +396,7 @@ def _crossing(
         tu[a] = -(rt[a, 0] * above[0] + rt[a, 1] * above[1] + rt[a, 2] * above[2])
     swept = tu[0] != tt[0] or tu[1] != tt[1] or tu[2] != tt[2]
     u = tu - tt  # the nut's shift in the bolt's frame from the one pose to the other
-    w = np.empty((11, 3))
+    w = np.empty((13, 3))
     lifted = np.empty((3, 3))
     stack = np.empty((_STACK, 2), np.int64)
     count = 0
