@@ -547,6 +547,6 @@ class CrossingQuery:
             if found <= len(self._out):
                 break
             self._out = np.empty((2 * found, 3), dtype=np.int64)
-        rows = self._out[: max(found, 1) if found < 0 else found]
+        rows = self._out[:1] if found < 0 else self._out[:found]  # -1: the pair at ``above``
         faces = np.column_stack([bolt.faces[rows[:, 0]], self.nut.faces[rows[:, 1]], rows[:, 2]])
         return found, faces
