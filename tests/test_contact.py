@@ -224,10 +224,11 @@ def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
 
 
 def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):
-    """The collision query's trees (contact/scene/_obb.py): each tree's leaves are its
-    group's triangles, once each, and every node's box (centre, orthonormal axes,
-    half-extents) holds every vertex of the triangles below it, checked vertex by vertex."""
-    from threadmate.contact.scene._obb import obb_forest
+    """The collision query's trees (contact/scene/_obb.py): each tree's leaves hold its
+    group's triangles, once each and at most LEAF_SIZE to a leaf, and every node's box
+    (centre, orthonormal axes, half-extents) holds every vertex of the triangles below it,
+    checked vertex by vertex."""
+    from threadmate.contact.scene._obb import LEAF_SIZE, obb_forest
 
     eng = analyzer.engine
     groups = [np.flatnonzero(eng.nut_sector == k) for k in (0, 9, 18)]
@@ -246,13 +247,15 @@ def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):
             if forest.leaf[node] < 0:
                 stack += [int(forest.left[node]), int(forest.right[node])]
         for node in reversed(order):  # the triangles below each node, children first
-            leaf = int(forest.leaf[node])
+            leaf, size = int(forest.leaf[node]), int(forest.size[node])
+            assert (leaf >= 0) == (1 <= size <= LEAF_SIZE) == (forest.left[node] < 0)
             below[node] = (
-                [leaf]
+                list(range(leaf, leaf + size))
                 if leaf >= 0
                 else below[int(forest.left[node])] + below[int(forest.right[node])]
             )
         assert sorted(forest.faces[below[root]].tolist()) == sorted(group.tolist())
+        assert np.array_equal(forest.triangles, eng.nut_vertices[eng.nut_faces[forest.faces]])
         for node in order:
             points = forest.triangles[below[node]].reshape(-1, 3) - forest.centre[node]
             local = np.abs(points @ forest.axes[node])

@@ -9,9 +9,12 @@ crossing pairs. Asked through python-fcl, every pair comes back as a Python obje
 two numpy arrays and each sector is its own call; here one compiled call walks the
 sectors' trees and returns the pairs as integers.
 
-The trees are FCL's kind, rebuilt: one triangle per leaf, each node's box oriented along
-the principal axes of its triangles' vertices (their covariance), its triangles split at
-the mean of their centroids along the box's major axis. A query works in the bolt's
+The trees are FCL's kind, rebuilt: each node's box oriented along the principal axes of
+its triangles' vertices (their covariance), its triangles split at the mean of their
+centroids along the box's major axis, down to leaves of two triangles (FCL's hold one:
+with two, a walk takes a level fewer of box tests, its dearest part, for a few more
+triangle tests; which pairs cross is the triangle test's answer either way, for a box
+holds its triangles). A query works in the bolt's
 frame, as FCL's mesh traversal does: the nut's boxes and triangles are moved into it
 (lazily, once per query each), a pair of boxes is kept unless one of the 15 axes of the
 separating-axis test parts them (with FCL's allowance of 1e-6 on the rotation's entries,
@@ -43,6 +46,10 @@ __all__ = ["CrossingQuery", "ObbForest", "obb_forest"]
 
 #: Box pairs a query's walk holds at once: far more than two trees' depths need.
 _STACK = 4096
+#: Most triangles in a leaf. Two: the walk's cost is its box tests (thousands per query,
+#: where the threads lie close all round), and a leaf of two saves the deepest level of
+#: them for a few more triangle tests; four or more cost more than they save.
+LEAF_SIZE = 2
 #: What a query asks (:func:`_crossing`): every crossing pair, whether any, or whether any
 #: in each tree of the nut asked.
 ALL, ANY, EACH = 0, 1, 2
@@ -61,10 +68,11 @@ class ObbForest(NamedTuple):
         and its half-extents along them ``(n, 3)``, in the mesh's frame.
     left, right : ndarray of int64
         Each node's children (-1 at a leaf).
-    leaf : ndarray of int64
-        A leaf's triangle (a row of ``triangles``; -1 at an inner node).
+    leaf, size : ndarray of int64
+        A leaf's first triangle (a row of ``triangles``) and how many it holds, from
+        that row on (at most :data:`LEAF_SIZE`); -1 and 0 at an inner node.
     triangles : ndarray
-        The triangles' vertices ``(m, 3, 3)``.
+        The triangles' vertices ``(m, 3, 3)``, in the trees' order (a leaf's together).
     faces : ndarray of int64
         Each triangle's face in the mesh.
     roots : ndarray of int64
@@ -77,6 +85,7 @@ class ObbForest(NamedTuple):
     left: NDArray[np.int64]
     right: NDArray[np.int64]
     leaf: NDArray[np.int64]
+    size: NDArray[np.int64]
     triangles: NDArray[np.float64]
     faces: NDArray[np.int64]
     roots: NDArray[np.int64]
@@ -138,16 +147,21 @@ def _build(
     NDArray[np.int64],
     NDArray[np.int64],
     NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
 ]:
-    """The trees over consecutive runs of ``tri`` (run ``g`` ends at ``groups[g]``)."""
+    """The trees over consecutive runs of ``tri`` (run ``g`` ends at ``groups[g]``): the
+    nodes' arrays as :class:`ObbForest` has them, the roots, and the order of ``tri`` in
+    which each leaf's triangles are consecutive."""
     m = tri.shape[0]
-    count = 2 * m - len(groups)
+    count = 2 * m - len(groups)  # the most nodes (one triangle per leaf)
     centre = np.empty((count, 3))
     axes = np.empty((count, 3, 3))
     extent = np.empty((count, 3))
     left = np.full(count, -1, np.int64)
     right = np.full(count, -1, np.int64)
     leaf = np.full(count, -1, np.int64)
+    size = np.zeros(count, np.int64)
     roots = np.empty(len(groups), np.int64)
     order = np.arange(m)
     centroid = np.empty((m, 3))
@@ -167,11 +181,15 @@ def _build(
             depth -= 1
             node, lo, hi = stack[depth, 0], stack[depth, 1], stack[depth, 2]
             c, ax, ex = _fit(tri, order, lo, hi)
-            centre[node] = c
-            axes[node] = ax
-            extent[node] = ex
-            if hi - lo == 1:
-                leaf[node] = order[lo]
+            # Element by element: a row assigned whole compiles numba's shape checks,
+            # seconds of a first run's compile.
+            for a in range(3):
+                centre[node, a] = c[a]
+                extent[node, a] = ex[a]
+                for b in range(3):
+                    axes[node, a, b] = ax[a, b]
+            if hi - lo <= LEAF_SIZE:
+                leaf[node], size[node] = lo, hi - lo
                 continue
             mean = 0.0
             for k in range(lo, hi):
@@ -195,7 +213,17 @@ def _build(
             used += 2
             depth += 2
         start = groups[g]
-    return centre, axes, extent, left, right, leaf, roots
+    return (
+        centre[:used],
+        axes[:used],
+        extent[:used],
+        left[:used],
+        right[:used],
+        leaf[:used],
+        size[:used],
+        roots,
+        order,
+    )
 
 
 def obb_forest(
@@ -206,8 +234,10 @@ def obb_forest(
     ids = np.concatenate([np.asarray(g, dtype=np.int64) for g in groups])
     tri = np.ascontiguousarray(np.asarray(vertices, dtype=float)[np.asarray(faces)[ids]])
     ends = np.cumsum([len(g) for g in groups]).astype(np.int64)
-    centre, axes, extent, left, right, leaf, roots = _build(tri, ends)
-    return ObbForest(centre, axes, extent, left, right, leaf, tri, ids, roots)
+    centre, axes, extent, left, right, leaf, size, roots, order = _build(tri, ends)
+    # The triangles in the trees' order: a leaf's together, and the walk's reads near one
+    # another.
+    return ObbForest(centre, axes, extent, left, right, leaf, size, tri[order], ids[order], roots)
 
 
 @inlined
@@ -332,27 +362,25 @@ def _moved(
         out[a] = rt[a, 0] * x[0] + rt[a, 1] * x[1] + rt[a, 2] * x[2] + tt[a]
 
 
+#: A forest's arrays as :func:`_crossing` takes them: centre, axes, extent, left, right,
+#: leaf, size, triangles (:class:`ObbForest`).
+_Arrays = tuple[
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.float64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.float64],
+]
+
+
 @compiled
 def _crossing(
-    b: tuple[
-        NDArray[np.float64],
-        NDArray[np.float64],
-        NDArray[np.float64],
-        NDArray[np.int64],
-        NDArray[np.int64],
-        NDArray[np.int64],
-        NDArray[np.float64],
-    ],
+    b: _Arrays,
     b_root: int,
-    n: tuple[
-        NDArray[np.float64],
-        NDArray[np.float64],
-        NDArray[np.float64],
-        NDArray[np.int64],
-        NDArray[np.int64],
-        NDArray[np.int64],
-        NDArray[np.float64],
-    ],
+    n: _Arrays,
     n_roots: NDArray[np.int64],
     rotation: NDArray[np.float64],
     origin: NDArray[np.float64],
@@ -371,7 +399,8 @@ def _crossing(
 ) -> int:
     """The crossing pairs of the bolt tree at ``b_root`` (the bolt's frame) at the pose
     ``(rotation, origin)`` and the nut trees at ``n_roots`` (the fixed frame), in that
-    order: ``out[k] = (bolt triangle, nut triangle, position in n_roots)``; returns how
+    order: ``out[k] = (bolt triangle, nut triangle, position in n_roots)`` (rows of the
+    forests' ``triangles``); returns how
     many (those past ``out``'s rows are counted, not written). ``mode``: :data:`ALL`
     pairs, :data:`ANY` (the first only), or :data:`EACH` tree's first.
 
@@ -385,8 +414,8 @@ def _crossing(
     axes, triangles), per node the ``stamp`` of the query that moved it (each is moved
     once, when the walk first meets it), and the boxes swept to the pose ``above``
     (centres, half-extents)."""
-    bc, ba, be, bl, br, bleaf, btri = b
-    nc, na, ne, nl, nr, nleaf, ntri = n
+    bc, ba, be, bl, br, bleaf, bsize, btri = b
+    nc, na, ne, nl, nr, nleaf, nsize, ntri = n
     mc, ma, mtri, seen, sc, se = moved
     rt = rotation.T.copy()
     tt = np.empty(3)
@@ -395,7 +424,11 @@ def _crossing(
         tt[a] = -(rt[a, 0] * origin[0] + rt[a, 1] * origin[1] + rt[a, 2] * origin[2])
         tu[a] = -(rt[a, 0] * above[0] + rt[a, 1] * above[1] + rt[a, 2] * above[2])
     swept = tu[0] != tt[0] or tu[1] != tt[1] or tu[2] != tt[2]
-    u = tu - tt  # the nut's shift in the bolt's frame from the one pose to the other
+    u = np.empty(3)  # the nut's shift in the bolt's frame from the one pose to the other
+    for a in range(3):
+        u[a] = tu[a] - tt[a]
+    # The nut's boxes as tested: swept between the two poses, or at the one.
+    cj, ej = (sc, se) if swept else (mc, ne)
     w = np.empty((13, 3))
     lifted = np.empty((3, 3))
     stack = np.empty((_STACK, 2), np.int64)
@@ -412,8 +445,7 @@ def _crossing(
                     for a in range(3):
                         ma[j, a, c] = rt[a, 0] * na[j, 0, c] + rt[a, 1] * na[j, 1, c]
                         ma[j, a, c] += rt[a, 2] * na[j, 2, c]
-                q = nleaf[j]
-                if q >= 0:
+                for q in range(nleaf[j], nleaf[j] + nsize[j]):
                     for v in range(3):
                         _moved(rt, tt, ntri[q, v], mtri[q, v])
                 if swept:
@@ -422,31 +454,35 @@ def _crossing(
                         se[j, c] = ne[j, c] + 0.5 * abs(along) + _SWEPT_SLACK
                         sc[j, c] = mc[j, c] + 0.5 * u[c]
                 seen[j] = stamp
-            if swept:
-                if _disjoint(bc[i], ba[i], be[i], sc[j], ma[j], se[j]):
-                    continue
-            elif _disjoint(bc[i], ba[i], be[i], mc[j], ma[j], ne[j]):
+            # (One call of the inlined test: each call is compiled in full.)
+            if _disjoint(bc[i], ba[i], be[i], cj[j], ma[j], ej[j]):
                 continue
-            p, q = bleaf[i], nleaf[j]
-            if p >= 0 and q >= 0:
-                if swept:
-                    for v in range(3):
-                        _moved(rt, tu, ntri[q, v], lifted[v])
-                    if _cross(btri[p], lifted, w):
-                        out[0, 0], out[0, 1], out[0, 2] = p, q, k
-                        return -1
-                if _cross(btri[p], mtri[q], w):
-                    if count < len(out):
-                        out[count, 0], out[count, 1], out[count, 2] = p, q, k
-                    count += 1
-                    if mode == ANY:
-                        return count
-                    if mode == EACH:
-                        depth = 0
+            bi, nj = bleaf[i], nleaf[j]
+            if bi >= 0 and nj >= 0:
+                first = False  # (EACH: this tree's first pair found)
+                for q in range(nj, nj + nsize[j]):
+                    if swept:
+                        for v in range(3):
+                            _moved(rt, tu, ntri[q, v], lifted[v])
+                    for p in range(bi, bi + bsize[i]):
+                        if swept and _cross(btri[p], lifted, w):
+                            out[0, 0], out[0, 1], out[0, 2] = p, q, k
+                            return -1
+                        if _cross(btri[p], mtri[q], w):
+                            if count < len(out):
+                                out[count, 0], out[count, 1], out[count, 2] = p, q, k
+                            count += 1
+                            if mode == ANY:
+                                return count
+                            if mode == EACH:
+                                depth, first = 0, True
+                                break
+                    if first:
+                        break
                 continue
             # The larger box (by its diagonal) is split first, as FCL does.
-            if q >= 0 or (
-                p < 0
+            if nj >= 0 or (
+                bi < 0
                 and be[i, 0] ** 2 + be[i, 1] ** 2 + be[i, 2] ** 2
                 > ne[j, 0] ** 2 + ne[j, 1] ** 2 + ne[j, 2] ** 2
             ):
@@ -457,6 +493,12 @@ def _crossing(
                 stack[depth + 1, 0], stack[depth + 1, 1] = i, nr[j]
             depth += 2
     return count
+
+
+def _arrays(forest: ObbForest) -> _Arrays:
+    """A forest's arrays as :func:`_crossing` takes them."""
+    f = forest
+    return (f.centre, f.axes, f.extent, f.left, f.right, f.leaf, f.size, f.triangles)
 
 
 class CrossingQuery:
@@ -471,7 +513,7 @@ class CrossingQuery:
 
     def __init__(self, nut: ObbForest) -> None:
         self.nut = nut
-        self._n = (nut.centre, nut.axes, nut.extent, nut.left, nut.right, nut.leaf, nut.triangles)
+        self._n = _arrays(nut)
         self._moved = (
             np.empty_like(nut.centre),
             np.empty_like(nut.axes),
@@ -524,7 +566,7 @@ class CrossingQuery:
         mode: int,
         above: NDArray[np.float64],
     ) -> tuple[int, NDArray[np.int64]]:
-        b = (bolt.centre, bolt.axes, bolt.extent, bolt.left, bolt.right, bolt.leaf, bolt.triangles)
+        b = _arrays(bolt)
         roots = self.nut.roots[trees]
         rotation = np.ascontiguousarray(rotation, dtype=float)
         origin = np.ascontiguousarray(origin, dtype=float)
