@@ -193,7 +193,9 @@ def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
     """The bracket's two questions asked in one walk of the trees (``pairs_below``):
     whether the bolt at a height is free and the pairs crossing a little lower are, pose by
     pose, those of the yes/no query at the one and the enumeration at the other, at
-    heights from above the nut to deep in it and drops from a hair to a pitch."""
+    heights from above the nut to deep in it and drops from a hair to a pitch. And the
+    walk's sweep answers between the two as the queries there do (of all sectors or some),
+    and covers no pose outside them."""
     from threadmate.contact.scene import CollisionPair
     from threadmate.geometry import Pose, spec_from_designation, thread_meshes
 
@@ -204,7 +206,7 @@ def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
     bolt, nut = thread_meshes(spec)
     eng = CollisionPair(bolt.mesh, nut.mesh)
     rng = np.random.default_rng(17)
-    seen = set()
+    seen, between = set(), set()
     for _ in range(80):
         size, direction = rng.uniform(0, 8), rng.uniform(0, 2 * np.pi)
         rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
@@ -213,14 +215,28 @@ def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
         drop = 10.0 ** rng.uniform(-7, np.log10(spec.pitch))
         top = Pose(rotation, np.array([shift[0], shift[1], h]))
         low = Pose(rotation, np.array([shift[0], shift[1], h - drop]))
-        found = eng.pairs_below(low, top)
+        sweep = eng.pairs_below(low, top)
         if eng.collides(top):
-            assert found is None
+            assert sweep is None
         else:
-            assert found is not None
-            np.testing.assert_array_equal(found, eng.pairs(low))
-        seen.add((found is None, found is not None and len(found) > 0))
+            assert sweep is not None
+            np.testing.assert_array_equal(sweep.pairs, eng.pairs(low))
+            sectors = frozenset(rng.choice(36, 12, replace=False).tolist())
+            for u in (0.0, 1.0, *rng.uniform(0, 1, 3)):
+                pose = Pose(rotation, np.array([shift[0], shift[1], h - u * drop]))
+                assert sweep.covers(pose)
+                np.testing.assert_array_equal(sweep.pairs_at(pose), eng.pairs(pose))
+                np.testing.assert_array_equal(
+                    sweep.pairs_at(pose, sectors), eng.pairs(pose, sectors)
+                )
+                assert sweep.collides_at(pose) == eng.collides(pose)
+                between.add(sweep.collides_at(pose))
+            for z, xy in ((h + 1e-9, shift), (h - drop - 1e-9, shift), (h, shift + 1e-9)):
+                assert not sweep.covers(Pose(rotation, np.array([xy[0], xy[1], z])))
+            assert not sweep.covers(Pose(_rot(size, 0.0, 1.0), top.origin))
+        seen.add((sweep is None, sweep is not None and len(sweep.pairs) > 0))
     assert seen == {(True, False), (False, True), (False, False)}
+    assert between == {True, False}
 
 
 def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):

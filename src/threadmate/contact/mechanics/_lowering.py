@@ -7,7 +7,10 @@ first touches (:func:`threadmate.contact.scene.vertical_touch`) gives the contac
 without bisection, and the gaps of the other contacts within the depth ``near``. A
 lowering that is kept is verified (:meth:`_Lowering.verified`): the pairs crossing just
 above its touch, and yes/no queries above it, find what the pairs at the bracket's foot
-missed. A motion finer than the length tolerance is lowered onto the pairs already known,
+missed. The verification asks between the bracket's top and foot, where the bracket's walk of the
+trees (swept between the two) has kept every pair that can cross: it is answered from those
+(:class:`threadmate.contact.scene.Sweep`), with no walk of its own. A motion finer than the
+length tolerance is lowered onto the pairs already known,
 with no query (:meth:`_Lowering._nudged`), and the nut's material above the bolt, where
 the bolt lies in the thread, is known as the pairs below are (:meth:`_Lowering._overhead`).
 """
@@ -20,7 +23,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from ..scene import pair_keys, upward, vertical_rise, vertical_touch
+from ...geometry import Pose
+from ..scene import Sweep, pair_keys, upward, vertical_rise, vertical_touch
 from ._held_bolt import _HeldBolt
 
 __all__: list[str] = []
@@ -51,6 +55,9 @@ class _Drop:
     over_pairs: NDArray[np.int64] | None = None
     rises: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))
     over_points: NDArray[np.float64] = field(default_factory=lambda: np.empty((0, 3)))
+    # The bracket's last walk, swept from ``top`` down (None: it was not swept), which
+    # answers the verification's queries between (Sweep.covers).
+    sweep: Sweep | None = None
 
 
 class _Lowering(_HeldBolt):
@@ -131,11 +138,15 @@ class _Lowering(_HeldBolt):
             # longer cross a little lower, so one enumeration below cannot tell. Where it is
             # not known free, one walk asks both: whether it is, and the pairs at ``low``.
             low = top - span - self.near
-            found = (
-                eng.pairs(self._pose(rotation, xy, low))
-                if known_free
-                else eng.pairs_below(self._pose(rotation, xy, low), self._pose(rotation, xy, top))
-            )
+            sweep = None
+            found: NDArray[np.int64] | None
+            if known_free:
+                found = eng.pairs(self._pose(rotation, xy, low))
+            else:
+                sweep = eng.pairs_below(
+                    self._pose(rotation, xy, low), self._pose(rotation, xy, top)
+                )
+                found = None if sweep is None else sweep.pairs
             if found is None:  # ``top`` collides
                 if reach is not None:
                     under = self._under(rotation, xy, top, reach)
@@ -187,12 +198,12 @@ class _Lowering(_HeldBolt):
                 # material whole (a thin tooth where a thread runs out on an end face).
                 low = hit
                 pairs, drop, points, more = self._with_pairs_at(
-                    rotation, xy, top, pairs, drop, points, low
+                    rotation, xy, top, pairs, drop, points, low, sweep=sweep
                 )
                 touch = max(touch, top - float(more[np.isfinite(more)].min(initial=math.inf)))
             if touch - low < self.near * (1 - 1e-9):
                 pairs, drop, points, _ = self._with_pairs_at(
-                    rotation, xy, top, pairs, drop, points, touch - self.near
+                    rotation, xy, top, pairs, drop, points, touch - self.near, sweep=sweep
                 )
             return self._touching(
                 _Drop(
@@ -206,6 +217,7 @@ class _Lowering(_HeldBolt):
                     pairs,
                     drop,
                     points,
+                    sweep=sweep,
                 )
             )
         raise RuntimeError("lowering the bolt did not settle on a bracket")
@@ -242,12 +254,18 @@ class _Lowering(_HeldBolt):
         touches: NDArray[np.float64],
         at: float,
         sectors: frozenset[int] | None = None,
+        sweep: Sweep | None = None,
     ) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """``pairs`` (with their ``drops`` from ``top`` and ``touches``) and the pairs that
         cross at the height ``at`` (of the nut's ``sectors``, default all) added; and the
-        drops of the pairs added."""
+        drops of the pairs added. Asked of ``sweep`` where it covers that pose."""
         eng = self.engine
-        found = eng.pairs(self._pose(rotation, xy, at), sectors)
+        pose = self._pose(rotation, xy, at)
+        found = (
+            sweep.pairs_at(pose, sectors)
+            if sweep is not None and sweep.covers(pose)
+            else eng.pairs(pose, sectors)
+        )
         new = found[~np.isin(pair_keys(found), pair_keys(pairs))]
         drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), new))
         return (
@@ -295,7 +313,7 @@ class _Lowering(_HeldBolt):
                 # At a probe that collides, anywhere.
                 around = eng.sectors_around(d.pairs) if above == d.zc + self.tolerance else None
                 pairs, drops, touches, more = self._with_pairs_at(
-                    d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, above, around
+                    d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, above, around, d.sweep
                 )
                 raised = more[np.isfinite(more)]
                 # (Touching just above within rounding is free there.)
@@ -304,7 +322,9 @@ class _Lowering(_HeldBolt):
                     above, probed = d.zc + self.tolerance, d.zc
                     continue
                 above = probed + self.probe
-                while above < d.top and not eng.collides(self._pose(d.rotation, d.xy, above)):
+                while above < d.top and not self._collides(
+                    self._pose(d.rotation, d.xy, above), d.sweep
+                ):
                     above += self.probe
                 probed = above
             if not (d.start - d.zc > 2 * self.near and self._embedded(d.rotation, d.xy, d.zc)):
@@ -319,13 +339,20 @@ class _Lowering(_HeldBolt):
                 raise RuntimeError("lowering the bolt passed the nut on a second try")
             d = found
 
+    def _collides(self, pose: Pose, sweep: Sweep | None) -> bool:
+        """Whether the bolt at ``pose`` meets the nut, asked of ``sweep`` where it covers
+        the pose."""
+        if sweep is not None and sweep.covers(pose):
+            return sweep.collides_at(pose)
+        return self.engine.collides(pose)
+
     def _deepened(self, d: _Drop, depth: float) -> _Drop:
         """``d`` knowing every contact within ``depth`` (more than ``near``) below its
         touch."""
         if depth <= self.near:
             return d
         pairs, drops, touches, _ = self._with_pairs_at(
-            d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, d.zc - depth
+            d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, d.zc - depth, sweep=d.sweep
         )
         return self._touching(replace(d, pairs=pairs, drops=drops, touches=touches), depth)
 
@@ -353,6 +380,7 @@ class _Lowering(_HeldBolt):
                 drops=drops,
                 touches=touches,
                 verified=True,
+                sweep=None,  # another pose
             )
         )
         # The material above as well: its pairs are those known (the motion is as small).

@@ -43,6 +43,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
     from ._collision import (
         CollisionPair as CollisionPair,
         MeshSolid as MeshSolid,
+        Sweep as Sweep,
         pair_keys as pair_keys,
         upward as upward,
     )
@@ -111,6 +112,7 @@ _SOURCES = {
     "._collision": (
         "CollisionPair",
         "MeshSolid",
+        "Sweep",
         "pair_keys",
         "upward",
     ),

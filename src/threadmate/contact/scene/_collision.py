@@ -38,7 +38,12 @@ Queries, each one yes/no question counted in :attr:`queries`:
 - :meth:`pairs_under_material`: the same, of only the nut faces turned down and the bolt
   faces that can face up at the bolt's tilt: every pair of the nut's material over the
   bolt, without asking of the flanks that carry the bolt, close to the nut all round,
-  which a query spends most of its time proving apart.
+  which a query spends most of its time proving apart;
+- :meth:`pairs_below`: whether the bolt is free at one pose and the pairs at a lower one
+  of the same rotation (two questions, one walk). The walk's boxes are swept between the
+  two, and it keeps the leaves whose boxes meet (a :class:`Sweep`): the pairs crossing at
+  any pose between are among them, and a lowering that asks again between (the
+  verification of its touch) is answered from them, with no walk of the trees.
 
 A mesh from CAD is taken as given: where it does not follow the spec (a point, a
 countersink or a chamfer the spec does not state) the spec's exact body is no measure of
@@ -60,7 +65,7 @@ from ..._angles import TWO_PI
 from ...geometry import Pose
 from ._obb import ALL, ANY, EACH, CrossingQuery, ObbForest, obb_forest
 
-__all__ = ["CollisionPair", "MeshSolid", "pair_keys", "upward"]
+__all__ = ["CollisionPair", "MeshSolid", "Sweep", "pair_keys", "upward"]
 
 #: Angular sectors of the nut, each its own tree (see the module docstring).
 SECTORS = 36
@@ -83,6 +88,63 @@ CORE_SHARE = 0.25
 #: Some of the bolt's faces as a tree (:class:`._obb.ObbForest` and the tree's number in
 #: it), and the same without the core's faces (None where the core holds none of them).
 _Bolt = tuple[ObbForest, int, int | None]
+
+
+class Sweep:
+    """One walk of the trees swept between two poses of one rotation, origins ``low`` and
+    ``high`` (:meth:`CollisionPair.pairs_below`): the pairs crossing at ``low``, and the
+    leaf pairs whose swept boxes met, among which lie the pairs crossing at any pose
+    between (:meth:`covers`), found there by the triangle test alone.
+
+    Attributes
+    ----------
+    pairs : ndarray of int64
+        The ``(bolt_face, nut_face)`` pairs crossing at the lower pose (sorted, unique).
+    """
+
+    def __init__(
+        self,
+        engine: CollisionPair,
+        bolt: tuple[ObbForest, int],
+        low: Pose,
+        high: Pose,
+        pairs: NDArray[np.int64],
+        nodes: NDArray[np.int64],
+    ) -> None:
+        self.pairs = pairs
+        self._engine = engine
+        self._bolt = bolt
+        self._rotation = low.rotation
+        self._origin = low.origin
+        self._heights = (min(low.origin[2], high.origin[2]), max(low.origin[2], high.origin[2]))
+        self._nodes = nodes  # (bolt node, nut node, sector)
+
+    def covers(self, pose: Pose) -> bool:
+        """Whether ``pose`` lies between the walk's two: the same rotation and XY of the
+        origin, its height between theirs, and the bolt's tree the one a query there
+        asks (or the whole bolt)."""
+        o = pose.origin
+        return (
+            self._heights[0] <= o[2] <= self._heights[1]
+            and o[0] == self._origin[0]
+            and o[1] == self._origin[1]
+            and np.array_equal(pose.rotation, self._rotation)
+            and self._bolt[1]
+            in (self._engine._bolt[1], self._engine._placed_at(self._engine._bolt, pose)[1])
+        )
+
+    def pairs_at(self, pose: Pose, sectors: frozenset[int] | None = None) -> NDArray[np.int64]:
+        """:meth:`CollisionPair.pairs` at a pose the walk covers (:meth:`covers`)."""
+        nodes = self._nodes
+        if sectors is not None:
+            nodes = nodes[np.isin(nodes[:, 2], list(sectors))]
+        found = self._engine._nut.among(self._bolt[0], nodes, pose.rotation, pose.origin, ALL)
+        return _unique_pairs(found)
+
+    def collides_at(self, pose: Pose) -> bool:
+        """:meth:`CollisionPair.collides` at a pose the walk covers (:meth:`covers`)."""
+        hit = self._engine._nut.among(self._bolt[0], self._nodes, pose.rotation, pose.origin, ANY)
+        return len(hit) > 0
 
 
 def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
@@ -508,16 +570,17 @@ class CollisionPair:
         asked = self._sectors if sectors is None else [k for k in self._sectors if k in sectors]
         return _unique_pairs(self._ask(asked, ALL))
 
-    def pairs_below(self, pose: Pose, above: Pose) -> NDArray[np.int64] | None:
+    def pairs_below(self, pose: Pose, above: Pose) -> Sweep | None:
         """None where the bolt at ``above`` (the same rotation as ``pose``) intersects the
-        nut (:meth:`collides`); else the intersecting pairs at ``pose`` (:meth:`pairs`).
-        Two queries (one where ``above`` intersects), asked in one walk of the trees."""
+        nut (:meth:`collides`); else the intersecting pairs at ``pose`` (:meth:`pairs`),
+        as the :class:`Sweep` that also answers between the two. Two queries (one where
+        ``above`` intersects), asked in one walk of the trees."""
         self._place(pose)
         forest, tree = self._placed
         if tree != self._placed_at(self._bolt, above)[1]:
             tree = self._bolt[1]  # the whole bolt: its core can reach the nut at one pose
         order = self._order
-        hit, found = self._nut.below(
+        hit, found, nodes = self._nut.below(
             forest,
             tree,
             np.array([self._tree[k] for k in order], dtype=np.int64),
@@ -530,7 +593,8 @@ class CollisionPair:
             order.insert(0, order.pop(int(found[0, 2])))
             return None
         self.queries += 1
-        return _unique_pairs(found)
+        nodes[:, 2] = np.asarray(order, dtype=np.int64)[nodes[:, 2]]
+        return Sweep(self, (forest, tree), pose, above, _unique_pairs(found), nodes)
 
     def pairs_under_material(self, pose: Pose) -> NDArray[np.int64]:
         """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose`` of a nut face

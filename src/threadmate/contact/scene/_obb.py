@@ -396,6 +396,7 @@ def _crossing(
     ],
     stamp: int,
     above: NDArray[np.float64],
+    kept: NDArray[np.int64],
 ) -> int:
     """The crossing pairs of the bolt tree at ``b_root`` (the bolt's frame) at the pose
     ``(rotation, origin)`` and the nut trees at ``n_roots`` (the fixed frame), in that
@@ -408,7 +409,11 @@ def _crossing(
     walk asks also whether the bolt at that pose crosses the nut: its boxes hold the nut's
     at both poses, and a leaf's triangles are tested at both. At the first pair crossing
     there, ``out[0]`` is that pair and the walk returns -1; else it returns the pairs at
-    ``origin`` (in :data:`ALL` mode). The two answers are those of two queries.
+    ``origin`` (in :data:`ALL` mode). The two answers are those of two queries. Such a
+    walk keeps the leaf pairs whose swept boxes meet, ``(bolt node, nut node, position in
+    n_roots)``, in ``kept[1:]`` (their count in ``kept[0, 0]``, those past its rows
+    counted, not written): every pair crossing at an origin between the two is among
+    them (:func:`_among`).
 
     ``moved`` holds the nut's boxes and triangles moved into the bolt's frame (centres,
     axes, triangles), per node the ``stamp`` of the query that moved it (each is moved
@@ -433,6 +438,7 @@ def _crossing(
     lifted = np.empty((3, 3))
     stack = np.empty((_STACK, 2), np.int64)
     count = 0
+    kept[0, 0] = 0
     for k in range(len(n_roots)):
         stack[0, 0], stack[0, 1] = b_root, n_roots[k]
         depth = 1
@@ -459,6 +465,11 @@ def _crossing(
                 continue
             bi, nj = bleaf[i], nleaf[j]
             if bi >= 0 and nj >= 0:
+                if swept:
+                    row = kept[0, 0] + 1
+                    if row < len(kept):
+                        kept[row, 0], kept[row, 1], kept[row, 2] = i, j, k
+                    kept[0, 0] = row
                 first = False  # (EACH: this tree's first pair found)
                 for q in range(nj, nj + nsize[j]):
                     if swept:
@@ -495,6 +506,46 @@ def _crossing(
     return count
 
 
+@compiled
+def _among(
+    b: _Arrays,
+    n: _Arrays,
+    nodes: NDArray[np.int64],
+    rotation: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    mode: int,
+    out: NDArray[np.int64],
+) -> int:
+    """The crossing pairs of the leaf pairs ``nodes`` (rows ``(bolt node, nut node,
+    tag)``), the bolt at the pose ``(rotation, origin)``: ``out[k] = (bolt triangle, nut
+    triangle, tag)``; returns how many (as :func:`_crossing`: those past ``out``'s rows
+    counted, not written; in :data:`ANY` ``mode`` the first only). Each pair is tested as
+    :func:`_crossing` tests it, the nut's triangles moved into the bolt's frame by the same
+    arithmetic: a walk at this pose that reaches those leaves finds the same pairs."""
+    bleaf, bsize, btri = b[5], b[6], b[7]
+    nleaf, nsize, ntri = n[5], n[6], n[7]
+    rt = rotation.T.copy()
+    tt = np.empty(3)
+    for a in range(3):
+        tt[a] = -(rt[a, 0] * origin[0] + rt[a, 1] * origin[1] + rt[a, 2] * origin[2])
+    w = np.empty((13, 3))
+    moved = np.empty((3, 3))
+    count = 0
+    for r in range(len(nodes)):
+        i, j = nodes[r, 0], nodes[r, 1]
+        for q in range(nleaf[j], nleaf[j] + nsize[j]):
+            for v in range(3):
+                _moved(rt, tt, ntri[q, v], moved[v])
+            for p in range(bleaf[i], bleaf[i] + bsize[i]):
+                if _cross(btri[p], moved, w):
+                    if count < len(out):
+                        out[count, 0], out[count, 1], out[count, 2] = p, q, nodes[r, 2]
+                    count += 1
+                    if mode == ANY:
+                        return count
+    return count
+
+
 def _arrays(forest: ObbForest) -> _Arrays:
     """A forest's arrays as :func:`_crossing` takes them."""
     f = forest
@@ -524,6 +575,7 @@ class CrossingQuery:
         )
         self._stamp = 0
         self._out = np.empty((1024, 3), dtype=np.int64)
+        self._kept = np.empty((4097, 3), dtype=np.int64)
 
     def __call__(
         self,
@@ -541,6 +593,27 @@ class CrossingQuery:
         found, rows = self._walk(bolt, tree, trees, rotation, origin, mode, origin)
         return rows
 
+    def among(
+        self,
+        bolt: ObbForest,
+        nodes: NDArray[np.int64],
+        rotation: NDArray[np.float64],
+        origin: NDArray[np.float64],
+        mode: int = ALL,
+    ) -> NDArray[np.int64]:
+        """``(bolt face, nut face, tag)`` of each crossing pair of the leaf pairs ``nodes``
+        (rows ``(bolt node, nut node, tag)``, as :meth:`below` keeps them) at the pose
+        ``(rotation, origin)``; in :data:`ANY` ``mode``, the first pair found."""
+        b = _arrays(bolt)
+        rotation = np.ascontiguousarray(rotation, dtype=float)
+        origin = np.ascontiguousarray(origin, dtype=float)
+        while True:
+            found = _among(b, self._n, nodes, rotation, origin, mode, self._out)
+            if found <= len(self._out):
+                break
+            self._out = np.empty((2 * found, 3), dtype=np.int64)
+        return self._faces(bolt, self._out[:found])
+
     def below(
         self,
         bolt: ObbForest,
@@ -549,12 +622,16 @@ class CrossingQuery:
         rotation: NDArray[np.float64],
         origin: NDArray[np.float64],
         above: NDArray[np.float64],
-    ) -> tuple[bool, NDArray[np.int64]]:
+    ) -> tuple[bool, NDArray[np.int64], NDArray[np.int64]]:
         """Whether the bolt at ``(rotation, above)`` crosses the nut's ``trees``, and, where
         it does not, the crossing pairs at ``(rotation, origin)`` (as :meth:`__call__`);
-        where it does, the first pair found there. One walk answers both."""
+        where it does, the first pair found there. One walk answers both. And the leaf
+        pairs whose boxes, swept between the two origins, met: ``(bolt node, nut node,
+        position in trees)`` rows, among which lie the pairs crossing at any origin
+        between (:meth:`among`; empty where ``above`` crosses)."""
         found, rows = self._walk(bolt, tree, trees, rotation, origin, ALL, above)
-        return found < 0, rows
+        kept = self._kept[1 : 1 + self._kept[0, 0]] if found >= 0 else self._kept[:0]
+        return found < 0, rows, kept.copy()
 
     def _walk(
         self,
@@ -585,10 +662,19 @@ class CrossingQuery:
                 self._moved,
                 self._stamp,
                 above,
+                self._kept,
             )
-            if found <= len(self._out):
+            if found < 0:
                 break
-            self._out = np.empty((2 * found, 3), dtype=np.int64)
+            if found > len(self._out):
+                self._out = np.empty((2 * found, 3), dtype=np.int64)
+            elif self._kept[0, 0] >= len(self._kept):
+                self._kept = np.empty((2 * self._kept[0, 0] + 1, 3), dtype=np.int64)
+            else:
+                break
         rows = self._out[:1] if found < 0 else self._out[:found]  # -1: the pair at ``above``
-        faces = np.column_stack([bolt.faces[rows[:, 0]], self.nut.faces[rows[:, 1]], rows[:, 2]])
-        return found, faces
+        return found, self._faces(bolt, rows)
+
+    def _faces(self, bolt: ObbForest, rows: NDArray[np.int64]) -> NDArray[np.int64]:
+        """``rows`` of triangles (the forests' rows) as the meshes' faces."""
+        return np.column_stack([bolt.faces[rows[:, 0]], self.nut.faces[rows[:, 1]], rows[:, 2]])
