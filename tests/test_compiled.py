@@ -34,3 +34,30 @@ def test_contact_points_group_as_the_connected_components_of_their_links():
         _, comp = connected_components(cdist(points, points) <= separation, directed=False)
         order = {c: k for k, c in enumerate(dict.fromkeys(comp.tolist()))}
         assert labels.tolist() == [order[c] for c in comp.tolist()]
+
+
+def test_warming_compiles_the_signatures_the_work_asks_for():
+    """The kernels warmed in either order (``contact.warm_kernels``, which a pool's workers
+    call first) take the argument types the work passes: after a rest state and a search
+    step of the default parts, no kernel holds a second compiled signature (one would
+    mean the warm-up compiled a signature the work never asks for)."""
+    from threadmate.contact import Compliance, Mechanics, search, warm_kernels
+    from threadmate.contact.mechanics import _contact_set
+    from threadmate.contact.scene import _kernels, _obb
+    from threadmate.geometry import with_parts
+
+    warm_kernels(reverse=True)
+    warm_kernels()
+    mech = Mechanics(with_parts("1/4-20 UNC-2A/2B"), Compliance())
+    mech.settle(1.0, -1.0, 100.0)
+    search(mech, 1.0, -1.0, 100.0, turns=0.05)
+    kernels = [
+        (module.__name__, name, kernel)
+        for module in (_obb, _kernels, _contact_set)
+        for name, kernel in vars(module).items()
+        if hasattr(kernel, "signatures") and hasattr(kernel, "py_func")
+    ]
+    assert len(kernels) >= 10
+    for module, name, kernel in kernels:
+        assert len(kernel.signatures) <= 1, (module, name, kernel.signatures)
+    assert all(len(k.signatures) == 1 for _, n, k in kernels if n in ("_build", "_crossing"))

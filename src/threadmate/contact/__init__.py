@@ -126,6 +126,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         engagement_outline as engagement_outline,
         off_spec_region as off_spec_region,
         region_at as region_at,
+        warm_kernels as warm_kernels,
     )
     from .thesis import (
         STAGES as STAGES,
@@ -165,6 +166,7 @@ _SOURCES = {
         "engagement_outline",
         "off_spec_region",
         "region_at",
+        "warm_kernels",
     ),
     ".thesis": (
         "ContactAnalyzer",

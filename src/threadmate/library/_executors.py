@@ -23,7 +23,7 @@ from typing import Any
 from .._errors import InputError
 from .._validate import check_workers
 from ._store import release_inherited_locks
-from ._workers import Job, run_chunk, with_mesh_contents
+from ._workers import Job, run_chunk, set_worker_rank, with_mesh_contents
 
 __all__ = [
     "check_execution",
@@ -55,11 +55,15 @@ class _InProcess:
         pass
 
 
-def _watch_parent(pids: Any) -> None:
-    """Pool-worker initialiser: report this worker's pid, and exit when the sweep that
-    started it dies (a SIGKILL leaves no chance to stop the pool; without this its
-    workers would finish their chunk, minutes of work, for nobody)."""
+def _watch_parent(pids: Any, ranks: Any) -> None:
+    """Pool-worker initialiser: report this worker's pid, take the next rank (the
+    workers' order among themselves, :func:`._workers.set_worker_rank`), and exit when
+    the sweep that started it dies (a SIGKILL leaves no chance to stop the pool; without
+    this its workers would finish their chunk, minutes of work, for nobody)."""
     pids.put(os.getpid())
+    with ranks.get_lock():
+        set_worker_rank(ranks.value)
+        ranks.value += 1
     release_inherited_locks()  # the library's lock is the sweep's, not this worker's
     parent = os.getppid()
 
@@ -86,7 +90,7 @@ class _Pool:
             max_workers=workers,
             mp_context=context,
             initializer=_watch_parent,
-            initargs=(self._pids,),
+            initargs=(self._pids, context.Value("i", 0)),
         )
 
     def submit(self, job: Job, ids: list[int]) -> cf.Future:

@@ -45,6 +45,7 @@ __all__ = [
     "local_mesh_path",
     "mesh_files",
     "run_chunk",
+    "set_worker_rank",
     "with_mesh_contents",
 ]
 
@@ -164,11 +165,29 @@ def local_mesh_path(mesh: MeshFile) -> str:
 FRICTION_COLUMN = "friction"
 
 _LOCAL = threading.local()
+#: This process's rank among a pool's workers (None: not a pool's worker, or not yet
+#: warmed, see :func:`_worker_for`).
+_RANK: list[int | None] = [None]
+
+
+def set_worker_rank(rank: int) -> None:
+    """Record this pool worker's rank (0, 1, ...): its first job warms the compiled
+    kernels in the order of its rank's parity."""
+    _RANK[0] = rank
 
 
 def _worker_for(job: Job) -> Any:
     """This worker's Mechanics (or thesis analyser) for ``job``, built on first use and
-    kept."""
+    kept.
+
+    A pool's worker first warms the compiled kernels, odd ranks in the reverse order
+    (:func:`threadmate.contact.warm_kernels`): on a machine whose numba cache is empty,
+    the workers then compile each kernel about once between them, not once each."""
+    if _RANK[0] is not None:
+        from ..contact import warm_kernels
+
+        warm_kernels(reverse=_RANK[0] % 2 == 1)
+        _RANK[0] = None
     if getattr(_LOCAL, "key", None) != job.key:
         _LOCAL.worker = None  # free the old meshes before building new ones
         meshes = job.mesh_arguments()

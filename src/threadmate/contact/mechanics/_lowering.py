@@ -266,6 +266,8 @@ class _Lowering(_HeldBolt):
             if sweep is not None and sweep.covers(pose)
             else eng.pairs(pose, sectors)
         )
+        if len(found) == 0:  # (most verifications: nothing to add)
+            return pairs, drops, touches, np.empty(0)
         new = found[~np.isin(pair_keys(found), pair_keys(pairs))]
         drop, points = vertical_touch(*eng.triangles(self._pose(rotation, xy, top), new))
         return (

@@ -137,7 +137,9 @@ class Sweep:
         """:meth:`CollisionPair.pairs` at a pose the walk covers (:meth:`covers`)."""
         nodes = self._nodes
         if sectors is not None:
-            nodes = nodes[np.isin(nodes[:, 2], list(sectors))]
+            asked = np.zeros(SECTORS, dtype=bool)
+            asked[list(sectors)] = True
+            nodes = nodes[asked[nodes[:, 2]]]
         found = self._engine._nut.among(self._bolt[0], nodes, pose.rotation, pose.origin, ALL)
         return _unique_pairs(found)
 
@@ -157,7 +159,9 @@ def _unique_pairs(found: NDArray[np.int64]) -> NDArray[np.int64]:
     major): one integer key each, whose 1-D unique sorts them as the rows'
     lexicographic unique would, at a fraction of its cost."""
     key = np.unique(pair_keys(found[:, :2]))
-    return np.column_stack([key // _KEY, key % _KEY])
+    pairs = np.empty((len(key), 2), dtype=np.int64)
+    pairs[:, 0], pairs[:, 1] = np.divmod(key, _KEY)
+    return pairs
 
 
 def upward(triangles: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -677,4 +677,8 @@ class CrossingQuery:
 
     def _faces(self, bolt: ObbForest, rows: NDArray[np.int64]) -> NDArray[np.int64]:
         """``rows`` of triangles (the forests' rows) as the meshes' faces."""
-        return np.column_stack([bolt.faces[rows[:, 0]], self.nut.faces[rows[:, 1]], rows[:, 2]])
+        faces = np.empty_like(rows)
+        faces[:, 0] = bolt.faces[rows[:, 0]]
+        faces[:, 1] = self.nut.faces[rows[:, 1]]
+        faces[:, 2] = rows[:, 2]
+        return faces
