@@ -11,17 +11,16 @@ sectors' trees and returns the pairs as integers.
 
 The trees are FCL's kind, rebuilt: each node's box oriented along the principal axes of
 its triangles' vertices (their covariance), its triangles split at the mean of their
-centroids along the box's major axis, down to leaves of two triangles (FCL's hold one:
-with two, a walk takes a level fewer of box tests, its dearest part, for a few more
-triangle tests; which pairs cross is the triangle test's answer either way, for a box
-holds its triangles). A query works in the bolt's
-frame, as FCL's mesh traversal does: the nut's boxes and triangles are moved into it
-(lazily, once per query each), a pair of boxes is kept unless one of the 15 axes of the
-separating-axis test parts them (with FCL's allowance of 1e-6 on the rotation's entries,
-which only keeps more pairs), the larger box (by its diagonal) is split first, and two
-leaves' triangles cross unless one of the 17 axes of RAPID's triangle test (Gottschalk,
-Lin and Manocha, SIGGRAPH 1996: the two normals, the nine products of their edges and
-the six in-plane edge normals) separates them, touching counting as crossing. These are
+centroids along the box's major axis, down to leaves of :data:`LEAF_SIZE` triangles
+(which pairs cross is the triangle test's answer whatever the leaves hold, for a box
+holds its triangles). A query works in the bolt's frame, as FCL's mesh traversal does:
+the nut's boxes and triangles are moved into it (lazily, once per query each), a pair of
+boxes is kept unless one of the 15 axes of the separating-axis test parts them (with
+FCL's allowance of 1e-6 on the rotation's entries, which only keeps more pairs), the
+larger box (by its diagonal) is split first, and two leaves' triangles cross unless one
+of the 17 axes of RAPID's triangle test (Gottschalk, Lin and Manocha, SIGGRAPH 1996: the
+two normals, the nine products of their edges and the six in-plane edge normals)
+separates them, touching counting as crossing. These are
 the tests python-fcl applies, and on the queries of the default parts' searches the two
 return the same pairs (``tests/test_contact.py`` checks it at poses of its own).
 
@@ -30,7 +29,9 @@ its bracket, and which pairs cross at its foot a little lower. One walk answers 
 (:meth:`CrossingQuery.below`): each nut box is swept between the two poses (its
 half-extents grown by half the shift along each axis, which holds it at either pose), and
 a leaf's triangles are tested at each; the walk stops at the first pair crossing at the
-top. Near contact the two walks would visit nearly the same boxes.
+top. Near contact the two walks would visit nearly the same boxes. Such a walk keeps the
+leaf pairs whose swept boxes met: the pairs crossing at any pose between the two are
+among them, and :func:`_among` finds them by the triangle test alone.
 """
 
 from __future__ import annotations
@@ -46,10 +47,10 @@ __all__ = ["CrossingQuery", "ObbForest", "obb_forest"]
 
 #: Box pairs a query's walk holds at once: far more than two trees' depths need.
 _STACK = 4096
-#: Most triangles in a leaf. Two: the walk's cost is its box tests (thousands per query,
-#: where the threads lie close all round), and a leaf of two saves the deepest level of
-#: them for a few more triangle tests; four or more cost more than they save.
-LEAF_SIZE = 2
+#: Most triangles in a leaf. One, as FCL has it: a leaf of two saves the walk its deepest
+#: level of box tests for more triangle tests, which the default parts' sweeps gain
+#: nothing by and the flat parts' lose a fifth of their time to; four or more cost more.
+LEAF_SIZE = 1
 #: What a query asks (:func:`_crossing`): every crossing pair, whether any, or whether any
 #: in each tree of the nut asked.
 ALL, ANY, EACH = 0, 1, 2
