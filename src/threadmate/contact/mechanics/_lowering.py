@@ -7,12 +7,12 @@ first touches (:func:`threadmate.contact.scene.vertical_touch`) gives the contac
 without bisection, and the gaps of the other contacts within the depth ``near``. A
 lowering that is kept is verified (:meth:`_Lowering.verified`): the pairs crossing just
 above its touch, and yes/no queries above it, find what the pairs at the bracket's foot
-missed. The verification asks between the bracket's top and foot, where the bracket's walk of the
-trees (swept between the two) has kept every pair that can cross: it is answered from those
-(:class:`threadmate.contact.scene.Sweep`), with no walk of its own. A motion finer than the
-length tolerance is lowered onto the pairs already known,
-with no query (:meth:`_Lowering._nudged`), and the nut's material above the bolt, where
-the bolt lies in the thread, is known as the pairs below are (:meth:`_Lowering._overhead`).
+missed. It asks between the bracket's top and foot, where the bracket's walk of the trees
+(swept between the two) has kept every pair that can cross: it is answered from those
+(:class:`threadmate.contact.scene.Sweep`), with no walk of its own. A motion finer than
+the length tolerance is lowered onto the pairs already known, with no query
+(:meth:`_Lowering._nudged`), and the nut's material above the bolt, where the bolt lies
+in the thread, is known as the pairs below are (:meth:`_Lowering._overhead`).
 """
 
 from __future__ import annotations

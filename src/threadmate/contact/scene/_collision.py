@@ -114,6 +114,7 @@ class Sweep:
         self.pairs = pairs
         self._engine = engine
         self._bolt = bolt
+        self._whole = bolt[1] == engine._bolt[1]  # the whole bolt's tree, core and all
         self._rotation = low.rotation
         self._origin = low.origin
         self._heights = (min(low.origin[2], high.origin[2]), max(low.origin[2], high.origin[2]))
@@ -121,16 +122,15 @@ class Sweep:
 
     def covers(self, pose: Pose) -> bool:
         """Whether ``pose`` lies between the walk's two: the same rotation and XY of the
-        origin, its height between theirs, and the bolt's tree the one a query there
-        asks (or the whole bolt)."""
-        o = pose.origin
+        origin, its height between theirs, and the walk's tree of the bolt the whole one
+        or the one a query at ``pose`` asks."""
+        o, engine = pose.origin, self._engine
         return (
             self._heights[0] <= o[2] <= self._heights[1]
             and o[0] == self._origin[0]
             and o[1] == self._origin[1]
             and np.array_equal(pose.rotation, self._rotation)
-            and self._bolt[1]
-            in (self._engine._bolt[1], self._engine._placed_at(self._engine._bolt, pose)[1])
+            and (self._whole or engine._placed_at(engine._bolt, pose)[1] == self._bolt[1])
         )
 
     def pairs_at(self, pose: Pose, sectors: frozenset[int] | None = None) -> NDArray[np.int64]:

@@ -402,9 +402,9 @@ def _crossing(
     """The crossing pairs of the bolt tree at ``b_root`` (the bolt's frame) at the pose
     ``(rotation, origin)`` and the nut trees at ``n_roots`` (the fixed frame), in that
     order: ``out[k] = (bolt triangle, nut triangle, position in n_roots)`` (rows of the
-    forests' ``triangles``); returns how
-    many (those past ``out``'s rows are counted, not written). ``mode``: :data:`ALL`
-    pairs, :data:`ANY` (the first only), or :data:`EACH` tree's first.
+    forests' ``triangles``); returns how many (those past ``out``'s rows are counted, not
+    written). ``mode``: :data:`ALL` pairs, :data:`ANY` (the first only), or :data:`EACH`
+    tree's first.
 
     Where ``above`` differs from ``origin`` (a second origin, the bolt as rotated), the
     walk asks also whether the bolt at that pose crosses the nut: its boxes hold the nut's
