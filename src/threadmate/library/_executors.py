@@ -23,7 +23,7 @@ from typing import Any
 from .._errors import InputError
 from .._validate import check_workers
 from ._store import release_inherited_locks
-from ._workers import Job, run_chunk, set_worker_rank, with_mesh_contents
+from ._workers import Job, prepare_inherited, run_chunk, set_worker_rank, with_mesh_contents
 
 __all__ = [
     "check_execution",
@@ -92,8 +92,15 @@ class _Pool:
             initializer=_watch_parent,
             initargs=(self._pids, context.Value("i", 0)),
         )
+        # Forked workers start at the first submit and inherit what this process holds.
+        self._forks = context.get_start_method() == "fork"
+        self._started = False
 
     def submit(self, job: Job, ids: list[int]) -> cf.Future:
+        if not self._started:
+            self._started = True
+            if self._forks:
+                prepare_inherited(job)
         return self.pool.submit(run_chunk, job, ids)
 
     def wait_first(self, futures: set[Any]) -> set[Any]:

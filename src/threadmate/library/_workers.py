@@ -32,7 +32,7 @@ from ..contact import (
     Compliance,
     blank_row,
 )
-from ..geometry import ThreadSpec
+from ..geometry import ThreadSpec, thread_meshes
 from ._grid import AnyGrid
 from ._held_tilt import states_of_held_tilt, states_over_frictions
 from ._store import library_schema
@@ -44,6 +44,7 @@ __all__ = [
     "describe_analyzer",
     "local_mesh_path",
     "mesh_files",
+    "prepare_inherited",
     "run_chunk",
     "set_worker_rank",
     "with_mesh_contents",
@@ -174,6 +175,16 @@ def set_worker_rank(rank: int) -> None:
     """Record this pool worker's rank (0, 1, ...): its first job warms the compiled
     kernels in the order of its rank's parity."""
     _RANK[0] = rank
+
+
+def prepare_inherited(job: Job) -> None:
+    """Build ``job``'s generated meshes in this process, before it forks a pool's workers:
+    they inherit them (:func:`threadmate.geometry.thread_meshes` keeps them per process)
+    instead of each tessellating its own, and so does this process's report after the
+    sweep. A job whose meshes all come from CAD, or whose analyser is the caller's own,
+    builds nothing here."""
+    if job.analyzer is None and (job.bolt_mesh is None or job.nut_mesh is None):
+        thread_meshes(job.spec, job.chord)
 
 
 def _worker_for(job: Job) -> Any:

@@ -23,12 +23,14 @@ Layout of the output folder::
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import math
+import multiprocessing
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Generic, TypeVar
 
 from .._io import atomic_write_text, remove_stale_temporaries
 from .._json import json_text
@@ -59,7 +61,7 @@ from ..design import (
     snap_detection,
 )
 from ..geometry import ThreadSpec
-from ..library import Grid, info, load, sweep, write_figures
+from ..library import Grid, cpu_count, info, load, sweep, write_figures
 from ..network import (
     WEIGHT_FORMULA,
     Recommendation,
@@ -83,6 +85,8 @@ from ._defaults import RUN_GRID
 from ._folder import check_run_folder
 
 __all__ = ["RunResult", "run_pipeline"]
+
+_T = TypeVar("_T")
 
 
 @dataclass(frozen=True)
@@ -224,39 +228,33 @@ def run_pipeline(
     figures: dict[str, Path] = {}
     figures["recommendation"] = plot_recommendation(rec, figdir / "recommendation.png")
     signature = _click_signature_start(outcomes, rec)
+    pages: list[Path] = []
     traced: SearchResult | None = None
     failed = ""  # why the signature's search failed, if it did
-    pages: list[Path] = []
+    signature_search = None
     if signature is not None:
+        figures["click_signature"] = figdir / "click-signature.png"  # (drawn below)
         # The search itself from that start, at its own resolution (every step, both sides
         # of each event), on the library's mechanics; the library holds grid phases only.
-        mech = Mechanics(
+        # It runs beside the design stage below, which needs none of it.
+        scene = {
+            "chord": chord,
+            "bolt_mesh": bolt_mesh,
+            "nut_mesh": nut_mesh,
+            "mesh_units": mesh_units,
+            "max_faces": max_faces,
+        }
+        signature_search = _Beside(
+            workers,
+            _signature_search,
             spec,
             compliances[0],
-            scene=contact_scene(
-                spec,
-                chord=chord,
-                bolt_mesh=bolt_mesh,
-                nut_mesh=nut_mesh,
-                mesh_units=mesh_units,
-                max_faces=max_faces,
-            ),
+            scene,
+            signature,
+            step,
+            figures["click_signature"],
+            out / "views",
         )
-        try:
-            traced = search(mech, *signature, step=step)
-        except Exception as exc:  # noqa: BLE001 - the library's path stands in for it
-            failed = f"{type(exc).__name__}: {exc}"
-        if traced is not None:
-            figures["click_signature"] = plot_search(
-                traced, figdir / "click-signature.png", spec=spec
-            )
-            doc = {**traced.to_dict(), "mesh": mech.scene.mesh_info, "spec": spec.to_dict()}
-            pages.append(write_start_views(out / "views", doc, spec))
-        else:
-            path = least_resistance_path(graph, *signature)
-            figures["click_signature"] = plot_click_signature(
-                graph, path, figdir / "click-signature.png"
-            )
     figures["click_vs_tilt"] = plot_click_vs_tilt(
         outcomes, figdir / "click-vs-tilt.png", spec.units
     )
@@ -317,6 +315,14 @@ def run_pipeline(
     )
     figures["region_disk"] = plot_region_disk(spec, figdir / "planar-region-disk.png")
     figures["pivot_axes"] = plot_pivot_axes(spec, figdir / "planar-pivot-axes.png")
+    if signature_search is not None:
+        assert signature is not None
+        traced, failed, page = signature_search.result()
+        if page is not None:
+            pages.append(page)
+        if traced is None:
+            path = least_resistance_path(graph, *signature)
+            plot_click_signature(graph, path, figures["click_signature"])
 
     meshes = dict(lib_info["metadata"].get("mesh") or {})
     counts = {f"starts {k}": v for k, v in lib_info["classifications"].items()}
@@ -360,6 +366,50 @@ def run_pipeline(
         design_files,
         _tolerated(envelopes[lead]) if lead_text else None,
     )
+
+
+def _signature_search(
+    spec: ThreadSpec,
+    compliance: Compliance,
+    scene: dict[str, Any],
+    signature: tuple[float, float, float],
+    step: float,
+    figure: Path,
+    views: Path,
+) -> tuple[SearchResult | None, str, Path | None]:
+    """The search from the click signature's start, its figure and its page: the search
+    (None where it failed), why it failed, the page."""
+    mech = Mechanics(spec, compliance, scene=contact_scene(spec, **scene))
+    try:
+        traced = search(mech, *signature, step=step)
+    except Exception as exc:  # noqa: BLE001 - the library's path stands in for it
+        return None, f"{type(exc).__name__}: {exc}", None
+    plot_search(traced, figure, spec=spec)
+    doc = {**traced.to_dict(), "mesh": mech.scene.mesh_info, "spec": spec.to_dict()}
+    return traced, "", write_start_views(views, doc, spec)
+
+
+class _Beside(Generic[_T]):
+    """``fn(*args)`` in a process forked from this one, while this one goes on; in this
+    process at once where there is no core to spare (one worker asked for, or one CPU)
+    or processes are not forked here (they would import and build everything anew).
+    :meth:`result` waits for it; the forked process ends with it."""
+
+    def __init__(self, workers: int | None, fn: Callable[..., _T], *args: Any) -> None:
+        self._pool: cf.ProcessPoolExecutor | None = None
+        if (workers or cpu_count()) > 1 and multiprocessing.get_start_method() == "fork":
+            self._pool = cf.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context())
+            self._future = self._pool.submit(fn, *args)
+        else:
+            self._value = fn(*args)
+
+    def result(self) -> _T:
+        if self._pool is None:
+            return self._value
+        try:
+            return self._future.result()
+        finally:
+            self._pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _tolerated(env: Envelope) -> dict[str, Any]:

@@ -429,9 +429,14 @@ class _Lowering(_HeldBolt):
         # first (one product per point), the whole transform for those alone.
         rot, origin = pose.rotation, pose.origin
         bolt_z = (self._nut_top - origin) @ rot[:, 2]
-        nut_z = self._bolt_tip @ rot[2] + origin[2]
+        turned_z = self._bolt_tip @ rot[2]
+        nut_z = turned_z + origin[2]
         bolt, nut = an.bolt, an.nut
         m = self.tolerance  # a margin: rounding differs from the full transform's
+        # And only the bolt's points that can reach past the nut's least radius (below): a
+        # rotation keeps a point's distance from the origin, so its radius about the axis
+        # once turned follows from its height alone, and the shift moves it by |xy| at most.
+        reach = max(0.0, nut.profile.r_lo - math.hypot(origin[0], origin[1]) - m)
         candidates = (
             (
                 bolt,
@@ -441,7 +446,13 @@ class _Lowering(_HeldBolt):
             ),
             (
                 nut,
-                pose.to_fixed(self._bolt_tip[(nut_z >= nut.z_min - m) & (nut_z <= nut.z_max + m)]),
+                pose.to_fixed(
+                    self._bolt_tip[
+                        (nut_z >= nut.z_min - m)
+                        & (nut_z <= nut.z_max + m)
+                        & (self._bolt_tip_sq - turned_z**2 >= reach**2)
+                    ]
+                ),
             ),
         )
         for body, points in candidates:
