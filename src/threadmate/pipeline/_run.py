@@ -27,6 +27,7 @@ import concurrent.futures as cf
 import math
 import multiprocessing
 import os
+import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -391,13 +392,19 @@ def _signature_search(
 
 class _Beside(Generic[_T]):
     """``fn(*args)`` in a process forked from this one, while this one goes on; in this
-    process at once where there is no core to spare (one worker asked for, or one CPU)
-    or processes are not forked here (they would import and build everything anew).
-    :meth:`result` waits for it; the forked process ends with it."""
+    process at once where there is no core to spare (one worker asked for, or one CPU),
+    processes are not forked here (they would import and build everything anew) or this
+    process has run a Dask client (a fork copies its threads' locks, held or not, and the
+    sweep's Dask workers are not this host's cores). :meth:`result` waits for it; the
+    forked process ends with it."""
 
     def __init__(self, workers: int | None, fn: Callable[..., _T], *args: Any) -> None:
         self._pool: cf.ProcessPoolExecutor | None = None
-        if (workers or cpu_count()) > 1 and multiprocessing.get_start_method() == "fork":
+        if (
+            (workers or cpu_count()) > 1
+            and multiprocessing.get_start_method() == "fork"
+            and "distributed" not in sys.modules
+        ):
             self._pool = cf.ProcessPoolExecutor(1, mp_context=multiprocessing.get_context())
             self._future = self._pool.submit(fn, *args)
         else:
