@@ -394,9 +394,8 @@ class _Beside(Generic[_T]):
     """``fn(*args)`` in a process forked from this one, while this one goes on; in this
     process at once where there is no core to spare (one worker asked for, or one CPU),
     processes are not forked here (they would import and build everything anew) or this
-    process has run a Dask client (a fork copies its threads' locks, held or not, and the
-    sweep's Dask workers are not this host's cores). :meth:`result` waits for it; the
-    forked process ends with it."""
+    process has run a Dask client (a fork copies its threads' locks, held or not).
+    :meth:`result` waits for it; the forked process ends with it."""
 
     def __init__(self, workers: int | None, fn: Callable[..., _T], *args: Any) -> None:
         self._pool: cf.ProcessPoolExecutor | None = None
