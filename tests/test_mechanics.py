@@ -315,6 +315,46 @@ def test_kkt_where_the_thread_starts_meet_edge_to_edge(mech, quarter_20, cfg):
     assert any((c.bolt_feature, c.nut_feature) == ("rim", "rim") for c in loaded), loaded
 
 
+def test_embedded_vertices_as_every_vertex_tested_finds_them(mech, q20_rests):
+    """The lowering's test for a mesh vertex sunk deep into the other exact body tests
+    only the points that can lie there (by height, and the bolt's by their distance from
+    the axis once turned); tested here at every vertex of the bolt's tip and the nut's
+    top, about the heights where the first vertex sinks deep, at rest poses and shifted
+    sideways: the same verdicts either side."""
+    an = mech.scene
+    depth = 2 * an.deviation + mech.tolerance
+
+    def every_vertex(rotation, xy, zc):
+        pose = mech._pose(rotation, xy, zc)
+        for body, points in (
+            (an.bolt, pose.to_bolt(mech._nut_top)),
+            (an.nut, pose.to_fixed(mech._bolt_tip)),
+        ):
+            points = points[(points[:, 2] >= body.z_min) & (points[:, 2] <= body.z_max)]
+            inside = points[body.contains(points)]
+            if np.any(body.surface_distance(inside) > depth):
+                return True
+        return False
+
+    rng = np.random.default_rng(11)
+    for rest in q20_rests.values():
+        s = rest.state
+        rotation = mech._rotation(np.radians([s.roll, s.pitch]), s.phase)
+        angle = rng.uniform(0.0, 2 * math.pi)
+        aside = 0.015 * np.array([math.cos(angle), math.sin(angle)])
+        for shift in (np.zeros(2), rng.uniform(-3e-3, 3e-3, 2), aside):
+            xy = np.asarray(s.centre[:2], dtype=float) + shift
+            # The sink at which the first vertex lies deep, by bisection on every vertex:
+            # there the one vertex (or few) that decides must be among those tested.
+            free, sunk = s.centre[2] + 0.3, s.centre[2] - 0.01
+            assert not every_vertex(rotation, xy, free) and every_vertex(rotation, xy, sunk)
+            while free - sunk > 1e-7:
+                mid = 0.5 * (free + sunk)
+                free, sunk = (free, mid) if every_vertex(rotation, xy, mid) else (mid, sunk)
+            assert not mech._embedded(rotation, xy, free), (s.roll, s.pitch, s.phase, shift)
+            assert mech._embedded(rotation, xy, sunk), (s.roll, s.pitch, s.phase, shift)
+
+
 @pytest.mark.parametrize(
     "which, cfg", [("q20", c) for c in Q20_CONFIGS] + [("m6", c) for c in M6_CONFIGS]
 )
