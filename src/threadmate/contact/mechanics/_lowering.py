@@ -434,8 +434,8 @@ class _Lowering(_HeldBolt):
         bolt, nut = an.bolt, an.nut
         m = self.tolerance  # a margin: rounding differs from the full transform's
         # And only the bolt's points that can reach past the nut's least radius (below): a
-        # rotation keeps a point's distance from the origin, so its radius about the axis
-        # once turned follows from its height alone, and the shift moves it by |xy| at most.
+        # rotation keeps a point's distance from the origin, so its distance from the axis
+        # once turned follows from that and its height, and the shift adds |xy| at most.
         reach = max(0.0, nut.profile.r_lo - math.hypot(origin[0], origin[1]) - m)
         candidates = (
             (
