@@ -21,7 +21,7 @@ from threadmate.contact import (
     off_spec_region,
     region_at,
 )
-from threadmate.contact.scene import Feature, feature_at, lowest_on_rim
+from threadmate.contact.scene import Feature, edge_crossing, feature_at, lowest_on_rim
 from threadmate.contact.scene._exact import (  # internals with no public form
     _edge_points,
     _signed_distance,
@@ -310,3 +310,113 @@ def test_kink_edge_points_lie_on_cone_and_thread_nearest_the_anchor(chamfered):
             assert abs(point[2] - z_true) < 1e-12
             r = math.hypot(point[0], point[1])
             assert abs(r - (SINK / 2 + point[2] * math.tan(half))) < 1e-12
+
+
+def _followed(gap, thetas: np.ndarray, z0: float, span: float) -> np.ndarray:
+    """Heights where ``gap(z, theta) = 0`` along ``thetas``, each the root nearest the one
+    before (the first nearest ``z0``), bracketed on steps of a 400th of a pitch within
+    ``span`` of it."""
+    out, z = np.empty(len(thetas)), z0
+    grid = np.arange(1, int(span / (PITCH / 400)) + 1) * (PITCH / 400)
+    for i, theta in enumerate(thetas):
+        for d in grid:
+            lo, hi = z - d, z - d + PITCH / 400
+            if np.signbit(gap(lo, theta)) != np.signbit(gap(hi, theta)):
+                break
+            lo, hi = z + d - PITCH / 400, z + d
+            if np.signbit(gap(lo, theta)) != np.signbit(gap(hi, theta)):
+                break
+        else:
+            raise AssertionError("no root near the edge")
+        z = out[i] = brentq(gap, lo, hi, args=(theta,), xtol=1e-15)
+    return out
+
+
+def _edge(kind: str, body: str, sink: bool, thetas: np.ndarray, z0: float) -> np.ndarray:
+    """Points of an exact edge at ``thetas`` (its body's frame), from the closed forms:
+    the kink where the 45-degree chamfer (bolt) or the 90-degree countersink (nut) meets
+    the sharp thread, the tip circle of the chamfer, the outline of a flat end face at
+    z = 0, or the helix of the nut's sharp corner at its minor radius through height
+    ``z0`` at ``thetas[0]``."""
+    lead = PITCH
+    if kind == "kink":
+        cone = (lambda z: TIP / 2 + z) if body == "bolt" else (lambda z: SINK / 2 + z)
+
+        def gap(z: float, theta: float) -> float:
+            return _sharp_radius(z - lead * theta / (2 * math.pi), body) - cone(z)
+
+        z = _followed(gap, thetas, z0, PITCH / 2)
+        r = np.array([cone(h) for h in z])
+    elif kind == "circle":
+        r, z = np.full(len(thetas), TIP / 2), np.zeros(len(thetas))
+    elif kind == "rim":
+        r = np.array([_sharp_radius(-lead * t / (2 * math.pi), body) for t in thetas])
+        z = np.zeros(len(thetas))
+    else:  # the nut's corner at its minor radius
+        r = np.full(len(thetas), NUT["minor"] / 2)
+        z = z0 + lead * (thetas - thetas[0]) / (2 * math.pi)
+    return np.column_stack([r * np.cos(thetas), r * np.sin(thetas), z])
+
+
+@pytest.mark.parametrize(
+    ("nut_edge", "bolt_edge", "ends"),
+    [
+        ("kink", "kink", "chamfered"),
+        ("kink", "circle", "chamfered"),
+        ("rim", "rim", "flat"),
+        ("corner", "rim", "flat"),
+    ],
+)
+def test_two_exact_edges_cross_where_both_pass_over_one_point(nut_edge, bolt_edge, ends):
+    """Two exact edges crossing seen along Z (an edge-on-edge contact): the crossing found
+    from points of both nearby lies on both edges (the closed forms above) at one x, y,
+    and is the crossing a brute-force search of the two sampled edges finds."""
+    chamfer = ends == "chamfered"
+    spec = _spec(
+        BoltPoint("chamfer", angle=45.0, diameter=TIP) if chamfer else BoltPoint("flat"),
+        Countersink(90.0, SINK) if chamfer else None,
+    )
+    nut, bolt = nut_body(spec), bolt_body(spec)
+    tilt = math.radians(1.5)
+    rotation = np.array(
+        [
+            [1.0, 0.0, 0.0],
+            [0.0, math.cos(tilt), -math.sin(tilt)],
+            [0.0, math.sin(tilt), math.cos(tilt)],
+        ]
+    )
+    # Heights on the edges at the first angle: a kink's root nearest the middle of the
+    # cone's band; the nut's corner where the thread leaves its minor radius.
+    a4 = PITCH / 4 - (NUT["minor"] / 2 - NUT["pitch_diameter"] / 2) / math.sqrt(3)
+    # Around angle 0 for the kinks; where the flat ends' outlines run along the flanks
+    # (not the crest or root flats) for the rims.
+    centre = 0.0 if nut_edge == "kink" else -1.5
+    thetas = centre + np.linspace(-1.0, 1.0, 2001)
+    z_nut = {"kink": -0.02, "rim": 0.0, "corner": a4 + PITCH * thetas[0] / (2 * math.pi)}
+    z_bolt = {"kink": 0.02, "circle": 0.0, "rim": 0.0}
+    nut_pts = _edge(nut_edge, "nut", chamfer, thetas, z_nut[nut_edge])
+    bolt_b = _edge(bolt_edge, "bolt", chamfer, thetas, z_bolt[bolt_edge])
+    # The bolt's axis 0.03 in off the nut's, in the direction that puts a crossing of the
+    # edges' outlines (circles of their radii at the centre angle, roughly) there: they
+    # cross at an angle, not tangentially.
+    r_nut, r_bolt, off = np.hypot(*nut_pts[1000, :2]), np.hypot(*bolt_b[1000, :2]), 0.03
+    side = -math.acos((r_nut**2 + off**2 - r_bolt**2) / (2 * r_nut * off))
+    side += centre
+    pose = Pose(rotation, np.array([off * math.cos(side), off * math.sin(side), 0.05]))
+    bolt_f = pose.to_fixed(bolt_b)
+    d = np.hypot(nut_pts[:, None, 0] - bolt_f[None, :, 0], nut_pts[:, None, 1] - bolt_f[None, :, 1])
+    i, j = np.unravel_index(int(np.argmin(d)), d.shape)
+    assert d[i, j] < 3e-4  # the samples' spacing: 1e-3 rad at r ~ 0.1
+    q, w = edge_crossing(nut, bolt, pose, nut_pts[i], bolt_f[j], TOL, 0.01)
+    assert w is not None
+    assert np.hypot(q[0] - w[0], q[1] - w[1]) < 1e-10
+    # On both edges: each point where its closed form puts the edge at its own angle.
+    for pts, body, edge, z0, theta0 in (
+        (q, "nut", nut_edge, nut_pts[i, 2], thetas[i]),
+        (pose.to_bolt(w), "bolt", bolt_edge, bolt_b[j, 2], thetas[j]),
+    ):
+        angle = math.atan2(pts[1], pts[0])
+        at = _edge(edge, body, chamfer, np.array([theta0, angle]), z0)[1]
+        np.testing.assert_allclose(pts, at, atol=1e-10)
+    # And the crossing the sampled edges bracket.
+    assert np.linalg.norm(q[:2] - nut_pts[i, :2]) < 3e-4

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, overload
 
 import numpy as np
@@ -183,6 +184,12 @@ class Envelope:
     def signed_distance(self, r: ArrayLike, z: ArrayLike) -> NDArray[np.float64]:
         """Distance in the meridian plane to the envelope surface, positive on the air
         side (exact: the surface is one of revolution)."""
+        if isinstance(r, float) and isinstance(z, float):  # (as :meth:`radius`)
+            if self.kind == "cone":
+                at = (r - self.r0 - self.slope_rz * z) / math.hypot(1.0, self.slope_rz)
+            else:
+                at = float(np.hypot(r, z - self.z0)) - self.rho
+            return np.float64(self.side * at)
         r = np.asarray(r, dtype=float)
         z = np.asarray(z, dtype=float)
         if self.kind == "cone":
@@ -199,7 +206,7 @@ class Envelope:
         h = math.hypot(r, z - self.z0) or 1.0
         return self.side * r / h, self.side * (z - self.z0) / h
 
-    @property
+    @cached_property
     def face_radius(self) -> float:
         """Radius of the envelope's circle on the end face at ``z = 0``."""
         return float(self.radius(0.0))

@@ -231,15 +231,21 @@ class Profile:
         cu, rho = self.centre_lo[0], self.fillet_lo
         return (u - cu) / math.sqrt(max(rho * rho - (u - cu) ** 2, 1e-300))
 
+    def _region_names(self) -> tuple[str, str, str, str]:
+        """The profile's pieces by increasing ``u = |t|``: the flat at the major diameter,
+        its arc, the arc at the minor diameter and its flat (the flank is ``F``)."""
+        if self.body == "bolt":
+            return "crest", "CF", "RF", "root"
+        return "root", "RF", "CF", "crest"
+
     def region(self, t: ArrayLike) -> NDArray[np.str_]:
         """Region name (``crest``, ``+CF``, ... ``-CF``) of the profile at ``t``."""
+        if isinstance(t, float):  # (as :meth:`radius`: the same choice, one number)
+            return np.asarray(self._region_at(_wrap1(t, self.pitch)))
         t = wrap_t(t, self.pitch)
         u = np.abs(t)
         a1, a2, a3, a4 = self.breakpoints
-        if self.body == "bolt":
-            flat_hi, arc_hi, arc_lo, flat_lo = "crest", "CF", "RF", "root"
-        else:
-            flat_hi, arc_hi, arc_lo, flat_lo = "root", "RF", "CF", "crest"
+        flat_hi, arc_hi, arc_lo, flat_lo = self._region_names()
         side = np.where(t < 0, "+", "-")
         kind = np.select(
             [u <= a1, u <= a2, u <= a3, u <= a4],
@@ -248,6 +254,18 @@ class Profile:
         ).astype(object)
         signed = np.char.add(side.astype(str), kind.astype(str))
         return np.where(np.isin(kind, ("crest", "root")), kind.astype(str), signed)
+
+    def _region_at(self, t: float) -> str:
+        """:meth:`region` at one wrapped ``t``."""
+        u = abs(t)
+        a1, a2, a3, a4 = self.breakpoints
+        flat_hi, arc_hi, arc_lo, flat_lo = self._region_names()
+        if u <= a1:
+            return flat_hi
+        kind = arc_hi if u <= a2 else "F" if u <= a3 else arc_lo if u <= a4 else flat_lo
+        if kind in ("crest", "root"):
+            return kind
+        return ("+" if t < 0 else "-") + kind
 
     def region_bounds(self) -> list[tuple[str, float, float]]:
         """``(region, t_start, t_end)`` for each non-empty region, ordered in ``t``."""

@@ -168,7 +168,10 @@ def upward(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
     """The Z part of each triangle's outward normal, unnormalised (the meshes wind their
     triangles outward): positive for a face turned up."""
     t = np.asarray(triangles, dtype=float)
-    return np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])[:, 2]
+    a, b = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
+    # ``np.cross(a, b)[:, 2]`` by its formula: the lowering asks a few triangles at a time,
+    # where its axis handling costs more than the products.
+    return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
 
 
 def _axis_distance(triangles: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -45,6 +45,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from numpy.typing import NDArray
@@ -52,7 +53,17 @@ from scipy.optimize import brentq
 
 from ..._angles import SQRT3, TWO_PI
 from ...geometry import Pose, ThreadBody
-from ._kernels import kink_height, kink_heights, signed_distance
+from ._kernels import (
+    CIRCLE,
+    HELIX,
+    KINK,
+    RIM,
+    EdgeCurve,
+    _arrays,
+    crossing_of_edges,
+    kink_heights,
+    signed_distance,
+)
 
 __all__ = [
     "Feature",
@@ -267,6 +278,11 @@ def _sharp_corners(body: ThreadBody) -> list[float]:
     return out
 
 
+def _cap_normal(body: ThreadBody) -> NDArray[np.float64]:
+    """Outward unit normal of the body's end face (a new array: callers keep it)."""
+    return np.array([0.0, 0.0, -1.0 if body.kind == "bolt" else 1.0])
+
+
 def _bevel_normal(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
     """Outward unit normal of the body's point or countersink surface at ``p``."""
     assert body.envelope is not None
@@ -296,13 +312,13 @@ def _bevel_feature(
     d_env = abs(float(env.signed_distance(r, z)))
     face = env.face_radius
     over_cap = r <= face + tol if body.kind == "bolt" else r >= face - tol
-    cap_normal = np.array([0.0, 0.0, -1.0 if body.kind == "bolt" else 1.0])
     near_cap = d_cap <= tol and over_cap
     near_env = d_env <= tol
     if near_cap and near_env:
-        side = cap_normal + _bevel_normal(body, p)
+        side = _cap_normal(body) + _bevel_normal(body, p)
         return Feature("rim", None, _rim_tangent(body, p), _unit(side))
     if near_cap or (over_cap and d_cap < min(d_thread, d_env)):
+        cap_normal = _cap_normal(body)
         return Feature("cap", cap_normal, None, cap_normal)
     bounds = math.isfinite(e) and (e < R if body.kind == "bolt" else e > R)
     if near_env and d_thread <= tol:
@@ -352,13 +368,13 @@ def feature_at(
         if found is not None:
             return found
     over_cap = r <= R + tol if body.kind == "bolt" else r >= R - tol
-    cap_normal = np.array([0.0, 0.0, -1.0 if body.kind == "bolt" else 1.0])
     near_cap = d_cap <= tol and over_cap
     near_thread = d_thread <= tol
     if near_cap and near_thread:
-        side = cap_normal + _helical_normal(body, p, t)
+        side = _cap_normal(body) + _helical_normal(body, p, t)
         return Feature("rim", None, _rim_tangent(body, p), _unit(side))
     if near_cap or (over_cap and d_cap < d_thread):
+        cap_normal = _cap_normal(body)
         return Feature("cap", cap_normal, None, cap_normal)
     # A sharp corner: the profile point nearest to (t, r) is within tol of a corner.
     u = abs(t)
@@ -433,7 +449,7 @@ def region_at(
     if feature.kind in ("bevel", "kink"):
         assert body.envelope is not None
         return body.envelope.region
-    return str(body.profile.region(body.t_of(math.atan2(p[1], p[0]), p[2])))
+    return str(body.profile.region(_t_of(body, math.atan2(p[1], p[0]), float(p[2]))))
 
 
 #: Labels of contacts on a CAD mesh where it does not follow the spec's exact surfaces.
@@ -498,6 +514,18 @@ def _signed_distance(body: ThreadBody, points_b: NDArray[np.float64]) -> NDArray
     """
     p = np.ascontiguousarray(points_b, dtype=float).reshape(-1, 3)
     return signed_distance(body, p, np.arctan2(p[:, 1], p[:, 0]))
+
+
+#: The sample numbers of a refinement's grid along an edge (:func:`_grid`).
+_SAMPLES = np.arange(17.0)
+
+
+def _grid(half: float) -> NDArray[np.float64]:
+    """``np.linspace(-half, half, 17)`` by numpy's own arithmetic (its argument handling
+    costs more than the grid, asked three times per edge refined)."""
+    y = _SAMPLES * ((half - -half) / 16) + -half
+    y[-1] = half
+    return y
 
 
 def _edge_points(
@@ -632,7 +660,7 @@ def _refine(
     half = window / max(math.hypot(anchor[0], anchor[1]), 1e-300)
     best = theta0
     for _ in range(3):
-        angles = best + np.linspace(-half, half, 17)
+        angles = best + _grid(half)
         values = gap(_edge_points(edge_body, edge, anchor, angles))
         j = int(np.argmin(values))
         best = float(angles[j])
@@ -645,51 +673,28 @@ def _refine(
     return to_f(_edge_points(edge_body, edge, anchor, np.array([best])))[0]
 
 
-def _edge_curve(
-    body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]
-) -> Callable[[float], tuple[float, float, float]]:
-    """:func:`_edge_points` at one polar angle, in plain floats: the point of the exact
-    edge through ``anchor`` (body frame) at that angle."""
-    prof = body.profile
+def _edge_curve(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]) -> EdgeCurve:
+    """The exact edge of ``feature`` through ``anchor`` (body frame), as
+    :func:`._kernels.crossing_of_edges` follows it (the points :func:`_edge_points` gives)."""
+    got = _arrays(body)
+    hand_lead = float(body.hand * body.lead)
     env = body.envelope
+    curve = partial(EdgeCurve, prof=got.prof, env=got.env, rise=got.rise, hand_lead=hand_lead)
     if env is not None and feature.kind == "kink":
-        last = [float(anchor[2])]  # the root before, to follow the kink from
-
-        def kink(angle: float) -> tuple[float, float, float]:
-            z = last[0] = kink_height(body, angle, last[0])
-            r = float(env.radius(z))
-            return r * math.cos(angle), r * math.sin(angle), z
-
-        return kink
+        return curve(KINK, radius=0.0, height=float(anchor[2]), angle=0.0)
     if env is not None and feature.kind == "rim":
-        r_rim, z_cap = env.face_radius, body.cap_z
-
-        def circle(angle: float) -> tuple[float, float, float]:
-            return r_rim * math.cos(angle), r_rim * math.sin(angle), z_cap
-
-        return circle
+        return curve(CIRCLE, radius=env.face_radius, height=body.cap_z, angle=0.0)
     if feature.kind == "rim":
-        z_cap = body.cap_z
-
-        def rim(angle: float) -> tuple[float, float, float]:
-            r = float(prof.radius(_t_of(body, angle, z_cap)))
-            return r * math.cos(angle), r * math.sin(angle), z_cap
-
-        return rim
+        return curve(RIM, radius=0.0, height=body.cap_z, angle=0.0)
     theta0 = math.atan2(anchor[1], anchor[0])
     r = math.hypot(anchor[0], anchor[1])
     z0 = float(anchor[2])
-    t0 = _t_of(body, theta0, z0)
     corners = _sharp_corners(body)
     if corners:
+        t0 = _t_of(body, theta0, z0)
         uc = min(corners, key=lambda u: abs(abs(t0) - u))
-        r = float(prof.radius(uc))
-    rise = body.hand * body.lead
-
-    def helix(angle: float) -> tuple[float, float, float]:
-        return r * math.cos(angle), r * math.sin(angle), z0 + rise * (angle - theta0) / TWO_PI
-
-    return helix
+        r = float(body.profile.radius(uc))
+    return curve(HELIX, radius=r, height=z0, angle=theta0)
 
 
 def _edge_crossing(
@@ -706,46 +711,19 @@ def _edge_crossing(
     the nut edge's point and the bolt edge's above or below it (fixed frame);
     ``(point_f, None)`` when it does not converge within ``window``."""
     anchor_b = pose.to_bolt(point_f)
-    nut_at = _edge_curve(nut, fn, point_f)
-    bolt_at = _edge_curve(bolt, fb, anchor_b)
-    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = pose.rotation.tolist()
-    o0, o1, o2 = pose.origin.tolist()
-
-    def bolt_f(angle: float) -> tuple[float, float, float]:
-        x, y, z = bolt_at(angle)
-        return (
-            r00 * x + r01 * y + r02 * z + o0,
-            r10 * x + r11 * y + r12 * z + o1,
-            r20 * x + r21 * y + r22 * z + o2,
-        )
-
-    def gap(a: float, b: float) -> tuple[float, float]:
-        q, w = nut_at(a), bolt_f(b)
-        return q[0] - w[0], q[1] - w[1]
-
-    # Plain floats throughout: a 2 x 2 Newton solve is a few hundred flops, and numpy's
-    # per-call overhead on arrays this small would outweigh them.
     a = math.atan2(point_f[1], point_f[0])
     b = math.atan2(anchor_b[1], anchor_b[0])
-    h = 1e-7
-    for _ in range(8):
-        g0, g1 = gap(a, b)
-        ga0, ga1 = gap(a + h, b)
-        gb0, gb1 = gap(a, b + h)
-        j00, j01 = (ga0 - g0) / h, (gb0 - g0) / h
-        j10, j11 = (ga1 - g1) / h, (gb1 - g1) / h
-        det = j00 * j11 - j01 * j10
-        if det == 0.0 or not math.isfinite(det):
-            return point_f, None
-        da = (j01 * g1 - j11 * g0) / det
-        db = (j10 * g0 - j00 * g1) / det
-        a, b = a + da, b + db
-        if not (math.isfinite(a) and math.isfinite(b)):
-            return point_f, None
-        if max(abs(da), abs(db)) < 1e-12:
-            break
-    q = np.array(nut_at(a))
-    w = np.array(bolt_f(b))
+    found = crossing_of_edges(
+        _edge_curve(nut, fn, point_f),
+        _edge_curve(bolt, fb, anchor_b),
+        pose.rotation,
+        pose.origin,
+        a,
+        b,
+    )
+    if found is None:
+        return point_f, None
+    q, w = found
     if not np.all(np.isfinite(q)) or float(np.linalg.norm(q - point_f)) > window:
         return point_f, None
     return q, w
@@ -783,7 +761,7 @@ def lowest_on_rim(
     best = theta0
     up = pose.rotation[2]  # only heights are compared: the transform's third row
     for _ in range(3):
-        angles = best + np.linspace(-half, half, 17)
+        angles = best + _grid(half)
         heights = _edge_points(bolt, rim, anchor, angles) @ up
         best = float(angles[int(np.argmin(heights))])
         half /= 8

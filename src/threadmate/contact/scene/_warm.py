@@ -20,7 +20,16 @@ from collections.abc import Callable
 import numpy as np
 
 from ...geometry import bolt_body, spec_from_designation
-from ._kernels import kink_height, kink_heights, signed_distance, vertical_touch
+from ._kernels import (
+    KINK,
+    EdgeCurve,
+    _arrays,
+    crossing_of_edges,
+    kink_height,
+    kink_heights,
+    signed_distance,
+    vertical_touch,
+)
 from ._obb import ALL, ANY, CrossingQuery, ObbForest, obb_forest
 
 __all__ = ["warm_kernels"]
@@ -75,6 +84,9 @@ def _exact() -> None:
     kink_heights(body, np.zeros(2), 0.0)
     p = np.zeros((1, 3))
     signed_distance(body, p, np.arctan2(p[:, 1], p[:, 0]))
+    got = _arrays(body)
+    kink = EdgeCurve(KINK, got.prof, got.env, got.rise, float(body.lead), 0.0, 0.0, 0.0)
+    crossing_of_edges(kink, kink, np.eye(3), np.zeros(3), 0.0, 1.0)
 
 
 #: The kernels' calls, in the forward order: the trees' build and the walk, the two
