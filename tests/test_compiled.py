@@ -61,3 +61,64 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     for module, name, kernel in kernels:
         assert len(kernel.signatures) <= 1, (module, name, kernel.signatures)
     assert all(len(k.signatures) == 1 for _, n, k in kernels if n in ("_build", "_crossing"))
+
+
+def test_processes_warming_the_kernels_compile_each_step_once(tmp_path, monkeypatch):
+    """Two processes warming at once (a pool's workers, in their alternate orders) take
+    turns: each step is done first by one of them alone, and the other does it only once
+    that one has finished (numba then loads what the first saved). Steps here stand in for
+    the kernels: the first to run one "compiles" it (0.3 s, then marks it done), a later
+    run "loads" it; each records when it ran."""
+    import multiprocessing
+    import time
+
+    from threadmate.contact.scene import _warm
+
+    done, log = tmp_path / "done", tmp_path / "log"
+    done.mkdir()
+
+    def step(name: str):
+        def run() -> None:
+            start = time.monotonic()
+            compiled = not (done / name).exists()
+            if compiled:
+                time.sleep(0.3)
+                (done / name).touch()
+            with open(log, "a") as out:
+                out.write(f"{name} {compiled} {start} {time.monotonic()}\n")
+
+        run.__name__ = name
+        return run
+
+    monkeypatch.setattr(_warm, "_STEPS", tuple(step(n) for n in "abcd"))
+    monkeypatch.setattr(_warm, "_lock_folder", lambda: tmp_path / "locks")
+    context = multiprocessing.get_context("fork")
+    workers = [context.Process(target=_warm.warm_kernels, args=(r,)) for r in (False, True)]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join(30)
+        assert w.exitcode == 0
+    runs: dict[str, list[tuple[bool, float, float]]] = {}
+    for line in log.read_text().splitlines():
+        name, compiled, start, end = line.split()
+        runs.setdefault(name, []).append((compiled == "True", float(start), float(end)))
+    assert sorted(runs) == list("abcd")
+    for name, (first, second) in ((n, sorted(r, key=lambda x: x[1])) for n, r in runs.items()):
+        assert (first[0], second[0]) == (True, False), name  # compiled once, then loaded
+        assert second[1] >= first[2], name  # not while the other compiled it
+    # Each compiled two of the four (in its own order), none waiting for the other first.
+    assert (
+        max(end for r in runs.values() for _, _, end in r)
+        - min(start for r in runs.values() for _, start, _ in r)
+        < 4 * 0.3
+    )
+
+
+def test_kernels_warmed_aside_in_a_process_that_ends():
+    from threadmate.contact import warm_kernels_aside
+
+    process = warm_kernels_aside()
+    assert process is not None and process.daemon  # this machine has two CPUs and fork
+    process.join(300)
+    assert process.exitcode == 0

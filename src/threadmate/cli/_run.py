@@ -164,6 +164,11 @@ def run_command(
     # A bad range is refused before the stages load (the pipeline checks it again).
     given = {"roll": roll, "pitch": pitch, "phase": phase}
     Grid.parse(*(RUN_GRID[k] if v is None else v for k, v in given.items()))
+    # One core compiles the kernels (on a machine whose cache is empty) while this one
+    # loads the stages and prepares the sweep.
+    from ..contact import warm_kernels_aside
+
+    warm_kernels_aside()
     from ..pipeline import check_run_folder, run_pipeline  # every stage, once the options are read
 
     try:  # a folder of the user's is not written into (a previous run's is resumed)

@@ -127,6 +127,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         off_spec_region as off_spec_region,
         region_at as region_at,
         warm_kernels as warm_kernels,
+        warm_kernels_aside as warm_kernels_aside,
     )
     from .thesis import (
         STAGES as STAGES,
@@ -167,6 +168,7 @@ _SOURCES = {
         "off_spec_region",
         "region_at",
         "warm_kernels",
+        "warm_kernels_aside",
     ),
     ".thesis": (
         "ContactAnalyzer",

@@ -81,7 +81,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         touch_points as touch_points,
     )
     from ._vertical import vertical_rise as vertical_rise, vertical_touch as vertical_touch
-    from ._warm import warm_kernels as warm_kernels
+    from ._warm import warm_kernels as warm_kernels, warm_kernels_aside as warm_kernels_aside
 
 
 #: The submodule of each public name, imported when the name is first used (PEP 562).
@@ -147,7 +147,7 @@ _SOURCES = {
         "OFF_SPEC_FACTOR",
         "TRAVEL_TOLERANCE",
     ),
-    "._warm": ("warm_kernels",),
+    "._warm": ("warm_kernels", "warm_kernels_aside"),
     "._triangles": (
         "cluster_location",
         "cluster_segments",

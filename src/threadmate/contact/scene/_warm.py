@@ -1,12 +1,15 @@
 """The scene's compiled kernels warmed: each compiled, or loaded from numba's on-disk
-cache, by one small call, in either of two orders.
+cache, by one small call, the processes that warm them taking turns.
 
 On a machine whose cache is empty, every process that asks the kernels compiles them:
-a pool's workers each do the same seconds of work at once. Two workers that warm them
-in opposite orders share it instead: numba looks in its on-disk cache at a kernel's
-first call, so a kernel one worker has compiled and saved, the other loads; they meet
-about halfway. With the cache warm, each call only loads what the work would load
-anyway.
+a pool's workers would each do the same seconds of work at once. numba looks in its
+on-disk cache at a kernel's first call, so a kernel one process has compiled and saved,
+another loads. The processes that warm the kernels therefore take turns (a lock file per
+step, where the platform has ``fcntl``): each first compiles the steps no other is
+compiling, in its own order, then waits for the others' and loads them. Each step is
+compiled once between them. With the cache warm, each call only loads what the work
+would load anyway. :func:`warm_kernels_aside` starts one more such process at once, to
+compile while its caller imports and prepares (a command's first seconds use one core).
 
 Each call passes arguments of the types the work passes (C-ordered float64 and int64
 arrays), so that it compiles the very signature the work asks for
@@ -15,10 +18,17 @@ arrays), so that it compiles the very signature the work asks for
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import contextlib
+import multiprocessing
+import os
+import tempfile
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
 
 import numpy as np
 
+from ..._compiled import COMPILED
 from ...geometry import bolt_body, spec_from_designation
 from ._kernels import (
     KINK,
@@ -32,7 +42,7 @@ from ._kernels import (
 )
 from ._obb import ALL, ANY, CrossingQuery, ObbForest, obb_forest
 
-__all__ = ["warm_kernels"]
+__all__ = ["warm_kernels", "warm_kernels_aside"]
 
 
 def _triangles() -> tuple[np.ndarray, np.ndarray]:
@@ -92,10 +102,91 @@ def _exact() -> None:
 #: The kernels' calls, in the forward order: the trees' build and the walk, the two
 #: dearest to compile, at either end.
 _STEPS: tuple[Callable[[], None], ...] = (_trees, _touch, _exact, _walks)
+#: Longest wait for another process's turn at a step (seconds): beyond it (that process
+#: stalled, or numba cannot save to its cache) this one compiles the step itself.
+_WAIT = 60.0
+
+
+def _lock_folder() -> Path | None:
+    """Where the steps' lock files live (None: no ``fcntl`` here, the processes do not
+    take turns)."""
+    try:
+        import fcntl  # noqa: F401
+    except ImportError:  # pragma: no cover - not on Linux or macOS
+        return None
+    owner = os.getuid() if hasattr(os, "getuid") else 0
+    return Path(tempfile.gettempdir()) / f"threadmate-warm-{owner}"
+
+
+@contextlib.contextmanager
+def _turn(folder: Path | None, name: str, wait: float) -> Iterator[bool]:
+    """Hold the turn at step ``name`` while inside: True once held; waiting up to ``wait``
+    seconds for another process that holds it (False when it still does, or where there
+    are no turns to take: the step is then run anyway)."""
+    if folder is None:
+        yield False
+        return
+    import fcntl
+
+    folder.mkdir(parents=True, exist_ok=True)
+    with open(folder / f"{name}.lock", "a") as handle:
+        deadline = time.monotonic() + wait
+        while True:
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                if time.monotonic() >= deadline:
+                    yield False
+                    return
+                time.sleep(0.02)
+                continue
+            try:
+                yield True
+            finally:
+                fcntl.flock(handle, fcntl.LOCK_UN)
+            return
 
 
 def warm_kernels(reverse: bool = False) -> None:
-    """Compile (or load from numba's cache) the scene's kernels, in the forward order or
-    ``reverse`` (module docstring): give the workers of a pool alternate orders."""
+    """Compile (or load from numba's cache) the scene's kernels, taking turns with the
+    other processes that warm them (module docstring): first the steps no other process
+    is at, in the forward order or ``reverse`` (give the workers of a pool alternate
+    orders), then, waiting for each, the others."""
+    folder = _lock_folder()
+    later = []
     for step in reversed(_STEPS) if reverse else _STEPS:
-        step()
+        with _turn(folder, step.__name__, 0.0) as held:
+            if held or folder is None:
+                step()
+                continue
+        later.append(step)
+    for step in later:
+        with _turn(folder, step.__name__, _WAIT):
+            step()
+
+
+def _warm_aside(parent: int) -> None:
+    """A process of :func:`warm_kernels_aside`: warm, unless its parent is gone."""
+    if os.getppid() == parent:
+        warm_kernels(reverse=True)
+
+
+def warm_kernels_aside() -> multiprocessing.process.BaseProcess | None:
+    """Start warming the kernels (:func:`warm_kernels`) in a forked process beside this one,
+    and return it: a caller about to start a process pool on a machine whose numba cache
+    may be empty calls this first, so that one core compiles while the caller imports
+    and prepares. None where it would not help (numba missing, one CPU, no ``fork``).
+    The process is a daemon: it ends with its caller at the latest."""
+    if not COMPILED or "fork" not in multiprocessing.get_all_start_methods():
+        return None
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not on Linux
+        cpus = os.cpu_count() or 1
+    if cpus < 2:
+        return None
+    process = multiprocessing.get_context("fork").Process(
+        target=_warm_aside, args=(os.getpid(),), name="threadmate-warm", daemon=True
+    )
+    process.start()
+    return process
