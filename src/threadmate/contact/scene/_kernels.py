@@ -509,53 +509,29 @@ class EdgeCurve(NamedTuple):
 
 
 @compiled
-def _on_curve(
-    kind: int,
-    prof: NDArray[np.float64],
-    env: NDArray[np.float64],
-    rise: float,
-    hand_lead: float,
-    radius: float,
-    height: float,
-    angle0: float,
-    angle: float,
-    last: float,
-) -> tuple[float, float, float, float]:
-    """The point of an edge (:class:`EdgeCurve`'s fields) at a polar angle, body frame,
-    and the kink's height to follow it from next (``last``: the one before)."""
+def _on_curve(curve: EdgeCurve, angle: float, last: float) -> tuple[float, float, float, float]:
+    """The point of ``curve`` at a polar angle, in its body's frame, and the kink's height
+    to follow it from next (``last``: the one before)."""
     c, s = math.cos(angle), math.sin(angle)
-    if kind == KINK:
-        z = _kink_height(prof, env, rise, angle, last)
-        r = _envelope_radius(env, z)
+    if curve.kind == KINK:
+        z = _kink_height(curve.prof, curve.env, curve.rise, angle, last)
+        r = _envelope_radius(curve.env, z)
         return r * c, r * s, z, z
-    if kind == CIRCLE:
-        return radius * c, radius * s, height, last
-    if kind == RIM:
-        pitch = prof[13]
-        t = height - hand_lead * angle / TWO_PI
-        r = _profile_radius(prof, t - pitch * math.floor(t / pitch + 0.5))
-        return r * c, r * s, height, last
-    return radius * c, radius * s, height + hand_lead * (angle - angle0) / TWO_PI, last
+    if curve.kind == CIRCLE:
+        return curve.radius * c, curve.radius * s, curve.height, last
+    if curve.kind == RIM:
+        pitch = curve.prof[13]
+        t = curve.height - curve.hand_lead * angle / TWO_PI
+        r = _profile_radius(curve.prof, t - pitch * math.floor(t / pitch + 0.5))
+        return r * c, r * s, curve.height, last
+    rise = curve.hand_lead * (angle - curve.angle) / TWO_PI
+    return curve.radius * c, curve.radius * s, curve.height + rise, last
 
 
 @compiled
 def _edge_crossing(
-    nk: int,
-    nprof: NDArray[np.float64],
-    nenv: NDArray[np.float64],
-    nrise: float,
-    nlead: float,
-    nr: float,
-    nz: float,
-    na: float,
-    bk: int,
-    bprof: NDArray[np.float64],
-    benv: NDArray[np.float64],
-    brise: float,
-    blead: float,
-    br: float,
-    bz: float,
-    ba: float,
+    nut: EdgeCurve,
+    bolt: EdgeCurve,
     rotation: NDArray[np.float64],
     origin: NDArray[np.float64],
     a: float,
@@ -567,15 +543,13 @@ def _edge_crossing(
     r20, r21, r22 = rotation[2, 0], rotation[2, 1], rotation[2, 2]
     o0, o1, o2 = origin[0], origin[1], origin[2]
     # Each kink is followed from its last root, in the order the points are asked.
-    n_last, b_last = nz, bz
+    n_last, b_last = nut.height, bolt.height
     h = 1e-7
     gaps = np.empty(6)
     for _ in range(8):
         for k in range(3):
-            qa = a + h if k == 1 else a
-            qb = b + h if k == 2 else b
-            q0, q1, _q2, n_last = _on_curve(nk, nprof, nenv, nrise, nlead, nr, nz, na, qa, n_last)
-            x, y, z, b_last = _on_curve(bk, bprof, benv, brise, blead, br, bz, ba, qb, b_last)
+            q0, q1, _q2, n_last = _on_curve(nut, a + h if k == 1 else a, n_last)
+            x, y, z, b_last = _on_curve(bolt, b + h if k == 2 else b, b_last)
             gaps[2 * k] = q0 - (r00 * x + r01 * y + r02 * z + o0)
             gaps[2 * k + 1] = q1 - (r10 * x + r11 * y + r12 * z + o1)
         g0, g1 = gaps[0], gaps[1]
@@ -591,8 +565,8 @@ def _edge_crossing(
             return False
         if max(abs(da), abs(db)) < 1e-12:
             break
-    out[0], out[1], out[2], n_last = _on_curve(nk, nprof, nenv, nrise, nlead, nr, nz, na, a, n_last)
-    x, y, z, b_last = _on_curve(bk, bprof, benv, brise, blead, br, bz, ba, b, b_last)
+    out[0], out[1], out[2], n_last = _on_curve(nut, a, n_last)
+    x, y, z, b_last = _on_curve(bolt, b, b_last)
     out[3] = r00 * x + r01 * y + r02 * z + o0
     out[4] = r10 * x + r11 * y + r12 * z + o1
     out[5] = r20 * x + r21 * y + r22 * z + o2
@@ -614,7 +588,7 @@ def crossing_of_edges(
     ``(2, 3)``; None where the Jacobian is singular or the angles leave the numbers."""
     out = np.empty(6)
     if not _edge_crossing(
-        *nut, *bolt, np.ascontiguousarray(rotation), np.ascontiguousarray(origin), a, b, out
+        nut, bolt, np.ascontiguousarray(rotation), np.ascontiguousarray(origin), a, b, out
     ):
         return None
     return out.reshape(2, 3)
