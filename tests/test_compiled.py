@@ -122,3 +122,23 @@ def test_kernels_warmed_aside_in_a_process_that_ends():
     assert process is not None and process.daemon  # this machine has two CPUs and fork
     process.join(300)
     assert process.exitcode == 0
+
+
+def test_warming_without_a_folder_for_its_lock_files_runs_every_step(monkeypatch, tmp_path):
+    from threadmate.contact.scene import _warm
+
+    ran: list[str] = []
+
+    def step(name: str):
+        def run() -> None:
+            ran.append(name)
+
+        run.__name__ = name
+        return run
+
+    blocked = tmp_path / "file"
+    blocked.write_text("")  # a file where the folder would go: mkdir fails
+    monkeypatch.setattr(_warm, "_STEPS", tuple(step(n) for n in "abcd"))
+    monkeypatch.setattr(_warm, "_lock_folder", lambda: blocked / "locks")
+    _warm.warm_kernels(reverse=True)
+    assert ran == list("dcba")

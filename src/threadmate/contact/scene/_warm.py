@@ -122,14 +122,19 @@ def _lock_folder() -> Path | None:
 def _turn(folder: Path | None, name: str, wait: float) -> Iterator[bool]:
     """Hold the turn at step ``name`` while inside: True once held; waiting up to ``wait``
     seconds for another process that holds it (False when it still does, or where there
-    are no turns to take: the step is then run anyway)."""
+    are no turns to take, no lock file to make: the step is then run anyway)."""
     if folder is None:
         yield False
         return
     import fcntl
 
-    folder.mkdir(parents=True, exist_ok=True)
-    with open(folder / f"{name}.lock", "a") as handle:
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        handle = open(folder / f"{name}.lock", "a")  # closed by the with below
+    except OSError:  # no writable temporary folder: no turns
+        yield False
+        return
+    with handle:
         deadline = time.monotonic() + wait
         while True:
             try:
@@ -159,7 +164,7 @@ def warm_kernels(reverse: bool = False) -> None:
             if held or folder is None:
                 step()
                 continue
-        later.append(step)
+        later.append(step)  # another process is at it (or no lock file: run it below)
     for step in later:
         with _turn(folder, step.__name__, _WAIT):
             step()
