@@ -485,9 +485,12 @@ class CollisionPair:
         r of the axis's point at h (a rotation moves no vector's XY part farther), and the
         axis's points between two heights lie within the farther of the two ends'."""
         radius, low, high = self._core
-        sway = pose.rotation[:2, 2]
-        foot = pose.origin[:2]
-        reach = max(math.hypot(*(foot + low * sway)), math.hypot(*(foot + high * sway)))
+        # In plain floats (asked at every query; numpy's per-call cost is most of it).
+        s0, s1 = float(pose.rotation[0, 2]), float(pose.rotation[1, 2])
+        f0, f1 = float(pose.origin[0]), float(pose.origin[1])
+        reach = max(
+            math.hypot(f0 + low * s0, f1 + low * s1), math.hypot(f0 + high * s0, f1 + high * s1)
+        )
         return reach + radius < self.nut_bore * (1 - 1e-9)
 
     def _placed_at(self, bolt: _Bolt, pose: Pose) -> tuple[ObbForest, int]:
