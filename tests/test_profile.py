@@ -39,6 +39,25 @@ def test_regions_follow_conventions(sharp_quarter_20):
     assert dr > 0  # +F: radius grows as t (hence z) grows
 
 
+def test_region_of_one_number_is_the_arrays(quarter_20, sharp_quarter_20):
+    """A region asked for one number (the contact code's path) is the array's, across a
+    pitch and beyond it, at the pieces' breakpoints and either side of them."""
+    for spec in (quarter_20, sharp_quarter_20):
+        for prof in (bolt_profile(spec), nut_profile(spec)):
+            edges = np.array(prof.breakpoints)
+            t = np.concatenate(
+                [
+                    np.linspace(-0.06, 0.06, 2401),
+                    edges,
+                    -edges,
+                    np.nextafter(edges, 1.0),
+                    np.nextafter(-edges, -1.0),
+                    [-prof.pitch / 2, prof.pitch / 2],
+                ]
+            )
+            assert [str(prof.region(float(x))) for x in t] == prof.region(t).tolist()
+
+
 def _line_distance(u, r, p0, direction):
     d = np.asarray(direction) / np.linalg.norm(direction)
     v = np.array([u - p0[0], r - p0[1]])
