@@ -146,6 +146,45 @@ def test_the_search_evaluates_each_ratio_once():
         assert any(abs(math.log(r) - (x + side * h)) < 1e-9 for r in asked)
 
 
+def _default_pair_profile(r):
+    """The tolerated tilt of the default pair's coarse envelopes against k/F (degrees), as
+    measured at the design's optimum of two refinements and the quarter steps around it
+    (docs/validation.md, "The design's optimum against a finer grid"): a plateau of 2.75
+    deg between k/F 0.046 and 0.066, narrower than that search's last step, and falling
+    away by a quarter degree per factor 1.6 outside the measured span."""
+    edges = [(0.0459, 2.50), (0.0656, 2.75), (0.0739, 2.50), (0.105, 2.25), (0.1183, 2.00)]
+    if r < 0.0459:
+        return max(0.0, 2.50 - 0.25 * math.ceil(math.log(0.0459 / r) / math.log(1.6) - 1))
+    if r >= 0.1183:
+        return max(0.0, 2.00 - 0.25 * math.ceil(math.log(r / 0.1183) / math.log(1.6)))
+    return next(v for top, v in edges[1:] if r < top)
+
+
+def test_the_default_search_finds_a_plateau_narrower_than_two_refinements_reach():
+    """On the default pair's measured profile, the default search (four halvings) reaches
+    the 2.75 deg plateau, and no ratio of a grid sixteen times as fine over the whole
+    bounds tolerates more; two halvings (the depth before) stop at 2.50."""
+    from threadmate.design._best import RATIOS, REFINEMENTS, _RatioSearch, _Setting
+
+    def search(refinements):
+        def evaluate(r, f, k, beyond):
+            return _Setting(r, f, k, 0.0, beyond, _Fake(_default_pair_profile(r)))
+
+        s = _RatioSearch(evaluate, (2.0, 40.0), (0.1, 10.0), 1.0, 0.0)
+        h = s.run(RATIOS, refinements)
+        return s, h
+
+    s, h = search(REFINEMENTS)
+    best = s.best()[1]
+    a, b = math.log(0.1 / 40), math.log(10 / 2)
+    n = int(16 * (b - a) / h) + 1
+    brute = max(_default_pair_profile(math.exp(a + (b - a) * i / (n - 1))) for i in range(n))
+    assert brute == 2.75 and best.tolerated == brute, (best.ratio, best.tolerated)
+    assert 0.0459 <= best.ratio < 0.0656
+    shallow, _ = search(2)
+    assert shallow.best()[1].tolerated == 2.50
+
+
 @pytest.fixture(scope="module")
 def design_doc(tmp_path_factory):
     """``threadmate design --json`` on the tiny configuration: two ratios (the bounds),
@@ -331,6 +370,28 @@ def test_friction_cases_located_in_one_pass_are_the_envelopes_at_those_frictions
         for key in ("seconds", "notes"):
             got.pop(key), want.pop(key)
         _agree(got, want)
+
+
+def test_an_envelope_with_a_floor_stops_at_a_failing_upright_and_is_whole_above_it(flat_pair):
+    """``envelope(..., floor=...)``: where every start fails (a torque limit of 1e-4 N m,
+    far below the screw-in's, see test_envelope.py), the upright held tilt alone settles
+    the tolerated tilt at 0 against the five held tilts asked without a floor; above the
+    floor the envelope is the one located without it."""
+    from threadmate.design import envelope
+
+    c = Compliance(force=10, stiffness=1)
+    failing = {**TINY, "direction": "0,90,180,270"}
+    whole = envelope(flat_pair, compliance=c, torque_limit=1e-4, workers=1, **failing)
+    stopped = envelope(flat_pair, compliance=c, torque_limit=1e-4, floor=0, workers=1, **failing)
+    assert whole.tolerated_tilt == stopped.tolerated_tilt == 0.0
+    assert (whole.probes, stopped.probes) == (5, 1)
+    assert stopped.floor == 0.0 and "stopped once" in stopped.notes[-1]
+    plain = envelope(flat_pair, compliance=c, workers=1, **TINY)
+    above = envelope(flat_pair, compliance=c, floor=0.0, workers=1, **TINY)
+    assert plain.tolerated_tilt > 0.0
+    got, want = above.to_dict(), plain.to_dict()
+    got.pop("seconds"), want.pop("seconds")
+    assert got == want
 
 
 def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_does_not_hold():

@@ -327,3 +327,47 @@ def test_the_bisection_brackets_each_level_within_the_tolerance():
         # Walked no further out than the first size where fewer than half snap.
         assert max(s for s, _ in known) == 3.0
     assert probes < 2 * 20
+
+
+@pytest.mark.parametrize("floor", [0.0, 0.5, 1.0, 1.2, 1.25, 1.3, 1.5, 2.0, 3.0])
+def test_a_floor_stops_the_search_once_the_envelope_is_known_below_it(floor):
+    """With a floor, the search stops as soon as some direction fails at a size no larger
+    than it, and only then: the envelope located whole lies at or below the floor exactly
+    when the search stops, and above it the search asks every held tilt it asks without
+    one. The profile is made up, as above (every phase snaps up to 1.23 deg in direction
+    0, up to 2.61 in direction 90); upright failing, one held tilt settles it."""
+    import pandas as pd
+
+    from threadmate.design._envelope import _Search
+
+    edge = {0.0: 1.23, 90.0: 2.61}
+
+    def outcomes(size: float, d: float | None, upright_fails: bool) -> pd.DataFrame:
+        snaps = not upright_fails and (d is None or size <= edge[d])
+        return pd.DataFrame({"snapped": [snaps] * 4, "failed": [False] * 4})
+
+    grid = PolarGrid.parse("0:4:0.5", "0,90", "0")
+
+    def located(with_floor, upright_fails=False):
+        search = _Search(grid.tilt, tolerance=0.05, upright_alone=with_floor)
+        while not (with_floor and search.at_most((0.0, 90.0), floor)):
+            wanted = {search.key(s, d) for d in (0.0, 90.0) for s in search.needed(d)}
+            wanted -= set(search.outcomes)
+            if not wanted:
+                break
+            for key in wanted:
+                search.outcomes[key] = outcomes(*key, upright_fails)
+        return search
+
+    def tolerated(search):
+        return min(search.bracket(search.evaluated(d), 1.0)[0] for d in (0.0, 90.0))
+
+    whole, floored = located(False), located(True)
+    stopped = floored.at_most((0.0, 90.0), floor)
+    assert stopped == (tolerated(whole) <= floor)
+    if stopped:
+        assert tolerated(floored) <= floor and len(floored.outcomes) <= len(whole.outcomes)
+    else:
+        assert floored.outcomes.keys() == whole.outcomes.keys()
+    failing = located(True, upright_fails=True)
+    assert list(failing.outcomes) == [(0.0, None)] and tolerated(failing) == 0.0

@@ -129,7 +129,7 @@ Progress goes to stderr.
     "--refinements",
     type=int,
     default=None,
-    help="Halvings of the grid step around the best (default 2).",
+    help="Halvings of the grid step around the best (default 4).",
 )
 @envelope_grid_options("Coarse envelope", "0:4:1", "0:360:45", "0:340:40", None)
 @click.option(

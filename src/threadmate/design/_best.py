@@ -73,7 +73,7 @@ FINE: Mapping[str, Any] = {"tilt": None, "direction": None, "phase": None, "tole
 #: Ratios of the first, log-spaced grid (the bounds included).
 RATIOS = 5
 #: Halvings of the grid step around the best.
-REFINEMENTS = 2
+REFINEMENTS = 4
 #: Log-ratios ``log(k/F)`` closer than this are one setting, evaluated once.
 SAME_RATIO = 1e-9
 #: ``progress(text)``: the search says what it evaluates next.

@@ -163,6 +163,9 @@ class Envelope:
         ``{friction: Envelope}``: the envelope of the same compliance at each other
         friction coefficient asked (:func:`envelope`'s ``frictions``), located in the same
         pass; empty when none was asked. Not in :meth:`to_dict`.
+    floor : float or None
+        The floor :func:`envelope` was given (degrees): the search stopped once the
+        tolerated tilt was known to be no more than it, and a note says when it did.
     """
 
     directions: list[dict[str, Any]]
@@ -181,6 +184,7 @@ class Envelope:
     torque_limit: float | None = None
     pretilt: tuple[float, float] | None = None
     friction_cases: dict[float, Envelope] = field(default_factory=dict)
+    floor: float | None = None
 
     @property
     def tolerated_tilt(self) -> float:
@@ -246,8 +250,10 @@ class Envelope:
 class _Search:
     """The evaluated held tilts and the bisection's brackets, direction by direction."""
 
-    def __init__(self, sizes: Sequence[float], tolerance: float) -> None:
+    def __init__(self, sizes: Sequence[float], tolerance: float, upright_alone: bool = False):
         self.tolerance = tolerance
+        #: Ask the upright held tilt before any other (see :meth:`needed`).
+        self.upright_alone = upright_alone
         #: The grid's tilted sizes, walked outward along each direction.
         self.sizes = [t for t in sizes if t > 0]
         self.outcomes: dict[tuple[float, float | None], pd.DataFrame] = {}
@@ -281,8 +287,9 @@ class _Search:
         known = self.evaluated(direction)
         if not known or known[0][0] != 0:
             # Upright first, and the grid's first size with it: it is almost always
-            # needed, and the upright tilt alone would leave every worker but one idle.
-            return {0.0, *self.sizes[:1]}
+            # needed, and the upright tilt alone would leave every worker but one idle;
+            # alone where its failure would end the search (a floor).
+            return {0.0} if self.upright_alone else {0.0, *self.sizes[:1]}
         done = {s for s, _ in known}
         lowest = min(LEVELS)
         need = set()
@@ -295,6 +302,16 @@ class _Search:
             if hi is not None and hi - lo > self.tolerance and lo != hi:
                 need.add(round(0.5 * (lo + hi), 9) + 0.0)
         return need
+
+    def at_most(self, directions: Sequence[float], floor: float) -> bool:
+        """Whether the tolerated tilt is known to be no more than ``floor``: in some
+        direction a size no larger than it fails at the 100 % level (the envelope lies
+        below that size)."""
+        for d in directions:
+            _, hi = self.bracket(self.evaluated(d), 1.0)
+            if hi is not None and hi <= floor + 1e-12:
+                return True
+        return False
 
 
 def _library_source(path: Path) -> tuple[ThreadSpec, dict[str, Any], PolarGrid, pd.DataFrame]:
@@ -348,6 +365,7 @@ def envelope(
     torque_limit: float | None = None,
     pretilt: tuple[float, float] | None = None,
     frictions: Sequence[float] = (),
+    floor: float | None = None,
     progress: EnvelopeProgress | None = None,
 ) -> Envelope:
     """The capture envelope of a compliance (module docstring).
@@ -386,6 +404,13 @@ def envelope(
         other coefficients wherever its snaps' proofs judge alike there
         (:func:`threadmate.library.HeldTiltProbe`), and each envelope is located by its
         own bisection, exactly as :func:`envelope` alone at that coefficient would.
+    floor : float, optional
+        Degrees: stop as soon as the tolerated tilt is known to be no more than this (a
+        search that must beat a figure needs no more); the upright held tilt is then
+        asked first, alone, as its failure settles it. The tolerated tilt returned is
+        then at most ``floor`` and the other figures are those of the held tilts computed
+        so far (a note says so; the friction cases stop with it). Above the floor the
+        envelope is the one located without it. None: locate it whole.
     progress : callable, optional
         ``progress(done, asked)``: held tilts computed and asked for so far.
 
@@ -403,6 +428,8 @@ def envelope(
     tolerance = check_range("tolerance (degrees)", tolerance, MIN_TOLERANCE, 1.0)
     if torque_limit is not None:
         torque_limit = check_range("torque_limit", torque_limit, 1e-9, 1e6, units="N m")
+    if floor is not None:
+        floor = check_range("floor (degrees)", floor, 0.0, 90.0)
     if isinstance(source, ThreadSpec):
         spec = source
         grid = PolarGrid.parse(
@@ -462,7 +489,10 @@ def envelope(
     ) as probe:
         # One search per friction coefficient, each asking the held tilts its own
         # bisection needs; a held tilt comes back at every coefficient.
-        searches = {mu: _Search(grid.tilt, tolerance) for mu in probe.frictions}
+        searches = {
+            mu: _Search(grid.tilt, tolerance, upright_alone=floor is not None)
+            for mu in probe.frictions
+        }
         if rows is not None and not rows.empty:
             outcomes = _outcomes(rows, torque_limit)
             polar = dict(zip(grid.held_tilts, grid.polar_tilts, strict=True))
@@ -480,9 +510,16 @@ def envelope(
         # goes to each search that asked for it as it comes back, as it would alone.
         in_flight: dict[tuple[float, float | None], tuple[float, float]] = {}
         wanted: dict[tuple[float, float | None], set[float]] = {}
+        nominal = searches[probe.frictions[0]]
+
+        def settled() -> bool:
+            return floor is not None and nominal.at_most(directions, floor)
+
         while True:
             found_one = True
-            while found_one:  # a held tilt already computed may settle what comes next
+            # A held tilt already computed may settle what comes next; past the floor
+            # nothing more is asked (those in flight still come back and count).
+            while found_one and not settled():
                 found_one = False
                 for mu, search in searches.items():
                     for d in directions:
@@ -523,6 +560,12 @@ def envelope(
         c = replace(compliance, friction=mu)
         out[mu] = _result(search, directions, spec, c, grid, where, used[mu], start)
         out[mu].torque_limit = torque_limit
+        out[mu].floor = floor
+        if settled():
+            out[mu].notes.append(
+                f"stopped once the tolerated tilt was known to be no more than the floor, "
+                f"{floor:g} deg: the other figures are those of the held tilts computed so far"
+            )
         if pretilt is not None:
             out[mu].pretilt = (float(pretilt[0]), float(pretilt[1]))
         if mu != mu0:
@@ -638,6 +681,9 @@ def _result(
     located: bool = True,
 ) -> Envelope:
     """The envelope from the evaluated sizes."""
+    # In order of size and direction, not of arrival: the figures' sums then do not hang
+    # on which worker finished first.
+    held = sorted(search.outcomes.items(), key=lambda kv: (kv[0][0], kv[0][1] or 0.0))
     per_direction: list[dict[str, Any]] = []
     notes: list[str] = []
     for d in directions:
@@ -652,9 +698,7 @@ def _result(
             beyond[_level_key(level)] = hi is None
         lo100 = tilts[_level_key(1.0)]
         inside = [
-            rows
-            for (size, dd), rows in search.outcomes.items()
-            if (dd is _UP or dd == d) and size <= lo100 + 1e-12
+            rows for (size, dd), rows in held if (dd is _UP or dd == d) and size <= lo100 + 1e-12
         ]
         per_direction.append(
             {
@@ -678,7 +722,7 @@ def _result(
     limit = tolerated[_level_key(1.0)]["tilt"]
     inside_all = [
         rows
-        for (size, dd), rows in search.outcomes.items()
+        for (size, dd), rows in held
         if size <= limit + 1e-12 and (dd is _UP or dd in directions)
     ]
     phases = len(grid.phase)

@@ -239,10 +239,12 @@ def most_robust(
     nominal. A setting's worst case is its nominal tolerated tilt or less, so once a
     candidate's nominal figure is no more than the best worst case found, no later one
     can beat it and the search stops; a candidate's cases stop likewise as soon as one
-    falls to the best worst case. The cases are those of :func:`robustness`: the maximum
-    and minimum material conditions, then the frictions of :data:`FRICTION_RANGE` (they
-    change the driver's torque, and a screw-in whose torque passes its limit is no snap),
-    every envelope at the same ``grid`` as the nominal ones.
+    falls to the best worst case, and each case's envelope as soon as it is known to
+    (:func:`threadmate.design.envelope`'s ``floor``: the upright held tilt first, alone).
+    The cases are those of :func:`robustness`: the maximum and minimum material
+    conditions, then the frictions of :data:`FRICTION_RANGE` (they change the driver's
+    torque, and a screw-in whose torque passes its limit is no snap), every envelope at
+    the same ``grid`` as the nominal ones.
 
     Returns
     -------
@@ -275,7 +277,13 @@ def most_robust(
                 if progress is not None:
                     progress(f"most robust: k/F {row['ratio']:.4g}, {words}")
                 env = envelope(
-                    s, compliance=c, workers=workers, chord=chord, torque_limit=torque_limit, **grid
+                    s,
+                    compliance=c,
+                    workers=workers,
+                    chord=chord,
+                    torque_limit=torque_limit,
+                    floor=best_worst,
+                    **grid,
                 )
             cases.append({"case": words, "tolerated_tilt": env.tolerated_tilt})
             worst = min(worst, env.tolerated_tilt)
