@@ -21,6 +21,7 @@ import time
 from typing import Any
 
 from .._errors import InputError
+from .._system import cpu_count
 from .._validate import check_workers
 from ._store import release_inherited_locks
 from ._workers import Job, prepare_inherited, run_chunk, set_worker_rank, with_mesh_contents
@@ -187,14 +188,6 @@ class _Dask:
         if self.cluster is not None:
             with contextlib.suppress(Exception):
                 self.cluster.close()
-
-
-def cpu_count() -> int:
-    """The CPUs this process may run on (the default worker count)."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:
-        return max(1, os.cpu_count() or 1)
 
 
 def scheduler_from_dask_config() -> str | None:

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._compiled import COMPILED
+from ..._system import cpu_count
 from ...geometry import bolt_body, spec_from_designation
 from ._kernels import (
     KINK,
@@ -184,11 +185,7 @@ def warm_kernels_aside() -> multiprocessing.process.BaseProcess | None:
     The process is a daemon: it ends with its caller at the latest."""
     if not COMPILED or "fork" not in multiprocessing.get_all_start_methods():
         return None
-    try:
-        cpus = len(os.sched_getaffinity(0))
-    except AttributeError:  # pragma: no cover - not on Linux
-        cpus = os.cpu_count() or 1
-    if cpus < 2:
+    if cpu_count() < 2:
         return None
     process = multiprocessing.get_context("fork").Process(
         target=_warm_aside, args=(os.getpid(),), name="threadmate-warm", daemon=True
