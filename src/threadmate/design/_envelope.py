@@ -250,7 +250,9 @@ class Envelope:
 class _Search:
     """The evaluated held tilts and the bisection's brackets, direction by direction."""
 
-    def __init__(self, sizes: Sequence[float], tolerance: float, upright_alone: bool = False):
+    def __init__(
+        self, sizes: Sequence[float], tolerance: float, upright_alone: bool = False
+    ) -> None:
         self.tolerance = tolerance
         #: Ask the upright held tilt before any other (see :meth:`needed`).
         self.upright_alone = upright_alone
