@@ -27,6 +27,8 @@ from _poses import axis_angle
 from threadmate.contact import (
     CLICK_SPAN,
     IN_PHASE,
+    LEAD_TOLERANCE,
+    MAX_STEP,
     PROOF_FOLD_TOLERANCE,
     SCREW_IN,
     Compliance,
@@ -36,7 +38,7 @@ from threadmate.contact import (
     search,
 )
 from threadmate.contact.mechanics import engagement
-from threadmate.geometry import spec_from_designation
+from threadmate.geometry import spec_from_designation, with_parts
 from threadmate.library import sweep
 
 FRICTIONLESS = Compliance(friction=0.0)
@@ -361,6 +363,27 @@ def test_a_proof_halves_the_steps_that_leave_its_branch():
     assert proof.engaged and bisected.engaged
     assert abs(proof.descent - bisected.descent) <= 0.01 * spec.lead
     assert abs(proof.tilt - bisected.tilt) <= 0.05
+
+
+@pytest.mark.slow
+def test_a_coarse_search_proves_its_snaps_as_a_fine_one_does():
+    """The default parts (chamfered point, countersunk nut) held at (2, 1), in phase at
+    140 degrees, the axis 1.4 degrees from upright: screwed in, the thread draws it
+    upright. A search at the longest step allowed (10 degrees) proves the landing as one
+    at 2.5 degrees does (the same verdict, the descent over the last half screw-in within
+    1 % of the lead, the tilt at the end within 0.05 degree): its clockwise walk steps by
+    at most TIGHTEN_STEP. (Walked in steps of 10 degrees, the landing rides on tilted 2
+    degrees without descending.)"""
+    spec = with_parts("1/4-20 UNC-2A/2B")
+    mech = Mechanics(spec)
+    start = mech.settle(2.0, 1.0, 140.0).state
+    assert start.classification == IN_PHASE
+    coarse = Continuation(mech, 2.0, 1.0, step=MAX_STEP).prove(start, 140.0)
+    fine = Continuation(mech, 2.0, 1.0, step=2.5).prove(start, 140.0)
+    assert fine.engaged and abs(fine.descent - spec.lead) <= LEAD_TOLERANCE * spec.lead
+    assert coarse.engaged == fine.engaged
+    assert abs(coarse.descent - fine.descent) <= 0.01 * spec.lead
+    assert abs(coarse.tilt - fine.tilt) <= 0.05
 
 
 @pytest.mark.slow

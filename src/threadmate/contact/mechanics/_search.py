@@ -106,11 +106,12 @@ JUMP_TILT = 0.5
 #: Senses a continuation turns the bolt in: ``unscrew`` (the search: counter-clockwise for a
 #: right-hand thread) or ``tighten`` (screwing in: clockwise).
 SENSES = ("unscrew", "tighten")
-#: Longest step of a tightening continuation (degrees). Its steps in the thread are
-#: predicted along the helix (the lead's share of the turn), so that a step the bolt
-#: follows in the thread is continuous whatever its length; the descent corrects the
-#: prediction, and is the dearer the farther it has to go.
-TIGHTEN_STEP = 10.0
+#: Longest step of a tightening continuation (degrees): a screw-in proof's walk and a
+#: clockwise start's. Its steps in the thread are predicted along the helix (the lead's
+#: share of the turn), and the descent corrects the prediction; but a longer step can
+#: carry a tilted landing past where the thread draws it in, onto a ride at its tilt that
+#: never descends (docs/mechanics.md, "The snap proved: screwing in").
+TIGHTEN_STEP = 5.0
 #: Tilts (degrees) from the last state of a branch at which a rest state continuing it is
 #: looked for where the turn wedges the bolt at its own tilt (:meth:`Continuation._tilted`).
 TILT_PROBES = (0.02, 0.1)
@@ -488,8 +489,7 @@ class Continuation:
         self.held_roll, self.held_pitch = float(roll), float(pitch)
         self.sense = sense
         self.tightening = sense == "tighten"
-        # Turned clockwise the bolt descends at the lead on a continuous branch: a step
-        # short enough that it falls less than a jump's threshold (a ninth of a turn).
+        # Turned clockwise, steps of at most TIGHTEN_STEP whatever the search's.
         self.step = min(float(step), TIGHTEN_STEP) if self.tightening else float(step)
         self.phase_tolerance = float(phase_tolerance)
         self.fold_tolerance = max(self.phase_tolerance, fold_tolerance or 0.0)
