@@ -17,7 +17,7 @@ import click
 from .._angles import phase_difference
 from .._errors import InputError
 from .._validate import check_workers
-from ..contact import CONTINUATION_STEP, MAX_STEP, PHASE_TOLERANCE
+from ..contact import CONTINUATION_STEP, MAX_STEP, PHASE_TOLERANCE, TIGHTEN_STEP
 from ..geometry import SpecParts
 from ..library import DEFAULT_RANGES, MODELS
 from ._common import SPEC_HELP, emit_json, resolve_spec, writable_directory
@@ -174,7 +174,8 @@ N/m, lengths in the spec's units, angles in degrees.
     type=float,
     default=CONTINUATION_STEP,
     show_default=True,
-    help=f"Mechanics: continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).",
+    help=f"Mechanics: continuation step in degrees of phase (> 0, at most {MAX_STEP:g}; "
+    f"the screw-in proofs and clockwise starts step by at most {TIGHTEN_STEP:g}).",
 )
 @click.option(
     "--phase-tolerance",

@@ -26,6 +26,7 @@ from ..contact import (
     MAX_TURNS,
     PHASE_TOLERANCE,
     SCREW_IN,
+    TIGHTEN_STEP,
     UNSTABLE,
     Compliance,
     check_continuation,
@@ -484,7 +485,8 @@ stiffness in N/m, lengths in the spec's units, angles in degrees, work in mJ.
     type=float,
     default=CONTINUATION_STEP,
     show_default=True,
-    help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).",
+    help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}; the "
+    f"screw-in proofs step by at most {TIGHTEN_STEP:g}).",
 )
 @click.option(
     "--plot",
@@ -651,7 +653,8 @@ work in mJ.
     type=float,
     default=CONTINUATION_STEP,
     show_default=True,
-    help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}).",
+    help=f"Continuation step in degrees of phase (> 0, at most {MAX_STEP:g}; turned "
+    f"clockwise, steps of at most {TIGHTEN_STEP:g} are taken).",
 )
 @click.option(
     "--plot",

@@ -10,7 +10,7 @@ import click
 
 from .._errors import InputError
 from .._validate import check_roll_spread, check_workers
-from ..contact import CONTINUATION_STEP, UNSTABLE
+from ..contact import CONTINUATION_STEP, TIGHTEN_STEP, UNSTABLE
 from ..geometry import SpecParts
 from ..pipeline import DEFAULT_DESIGNATION, RUN_GRID
 from ._common import SPEC_HELP, echo_err, emit_json, resolve_spec, writable_directory
@@ -97,7 +97,8 @@ phase {RUN_GRID["phase"]} (degrees). {SPEC_HELP} {DEFAULTS_NOTE}""",
     type=float,
     default=CONTINUATION_STEP,
     show_default=True,
-    help="Continuation step of the search [deg].",
+    help=f"Continuation step of the search [deg]; its screw-in proofs and clockwise starts "
+    f"step by at most {TIGHTEN_STEP:g}.",
 )
 @click.option(
     "--screw",

@@ -17,7 +17,14 @@ from typing import Any
 from .._errors import LibraryError
 from .._io import remove_stale_temporaries
 from .._version import __version__
-from ..contact import JOIN_DISTANCE, JOIN_TILT, PROOF_FOLD_TOLERANCE, PROOF_TURN_LIMIT, SCREW_IN
+from ..contact import (
+    JOIN_DISTANCE,
+    JOIN_TILT,
+    PROOF_FOLD_TOLERANCE,
+    PROOF_TURN_LIMIT,
+    SCREW_IN,
+    TIGHTEN_STEP,
+)
 from ._held_tilt import MAX_FOLLOW_TURNS
 from ._store import (
     FORMAT,
@@ -63,6 +70,7 @@ def request_metadata(job: Job) -> dict[str, Any]:
             "screw_in": SCREW_IN,
             "proof_turn_limit": PROOF_TURN_LIMIT,
             "proof_fold_tolerance": PROOF_FOLD_TOLERANCE,
+            "tighten_step": TIGHTEN_STEP,
             "clockwise": job.clockwise,
             "max_turns": MAX_FOLLOW_TURNS,
             "join_tilt": JOIN_TILT,

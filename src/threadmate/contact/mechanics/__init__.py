@@ -56,6 +56,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         PROOF_FOLD_TOLERANCE as PROOF_FOLD_TOLERANCE,
         PROOF_TURN_LIMIT as PROOF_TURN_LIMIT,
         SCREW_IN as SCREW_IN,
+        TIGHTEN_STEP as TIGHTEN_STEP,
         check_continuation as check_continuation,
         check_screw as check_screw,
     )
@@ -115,6 +116,7 @@ _SOURCES = {
         "PROOF_FOLD_TOLERANCE",
         "PROOF_TURN_LIMIT",
         "SCREW_IN",
+        "TIGHTEN_STEP",
     ),
     "._descent": (
         "BALANCE",

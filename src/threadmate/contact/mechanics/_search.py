@@ -65,6 +65,7 @@ from ._settings import (
     PROOF_FOLD_TOLERANCE,
     PROOF_TURN_LIMIT,
     SCREW_IN,
+    TIGHTEN_STEP,
     check_continuation,
     check_screw,
 )
@@ -106,12 +107,6 @@ JUMP_TILT = 0.5
 #: Senses a continuation turns the bolt in: ``unscrew`` (the search: counter-clockwise for a
 #: right-hand thread) or ``tighten`` (screwing in: clockwise).
 SENSES = ("unscrew", "tighten")
-#: Longest step of a tightening continuation (degrees): a screw-in proof's walk and a
-#: clockwise start's. Its steps in the thread are predicted along the helix (the lead's
-#: share of the turn), and the descent corrects the prediction; but a longer step can
-#: carry a tilted landing past where the thread draws it in, onto a ride at its tilt that
-#: never descends (docs/mechanics.md, "The snap proved: screwing in").
-TIGHTEN_STEP = 5.0
 #: Tilts (degrees) from the last state of a branch at which a rest state continuing it is
 #: looked for where the turn wedges the bolt at its own tilt (:meth:`Continuation._tilted`).
 TILT_PROBES = (0.02, 0.1)

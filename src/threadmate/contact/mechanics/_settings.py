@@ -24,6 +24,7 @@ __all__ = [
     "PROOF_FOLD_TOLERANCE",
     "PROOF_TURN_LIMIT",
     "SCREW_IN",
+    "TIGHTEN_STEP",
     "check_continuation",
     "check_screw",
 ]
@@ -35,6 +36,13 @@ CONTINUATION_STEP = 5.0
 #: Largest step of a continuation (degrees): beyond it a step passes over whole contact
 #: changes of a thread's flank.
 MAX_STEP = 10.0
+#: Longest step of a tightening continuation (degrees): a screw-in proof's walk and a
+#: clockwise start's, whatever the continuation's step. Its steps in the thread are
+#: predicted along the helix (the lead's share of the turn), and the descent corrects the
+#: prediction; but a longer step can carry a tilted landing past where the thread draws
+#: it in, onto a ride at its tilt that never descends (docs/mechanics.md, "The snap
+#: proved: screwing in").
+TIGHTEN_STEP = 5.0
 #: Most turns one continuation takes.
 MAX_TURNS = 10.0
 #: How closely jumps, contact changes and the snap are located in phase (degrees, default;
