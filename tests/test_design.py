@@ -229,6 +229,8 @@ def test_design_json_says_what_to_set_with_units(design_doc):
     o = doc["optimum"]
     assert doc["summary"].startswith(f"F = {o['force']:.3g} N, k = {o['stiffness']:.3g} N m/rad")
     assert "held upright" in doc["summary"] and doc["held"] == "upright"
+    # The coarse figure holds in the directions evaluated (TINY's one), not in any direction.
+    assert "misalignment in the one direction evaluated" in doc["summary"]
     assert doc["pretilt"] is None and doc["pretilts"] == []
     assert 5 <= o["force"] <= 20 and 0.5 <= o["stiffness"] <= 20
     assert o["stiffness"] / o["force"] == pytest.approx(o["ratio"], rel=1e-9)
@@ -398,7 +400,7 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
     """The design's first sentence names what its setting tolerates; when a case over the
     parts' tolerance band or the friction range tolerates less, the sentence says so with
     that case's figure, not only the robustness section further down."""
-    from threadmate.design import ComplianceDesign, Robustness
+    from threadmate.design import ComplianceDesign, Envelope, Robustness
 
     def case(name: str, tilt: float) -> dict:
         return {"case": name, "tolerated_tilt": tilt}
@@ -412,14 +414,16 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
         "turn_mean": 158.0,
     }
 
-    def lead(holds: bool, cases: list[dict], robust: dict | None = None) -> str:
+    def lead(
+        holds: bool, cases: list[dict], robust: dict | None = None, fine: Envelope | None = None
+    ) -> str:
         rob = Robustness(nominal=None, cases=cases, holds=holds, verdict="")
         design = ComplianceDesign(
             optimum=optimum,
             settings=[],
             falloff={},
             envelope=None,
-            fine=None,
+            fine=fine,
             robustness=rob,
             bounds={},
             held="upright",
@@ -434,7 +438,7 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
     short = [case("maximum material", 0.0), case("minimum material", 2.0)]
     short += [case("friction 0.08", 2.25), case("friction 0.2", 2.25)]
     text = lead(False, short)
-    assert "tolerates 2.25 deg of misalignment in any direction with the nominal parts" in text
+    assert "tolerates 2.25 deg of misalignment in each direction evaluated with the nominal" in text
     assert "0.00 deg with maximum material" in text and "does not hold" in text
     assert text.endswith("snaps after 158 deg of turn on average")
     # With the setting that holds best over what varies, the lead names it too.
@@ -443,7 +447,24 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
     assert "over it F = 2 N, k = 0.36 N m/rad tolerates 0.50 deg)" in text
     held = lead(True, [case("maximum material", 2.25), case("friction 0.2", 2.25)])
     assert "nominal" not in held and "does not hold" not in held
-    assert "tolerates 2.25 deg of misalignment in any direction;" in held
+    assert "tolerates 2.25 deg of misalignment in each direction evaluated;" in held
+    # Measured at the envelope's own grid (--fine), the figure holds in any direction; the
+    # coarse one only in the directions it evaluates (a worst one between can tolerate less).
+    fine = Envelope(
+        directions=[],
+        tolerated={"100%": {"tilt": 2.0}},
+        inside={},
+        compliance={},
+        spec={},
+        grid={},
+        tolerance=0.05,
+        units="in",
+        probes=0,
+        seconds=0.0,
+        source="spec",
+    )
+    text = lead(True, [], fine=fine)
+    assert "tolerates 2.00 deg of misalignment in any direction;" in text
 
 
 @pytest.mark.parametrize("torque_limit", [None, 0.05])

@@ -220,8 +220,23 @@ class ComplianceDesign:
             )
         return (
             f"F = {o['force']:.3g} N, k = {o['stiffness']:.3g} N m/rad{bound}, held "
-            f"{self.held}: tolerates {least}{tolerated:.2f} deg of misalignment in any direction"
-            f"{caveat}{turn_words}"
+            f"{self.held}: tolerates {least}{tolerated:.2f} deg of misalignment "
+            f"{self._where()}{caveat}{turn_words}"
+        )
+
+    def _where(self) -> str:
+        """Where the lead's figure holds: in any direction when measured at the envelope's
+        own grid (``fine``); else in the directions the coarse envelope evaluates, for a
+        worst direction between them can tolerate less."""
+        if self.fine is not None:
+            return "in any direction"
+        n = None if self.envelope is None else len(self.envelope.directions)
+        if n is None:
+            return "in each direction evaluated"
+        return (
+            "in the one direction evaluated"
+            if n == 1
+            else f"in each of the {n} directions evaluated"
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -720,6 +735,11 @@ def format_compliance_design(design: ComplianceDesign) -> str:
         f"phases {res['phase']}, sizes {res['tilt']} deg, bisected to {res['tolerance']:g} "
         "deg)."
     )
+    if design.fine is None:
+        lines.append(
+            "A worst direction or phase between those evaluated can tolerate less: --fine "
+            "measures the optimum at the envelope's own grid, the figure to rely on."
+        )
     if design.fine is not None:
         lines.append(f"At full resolution the optimum {design.fine.summary_line()}.")
     lines += [
