@@ -415,14 +415,18 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
     }
 
     def lead(
-        holds: bool, cases: list[dict], robust: dict | None = None, fine: Envelope | None = None
+        holds: bool,
+        cases: list[dict],
+        robust: dict | None = None,
+        fine: Envelope | None = None,
+        coarse: Envelope | None = None,
     ) -> str:
         rob = Robustness(nominal=None, cases=cases, holds=holds, verdict="")
         design = ComplianceDesign(
             optimum=optimum,
             settings=[],
             falloff={},
-            envelope=None,
+            envelope=coarse,
             fine=fine,
             robustness=rob,
             bounds={},
@@ -448,23 +452,28 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
     held = lead(True, [case("maximum material", 2.25), case("friction 0.2", 2.25)])
     assert "nominal" not in held and "does not hold" not in held
     assert "tolerates 2.25 deg of misalignment in each direction evaluated;" in held
+
     # Measured at the envelope's own grid (--fine), the figure holds in any direction; the
     # coarse one only in the directions it evaluates (a worst one between can tolerate less).
-    fine = Envelope(
-        directions=[],
-        tolerated={"100%": {"tilt": 2.0}},
-        inside={},
-        compliance={},
-        spec={},
-        grid={},
-        tolerance=0.05,
-        units="in",
-        probes=0,
-        seconds=0.0,
-        source="spec",
-    )
-    text = lead(True, [], fine=fine)
+    def measured(directions: int) -> Envelope:
+        return Envelope(
+            directions=[{"direction": 360.0 * i / directions} for i in range(directions)],
+            tolerated={"100%": {"tilt": 2.0}},
+            inside={},
+            compliance={},
+            spec={},
+            grid={},
+            tolerance=0.05,
+            units="in",
+            probes=0,
+            seconds=0.0,
+            source="spec",
+        )
+
+    text = lead(True, [], fine=measured(16), coarse=measured(8))
     assert "tolerates 2.00 deg of misalignment in any direction;" in text
+    text = lead(True, [], coarse=measured(8))
+    assert "tolerates 2.25 deg of misalignment in each of the 8 directions evaluated;" in text
 
 
 @pytest.mark.parametrize("torque_limit", [None, 0.05])

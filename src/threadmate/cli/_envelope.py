@@ -177,7 +177,7 @@ def _echo(env: Any) -> None:
     t = env.tolerated
     click.echo(
         f"95 % of phases snap up to {t['95%']['tilt']:.2f} deg and 50 % up to "
-        f"{t['50%']['tilt']:.2f} deg in any direction (bisected to {env.tolerance:g} deg)."
+        f"{t['50%']['tilt']:.2f} deg {env.where()} (bisected to {env.tolerance:g} deg)."
     )
     click.echo("")
     click.echo("| direction deg | 100 % deg | 95 % deg | 50 % deg | turn mean deg | click min |")

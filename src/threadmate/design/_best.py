@@ -225,19 +225,10 @@ class ComplianceDesign:
         )
 
     def _where(self) -> str:
-        """Where the lead's figure holds: in any direction when measured at the envelope's
-        own grid (``fine``); else in the directions the coarse envelope evaluates, for a
-        worst direction between them can tolerate less."""
-        if self.fine is not None:
-            return "in any direction"
-        n = None if self.envelope is None else len(self.envelope.directions)
-        if n is None:
-            return "in each direction evaluated"
-        return (
-            "in the one direction evaluated"
-            if n == 1
-            else f"in each of the {n} directions evaluated"
-        )
+        """Where the lead's figure holds (:meth:`Envelope.where`): as the envelope it comes
+        from, the fine one when measured, else the coarse one."""
+        env = self.fine if self.fine is not None else self.envelope
+        return "in each direction evaluated" if env is None else env.where()
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON document (``threadmate design --json``)."""

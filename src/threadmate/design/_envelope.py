@@ -72,6 +72,10 @@ TOLERANCE = 0.05
 ENVELOPE_PHASES = "0:340:20"
 #: Narrowest tolerance accepted (degrees).
 MIN_TOLERANCE = 1e-3
+#: Directions of misalignment, at the least, over which an envelope's figure is said to hold
+#: in any direction: the default polar grid's (every 22.5 degrees). Measured over fewer, it
+#: holds in those it evaluates: a worst direction between them can tolerate less.
+ANY_DIRECTION = len(PolarGrid.parse(None, DEFAULT_POLAR_RANGES["direction"], "0").direction)
 #: ``progress(held_tilts_done, held_tilts_asked)``, cumulative over the search's rounds.
 EnvelopeProgress = Callable[[int, int], None]
 
@@ -242,8 +246,21 @@ class Envelope:
                 f"holds (worst direction {worst} deg; read off the grid, not located)"
             )
         return (
-            f"tolerates {t['tilt']:.2f} deg of misalignment in any direction (every start "
+            f"tolerates {t['tilt']:.2f} deg of misalignment {self.where()} (every start "
             f"phase snaps within one turn; worst direction {worst} deg)"
+        )
+
+    def where(self) -> str:
+        """Where the tolerated tilt holds, in words: in any direction when the envelope
+        evaluates :data:`ANY_DIRECTION` directions or more, else in each of those it
+        evaluates."""
+        n = len(self.directions)
+        if n >= ANY_DIRECTION:
+            return "in any direction"
+        return (
+            "in the one direction evaluated"
+            if n == 1
+            else f"in each of the {n} directions evaluated"
         )
 
 
