@@ -731,7 +731,7 @@ def format_compliance_design(design: ComplianceDesign) -> str:
             "A worst direction or phase between those evaluated can tolerate less: --fine "
             "measures the optimum at the envelope's own grid, the figure to rely on."
         )
-    if design.fine is not None:
+    else:
         lines.append(f"At full resolution the optimum {design.fine.summary_line()}.")
     lines += [
         "",
