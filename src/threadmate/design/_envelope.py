@@ -75,7 +75,7 @@ MIN_TOLERANCE = 1e-3
 #: Directions of misalignment, at the least, over which an envelope's figure is said to hold
 #: in any direction: the default polar grid's (every 22.5 degrees). Measured over fewer, it
 #: holds in those it evaluates: a worst direction between them can tolerate less.
-ANY_DIRECTION = len(PolarGrid.parse(None, DEFAULT_POLAR_RANGES["direction"], "0").direction)
+ANY_DIRECTION = len(PolarGrid.parse().direction)
 #: ``progress(held_tilts_done, held_tilts_asked)``, cumulative over the search's rounds.
 EnvelopeProgress = Callable[[int, int], None]
 
