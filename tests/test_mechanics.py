@@ -1080,3 +1080,41 @@ def test_both_models_stand_on_the_scene_given_and_refuse_one_of_another_spec(qua
         Mechanics(other, DEFAULT, scene=scene)
     with pytest.raises(InputError, match="the scene's spec differs from the spec given"):
         ContactAnalyzer(other, scene=scene)
+
+
+@pytest.mark.parametrize("designation", ["1/4-20 UNC-2A/2B", "M6x1-6g/6H"])
+def test_the_lowerings_check_for_a_vertex_deep_inside_agrees_with_every_vertex(designation):
+    """A lowering that passed a thin wedge whole is caught by a vertex of one mesh lying
+    inside the other exact body deeper than the meshes' deviation; the check asks only the
+    vertices a compiled pass keeps. Brute force, at rest poses of the chamfered parts and
+    those poses sunk by up to 0.02 pitch: every vertex of both meshes moved into the other
+    body's frame and tested exactly (``contains``, ``surface_distance``). They agree at
+    every pose, both ways."""
+    from threadmate.geometry import with_parts
+
+    spec = with_parts(designation)
+    mech = Mechanics(spec, DEFAULT)
+    scene, depth = mech.scene, 2 * mech.scene.deviation + mech.tolerance
+
+    def brute(rotation, origin):
+        for body, points in (
+            (scene.bolt, (mech.engine.nut_vertices - origin) @ rotation),
+            (scene.nut, mech.engine.bolt_vertices @ rotation.T + origin),
+        ):
+            inside = points[body.contains(points)]
+            if np.any(body.surface_distance(inside) > depth):
+                return True
+        return False
+
+    verdicts = []
+    for roll, pitch, phase in [(1, -1, 100.0), (-2, 0, 250.0), (0, 3, 10.0), (2, 2, 190.0)]:
+        rest = mech.settle(roll, pitch, phase).state
+        rotation = np.array(rest.rotation)
+        x, y, z = rest.centre
+        for sunk in (0.0, 1e-4, 3e-4, 1e-3, 0.02):
+            zc = z - sunk * spec.pitch
+            pose = mech._pose(rotation, np.array([x, y]), zc)  # internal: the pose at zc
+            got = mech._embedded(rotation, np.array([x, y]), zc)  # internal: no public form
+            assert got == brute(pose.rotation, pose.origin), (roll, pitch, phase, sunk)
+            verdicts.append(got)
+    assert any(verdicts) and not all(verdicts)  # both answers asked

@@ -106,7 +106,6 @@ class _HeldBolt:
         nv, bv = self.engine.nut_vertices, self.engine.bolt_vertices
         self._nut_top = nv[nv[:, 2] >= -spec.pitch - spec.countersink_depth]
         self._bolt_tip = bv[bv[:, 2] <= spec.pitch + spec.point_height]
-        self._bolt_tip_sq = np.einsum("ij,ij->i", self._bolt_tip, self._bolt_tip)
         #: Where meshes from CAD do not follow the spec (None: generated meshes).
         self._off = scene.off_spec
 

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ...geometry import Pose
-from ..scene import Sweep, pair_keys, upward, vertical_rise, vertical_touch
+from ..scene import Sweep, deep_candidates, pair_keys, upward, vertical_rise, vertical_touch
 from ._held_bolt import _HeldBolt
 
 __all__: list[str] = []
@@ -425,48 +425,26 @@ class _Lowering(_HeldBolt):
         pose = self._pose(rotation, xy, zc)
         an = self.scene
         depth = 2 * an.deviation + self.tolerance
-        # Only points within the other body's slab can be inside it: their height there
-        # first (one product per point), the whole transform for those alone.
-        rot, origin = pose.rotation, pose.origin
-        bolt_z = (self._nut_top - origin) @ rot[:, 2]
-        turned_z = self._bolt_tip @ rot[2]
-        nut_z = turned_z + origin[2]
-        bolt, nut = an.bolt, an.nut
-        m = self.tolerance  # a margin: rounding differs from the full transform's
-        # And only the bolt's points that can reach past the nut's least radius (below): a
-        # rotation keeps a point's distance from the origin, so its distance from the axis
-        # once turned follows from that and its height, and the shift adds |xy| at most.
-        reach = max(0.0, nut.profile.r_lo - math.hypot(origin[0], origin[1]) - m)
-        candidates = (
-            (
-                bolt,
-                pose.to_bolt(
-                    self._nut_top[(bolt_z >= bolt.z_min - m) & (bolt_z <= bolt.z_max + m)]
-                ),
-            ),
-            (
-                nut,
-                pose.to_fixed(
-                    self._bolt_tip[
-                        (nut_z >= nut.z_min - m)
-                        & (nut_z <= nut.z_max + m)
-                        & (self._bolt_tip_sq - turned_z**2 >= reach**2)
-                    ]
-                ),
-            ),
-        )
-        for body, points in candidates:
-            # Only points on the material's side of the profile's extreme radius can be
-            # inside (the bolt's material lies within r_hi, the nut's beyond r_lo): most
-            # are not, and the exact test is dearer.
-            z, r2 = points[:, 2], points[:, 0] ** 2 + points[:, 1] ** 2
-            prof = body.profile
-            if body.kind == "bolt":
-                maybe = r2 <= prof.r_hi**2 * (1 + 1e-9)
-            else:
-                maybe = r2 >= prof.r_lo**2 * (1 - 1e-9)
-            points = points[maybe & (z >= body.z_min) & (z <= body.z_max)]
-            inside = points[body.contains(points)]  # cheap; the distance only for these
+        # Only the points a compiled pass keeps can be that deep (the nut's near its top
+        # against the bolt, the bolt's near its end against the nut); the exact tests for
+        # those alone.
+        for body, points, inverse in (
+            (an.bolt, self._nut_top, True),
+            (an.nut, self._bolt_tip, False),
+        ):
+            near = deep_candidates(
+                body,
+                points,
+                pose.rotation,
+                pose.origin,
+                inverse=inverse,
+                depth=depth,
+                margin=self.tolerance,
+            )
+            if not len(near):
+                continue
+            points = pose.to_bolt(points[near]) if inverse else pose.to_fixed(points[near])
+            inside = points[body.contains(points)]
             deep = inside[body.surface_distance(inside) > depth]
             # A mesh from CAD is taken as given: deep in the spec's body is not inside the
             # mesh where it does not follow the spec (an unstated point or countersink).

@@ -64,6 +64,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         region_at as region_at,
         turn_axis_tangent as turn_axis_tangent,
     )
+    from ._kernels import deep_candidates as deep_candidates
     from ._regions import RegionPair as RegionPair, Vec as Vec, as_vec as as_vec
     from ._scene import (
         OFF_SPEC_FACTOR as OFF_SPEC_FACTOR,
@@ -134,6 +135,7 @@ _SOURCES = {
         "region_at",
         "turn_axis_tangent",
     ),
+    "._kernels": ("deep_candidates",),
     "._regions": (
         "as_vec",
         "RegionPair",

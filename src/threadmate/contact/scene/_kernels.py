@@ -37,6 +37,7 @@ __all__ = [
     "RIM",
     "EdgeCurve",
     "crossing_of_edges",
+    "deep_candidates",
     "envelope_array",
     "kink_height",
     "kink_heights",
@@ -486,6 +487,94 @@ def signed_distance(
     out = np.empty(len(points))
     _signed_distance(got.prof, got.env, got.shape, points, theta, out)
     return out
+
+
+@compiled
+def _deep_candidates(
+    prof: NDArray[np.float64],
+    env: NDArray[np.float64],
+    shape: NDArray[np.float64],
+    points: NDArray[np.float64],
+    rotation: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    inverse: bool,
+    z_lo: float,
+    z_hi: float,
+    gap: float,
+    out: NDArray[np.int64],
+) -> int:
+    is_bolt, with_env, hand_lead = shape[0] > 0, shape[1] > 0, shape[2]
+    r_hi, r_lo = prof[4], prof[5]
+    rot, o = rotation, origin
+    n = 0
+    for i in range(points.shape[0]):
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        if inverse:  # into the body's frame: (p - origin) @ rotation
+            px, py, pz = px - o[0], py - o[1], pz - o[2]
+            z = px * rot[0, 2] + py * rot[1, 2] + pz * rot[2, 2]
+            if z < z_lo or z > z_hi:
+                continue
+            x = px * rot[0, 0] + py * rot[1, 0] + pz * rot[2, 0]
+            y = px * rot[0, 1] + py * rot[1, 1] + pz * rot[2, 1]
+        else:  # out of the moved body's frame: rotation @ p + origin
+            z = rot[2, 0] * px + rot[2, 1] * py + rot[2, 2] * pz + o[2]
+            if z < z_lo or z > z_hi:
+                continue
+            x = rot[0, 0] * px + rot[0, 1] * py + rot[0, 2] * pz + o[0]
+            y = rot[1, 0] * px + rot[1, 1] * py + rot[1, 2] * pz + o[1]
+        r = math.hypot(x, y)
+        # The lateral radius lies within [r_lo, r_hi]: most points are decided here.
+        if (r > r_hi - gap) if is_bolt else (r < r_lo + gap):
+            continue
+        lateral = _profile_radius(prof, z - hand_lead * math.atan2(y, x) / TWO_PI)
+        if with_env:
+            e = _envelope_radius(env, z)
+            if (e < lateral) if is_bolt else (e > lateral):
+                lateral = e
+        if (lateral - r if is_bolt else r - lateral) > gap:
+            out[n] = i
+            n += 1
+    return n
+
+
+def deep_candidates(
+    body: ThreadBody,
+    points: NDArray[np.float64],
+    rotation: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    *,
+    inverse: bool,
+    depth: float,
+    margin: float,
+) -> NDArray[np.int64]:
+    """Which of ``points`` can lie deeper than ``depth`` inside ``body``: their indices.
+
+    ``points`` are moved into the body's frame first: by ``(p - origin) @ rotation``
+    with ``inverse`` (fixed-frame points into a moved body's frame), else by
+    ``rotation @ p + origin``. A point deeper than ``depth`` lies within the body's
+    heights and at least ``depth`` inside its lateral radius at its angle and height
+    (:meth:`ThreadBody.lateral_radius`; :meth:`ThreadBody.surface_distance` is no more
+    than that radial gap): the points kept pass both tests with ``margin`` (heights)
+    and half of ``depth`` to spare, so that rounding keeps every point the exact tests
+    (:meth:`ThreadBody.contains`, ``surface_distance``) can find deep, and most others
+    are left out at a few operations each.
+    """
+    got = _arrays(body)
+    out = np.empty(len(points), dtype=np.int64)
+    n = _deep_candidates(
+        got.prof,
+        got.env,
+        got.shape,
+        np.ascontiguousarray(points, dtype=float),
+        np.ascontiguousarray(rotation, dtype=float),
+        np.ascontiguousarray(origin, dtype=float),
+        bool(inverse),
+        float(body.z_min - margin),
+        float(body.z_max + margin),
+        0.5 * float(depth),
+        out,
+    )
+    return out[:n]
 
 
 #: The exact edges :func:`crossing_of_edges` follows, by how a point at a polar angle is found

@@ -36,6 +36,7 @@ from ._kernels import (
     EdgeCurve,
     _arrays,
     crossing_of_edges,
+    deep_candidates,
     kink_height,
     kink_heights,
     signed_distance,
@@ -95,6 +96,7 @@ def _exact() -> None:
     kink_heights(body, np.zeros(2), 0.0)
     p = np.zeros((1, 3))
     signed_distance(body, p, np.arctan2(p[:, 1], p[:, 0]))
+    deep_candidates(body, p, np.eye(3), p[0], inverse=True, depth=1.0, margin=0.0)
     got = _arrays(body)
     kink = EdgeCurve(KINK, got.prof, got.env, got.rise, float(body.lead), 0.0, 0.0, 0.0)
     crossing_of_edges(kink, kink, np.eye(3), np.zeros(3), 0.0, 1.0)
