@@ -278,6 +278,17 @@ def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):
             assert np.all(local <= forest.extent[node] * (1 + 1e-9) + 1e-12)
 
 
+def test_a_scene_is_built_once_per_spec_and_chord(quarter_20):
+    """The scene of the default chord is one whether the chord is given or not (a sweep
+    names it, a model built by hand need not): its trees are built once per process."""
+    from threadmate.contact import contact_scene
+    from threadmate.geometry import DEFAULT_CHORD
+
+    scene = contact_scene(quarter_20)
+    assert contact_scene(quarter_20, chord=DEFAULT_CHORD["in"]) is scene
+    assert contact_scene(quarter_20, chord=2 * DEFAULT_CHORD["in"]) is not scene
+
+
 def test_crossing_pairs_at_the_touch_are_python_fcls(quarter_20):
     """At the first touch of the bolt lowered onto the nut (python-fcl's yes/no bisected to
     the last bit, tests/_fcl.py) and a hair either side, the collision query's crossing

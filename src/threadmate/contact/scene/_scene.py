@@ -333,7 +333,8 @@ def contact_scene(
             max_faces=max_faces,
         )
     meshes = ((bolt_mesh, keys[0]), (nut_mesh, keys[1]), mesh_units, max_faces)
-    return _cached(spec, chord, meshes)
+    # The default chord by its value: a scene asked with it and one asked without are one.
+    return _cached(spec, chord if chord is not None else DEFAULT_CHORD[spec.units], meshes)
 
 
 def scene_for(
