@@ -1,5 +1,6 @@
 """Compiled kernels of the exact contact geometry: the kink's height, the vertical touch,
-the signed distance from a thread body, where two exact edges cross.
+the signed distance from a thread body, where two exact edges cross, which points can lie
+deep inside a thread body.
 
 The contact code asks these one edge or a few triangle pairs at a time, thousands of
 times per rest state, where Python's and numpy's per-call overhead is most of the cost.
