@@ -142,3 +142,17 @@ def test_warming_without_a_folder_for_its_lock_files_runs_every_step(monkeypatch
     monkeypatch.setattr(_warm, "_lock_folder", lambda: blocked / "locks")
     _warm.warm_kernels(reverse=True)
     assert ran == list("dcba")
+
+
+def test_a_querys_face_pairs_are_numpys_unique_rows():
+    """The distinct (bolt face, nut face) pairs of a query's rows, sorted, as numpy's
+    lexicographic unique of the rows has them (empty, single, repeated, and face numbers
+    up to the largest meshes')."""
+    from threadmate.contact.scene._obb import unique_face_pairs
+
+    rng = np.random.default_rng(2)
+    for n, high in ((0, 10), (1, 10), (7, 3), (500, 60_000), (4000, 2_500_000)):
+        rows = rng.integers(0, high, (n, 3)).astype(np.int64)
+        rows = np.concatenate([rows, rows[: n // 2]])
+        expected = np.unique(rows[:, :2], axis=0) if len(rows) else np.empty((0, 2), int)
+        assert np.array_equal(unique_face_pairs(rows), expected)

@@ -63,14 +63,21 @@ from scipy.spatial import ConvexHull, cKDTree
 
 from ..._angles import TWO_PI
 from ...geometry import Pose
-from ._obb import ALL, ANY, EACH, CrossingQuery, ObbForest, obb_forest
+from ._obb import (
+    ALL,
+    ANY,
+    EACH,
+    PAIR_KEY,
+    CrossingQuery,
+    ObbForest,
+    obb_forest,
+    unique_face_pairs,
+)
 
 __all__ = ["CollisionPair", "MeshSolid", "Sweep", "pair_keys", "upward"]
 
 #: Angular sectors of the nut, each its own tree (see the module docstring).
 SECTORS = 36
-#: Multiplier of the bolt face in a pair's integer key (above any nut face count).
-_KEY = 1 << 31
 #: Triangles (by nearest centroid) whose nearest bounds a signed distance's search.
 _NEAREST = 8
 #: Size classes of a mesh's triangles (a factor of 2 each; the smallest take the rest).
@@ -141,7 +148,7 @@ class Sweep:
             asked[list(sectors)] = True
             nodes = nodes[asked[nodes[:, 2]]]
         found = self._engine._nut.among(self._bolt[0], nodes, pose.rotation, pose.origin, ALL)
-        return _unique_pairs(found)
+        return unique_face_pairs(found)
 
     def collides_at(self, pose: Pose) -> bool:
         """:meth:`CollisionPair.collides` at a pose the walk covers (:meth:`covers`)."""
@@ -151,17 +158,7 @@ class Sweep:
 
 def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
     """One integer per ``(bolt_face, nut_face)`` pair (bolt face major)."""
-    return pairs[:, 0] * _KEY + pairs[:, 1]
-
-
-def _unique_pairs(found: NDArray[np.int64]) -> NDArray[np.int64]:
-    """The distinct ``(bolt_face, nut_face)`` pairs of a query's rows, sorted (bolt face
-    major): one integer key each, whose 1-D unique sorts them as the rows'
-    lexicographic unique would, at a fraction of its cost."""
-    key = np.unique(pair_keys(found[:, :2]))
-    pairs = np.empty((len(key), 2), dtype=np.int64)
-    pairs[:, 0], pairs[:, 1] = np.divmod(key, _KEY)
-    return pairs
+    return pairs[:, 0] * PAIR_KEY + pairs[:, 1]
 
 
 def upward(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -578,7 +575,7 @@ class CollisionPair:
         self._place(pose)
         self.queries += 1
         asked = self._sectors if sectors is None else [k for k in self._sectors if k in sectors]
-        return _unique_pairs(self._ask(asked, ALL))
+        return unique_face_pairs(self._ask(asked, ALL))
 
     def pairs_below(self, pose: Pose, above: Pose) -> Sweep | None:
         """None where the bolt at ``above`` (the same rotation as ``pose``) intersects the
@@ -604,7 +601,7 @@ class CollisionPair:
             return None
         self.queries += 1
         nodes[:, 2] = np.asarray(order, dtype=np.int64)[nodes[:, 2]]
-        return Sweep(self, (forest, tree), pose, above, _unique_pairs(found), nodes)
+        return Sweep(self, (forest, tree), pose, above, unique_face_pairs(found), nodes)
 
     def pairs_under_material(self, pose: Pose) -> NDArray[np.int64]:
         """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose`` of a nut face
@@ -638,7 +635,7 @@ class CollisionPair:
         forest, tree = self._placed_at(bolt, pose)
         self.queries += 1
         found = nut(forest, tree, np.zeros(1, dtype=np.int64), pose.rotation, pose.origin, ALL)
-        return _unique_pairs(found)
+        return unique_face_pairs(found)
 
     def triangles(
         self, pose: Pose, pairs: NDArray[np.int64]

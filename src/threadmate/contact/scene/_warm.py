@@ -42,7 +42,7 @@ from ._kernels import (
     signed_distance,
     vertical_touch,
 )
-from ._obb import ALL, ANY, CrossingQuery, ObbForest, obb_forest
+from ._obb import ALL, ANY, CrossingQuery, ObbForest, obb_forest, unique_face_pairs
 
 __all__ = ["warm_kernels", "warm_kernels_aside"]
 
@@ -81,7 +81,7 @@ def _walks() -> None:
     forest = _leaf()
     query = CrossingQuery(forest)
     trees, rotation = np.zeros(1, dtype=np.int64), np.eye(3)
-    query(forest, 0, trees, rotation, np.zeros(3), ANY)
+    unique_face_pairs(query(forest, 0, trees, rotation, np.zeros(3), ANY))
     query.below(forest, 0, trees, rotation, np.zeros(3), np.array([0.0, 0.0, 1.0]))
     query.among(forest, np.zeros((1, 3), dtype=np.int64), rotation, np.zeros(3), ALL)
 
