@@ -14,7 +14,8 @@ The profile and the envelope travel as float arrays (:func:`profile_array`,
 for operation for operation (:meth:`threadmate.geometry.Profile.radius` and ``slope``,
 the envelope's ``radius`` and ``signed_distance``, :func:`scipy.optimize.brentq`), so
 that its results are those methods' to the last bit, bar the order of rounding in a
-library call.
+library call. The one that stands for no method, :func:`deep_candidates`, is a filter
+before the exact tests, with margins far above rounding: its last bits decide nothing.
 """
 
 from __future__ import annotations
