@@ -9,20 +9,27 @@ crossing pairs. Asked through python-fcl, every pair comes back as a Python obje
 two numpy arrays and each sector is its own call; here one compiled call walks the
 sectors' trees and returns the pairs as integers.
 
-The trees are FCL's kind, rebuilt: each node's box oriented along the principal axes of
-its triangles' vertices (their covariance), its triangles split at the mean of their
-centroids along the box's major axis, down to leaves of :data:`LEAF_SIZE` triangles
-(which pairs cross is the triangle test's answer whatever the leaves hold, for a box
-holds its triangles). A query works in the bolt's frame, as FCL's mesh traversal does:
-the nut's boxes and triangles are moved into it (lazily, once per query each), a pair of
-boxes is kept unless one of the 15 axes of the separating-axis test parts them (with
-FCL's allowance of 1e-6 on the rotation's entries, which only keeps more pairs), the
-larger box (by its diagonal) is split first, and two leaves' triangles cross unless one
-of the 17 axes of RAPID's triangle test (Gottschalk, Lin and Manocha, SIGGRAPH 1996: the
-two normals, the nine products of their edges and the six in-plane edge normals)
-separates them, touching counting as crossing. These are
-the tests python-fcl applies, and on the queries of the default parts' searches the two
-return the same pairs (``tests/test_contact.py`` checks it at poses of its own).
+The trees are FCL's kind of box: each node's box oriented along the principal axes of
+its triangles' vertices (their covariance), down to leaves of :data:`LEAF_SIZE`
+triangles. Where FCL splits a node's triangles at the mean of their centroids along the
+box's major axis, here the split is chosen by the surface-area heuristic of ray-tracing
+trees (:func:`_split`): across each of the box's axes, the plane that leaves the two
+children the least surface, weighted by their triangles. A thread's triangles run round
+the helix, long and thin, the major axis is a poor guess at the cut that keeps the
+children small, and the walk tests far fewer box pairs for the better cut
+(docs/validation.md). Which pairs cross is the triangle test's answer whatever the tree
+(a box holds its triangles), so the answers are those of any tree.
+
+A query works in the bolt's frame, as FCL's mesh traversal does: the nut's boxes and
+triangles are moved into it (lazily, once per query each), a pair of boxes is kept
+unless one of the 15 axes of the separating-axis test parts them (with FCL's allowance
+of 1e-6 on the rotation's entries, which only keeps more pairs), the larger box (by its
+diagonal) is split first, and two leaves' triangles cross unless one of the 17 axes of
+RAPID's triangle test (Gottschalk, Lin and Manocha, SIGGRAPH 1996: the two normals, the
+nine products of their edges and the six in-plane edge normals) separates them,
+touching counting as crossing. These are the tests python-fcl applies, and on the
+queries of the default parts' searches the two return the same pairs
+(``tests/test_contact.py`` checks it at poses of its own).
 
 A lowering asks two questions of nearly one pose: whether the bolt is free at the top of
 its bracket, and which pairs cross at its foot a little lower. One walk answers both
@@ -59,6 +66,9 @@ PAIR_KEY = 1 << 31
 #: Slack (spec units) of a box swept between two poses: it holds the box at either pose
 #: as another query computes it, whatever the rounding.
 _SWEPT_SLACK = 1e-12
+#: Bins of the centroids along each box axis whose boundaries are a node's candidate
+#: split planes (:func:`_split`).
+SPLIT_BINS = 16
 
 
 class ObbForest(NamedTuple):
@@ -140,6 +150,92 @@ def _fit(
 
 
 @compiled
+def _split(
+    tri: NDArray[np.float64],
+    order: NDArray[np.int64],
+    lo: int,
+    hi: int,
+    axes: NDArray[np.float64],
+    along: NDArray[np.float64],
+    span: NDArray[np.float64],
+    bins: NDArray[np.float64],
+) -> float:
+    """The plane that splits the triangles ``order[lo:hi]`` of a node (axes: its box's):
+    ``along[k]`` set to each one's centroid along the chosen box axis, the plane's
+    position on it returned (the triangles below it go left).
+
+    Of :data:`SPLIT_BINS` - 1 planes evenly spaced across the centroids' range along each
+    of the box's three axes, the one whose two children's boxes (their extents along the
+    node's axes) have the least surface, each weighted by its triangles: the
+    surface-area heuristic, as ray-tracing trees are built. A query descends into a pair
+    of boxes the more often the larger their surfaces. Where the centroids coincide along
+    every axis, the mean along the major axis (the order's middle then splits).
+    """
+    nb = bins.shape[0]
+    # Each triangle's least and greatest extent along the axes, and its centroid's.
+    for k in range(lo, hi):
+        t = order[k]
+        for d in range(3):
+            p0 = tri[t, 0, 0] * axes[0, d] + tri[t, 0, 1] * axes[1, d] + tri[t, 0, 2] * axes[2, d]
+            p1 = tri[t, 1, 0] * axes[0, d] + tri[t, 1, 1] * axes[1, d] + tri[t, 1, 2] * axes[2, d]
+            p2 = tri[t, 2, 0] * axes[0, d] + tri[t, 2, 1] * axes[1, d] + tri[t, 2, 2] * axes[2, d]
+            span[k, d, 0] = min(p0, p1, p2)
+            span[k, d, 1] = max(p0, p1, p2)
+            span[k, d, 2] = (p0 + p1 + p2) / 3.0
+    best, best_axis, best_plane = np.inf, -1, 0.0
+    for c in range(3):
+        low, high = np.inf, -np.inf
+        for k in range(lo, hi):
+            low = min(low, span[k, c, 2])
+            high = max(high, span[k, c, 2])
+        if not high > low:
+            continue
+        width = (high - low) / nb
+        # Per bin: count, then the least and greatest extent along each axis.
+        for b in range(nb):
+            bins[b, 0] = 0.0
+            for d in range(3):
+                bins[b, 1 + d] = np.inf
+                bins[b, 4 + d] = -np.inf
+        for k in range(lo, hi):
+            b = min(int((span[k, c, 2] - low) / width), nb - 1)
+            bins[b, 0] += 1.0
+            for d in range(3):
+                bins[b, 1 + d] = min(bins[b, 1 + d], span[k, d, 0])
+                bins[b, 4 + d] = max(bins[b, 4 + d], span[k, d, 1])
+        # The children's costs at each cut: the left's in a sweep up (kept in column 7),
+        # the right's in a sweep down.
+        n, f0, f1, f2, e0, e1, e2 = 0.0, np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf
+        for b in range(nb - 1):
+            if bins[b, 0] > 0:
+                n += bins[b, 0]
+                f0, f1, f2 = min(f0, bins[b, 1]), min(f1, bins[b, 2]), min(f2, bins[b, 3])
+                e0, e1, e2 = max(e0, bins[b, 4]), max(e1, bins[b, 5]), max(e2, bins[b, 6])
+            x, y, z = e0 - f0, e1 - f1, e2 - f2
+            bins[b, 7] = n * (x * y + y * z + z * x) if n > 0 else np.inf
+        n, f0, f1, f2, e0, e1, e2 = 0.0, np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf
+        for b in range(nb - 1, 0, -1):
+            if bins[b, 0] > 0:
+                n += bins[b, 0]
+                f0, f1, f2 = min(f0, bins[b, 1]), min(f1, bins[b, 2]), min(f2, bins[b, 3])
+                e0, e1, e2 = max(e0, bins[b, 4]), max(e1, bins[b, 5]), max(e2, bins[b, 6])
+            if n > 0:  # the cut below bin b
+                x, y, z = e0 - f0, e1 - f1, e2 - f2
+                cost = bins[b - 1, 7] + n * (x * y + y * z + z * x)
+                if cost < best:
+                    best, best_axis, best_plane = cost, c, low + b * width
+    if best_axis < 0:  # every centroid at one place along each axis
+        best_axis = 0
+        best_plane = 0.0
+        for k in range(lo, hi):
+            best_plane += span[k, 0, 2]
+        best_plane /= hi - lo
+    for k in range(lo, hi):
+        along[k] = span[k, best_axis, 2]
+    return best_plane
+
+
+@compiled
 def _build(
     tri: NDArray[np.float64], groups: NDArray[np.int64]
 ) -> tuple[
@@ -167,12 +263,10 @@ def _build(
     size = np.zeros(count, np.int64)
     roots = np.empty(len(groups), np.int64)
     order = np.arange(m)
-    centroid = np.empty((m, 3))
-    for t in range(m):
-        for a in range(3):
-            centroid[t, a] = (tri[t, 0, a] + tri[t, 1, a] + tri[t, 2, a]) / 3.0
     stack = np.empty((count, 3), np.int64)
     along = np.empty(m)
+    span = np.empty((m, 3, 3))
+    bins = np.empty((SPLIT_BINS, 8))
     used = 0
     start = 0
     for g in range(len(groups)):
@@ -194,16 +288,10 @@ def _build(
             if hi - lo <= LEAF_SIZE:
                 leaf[node], size[node] = lo, hi - lo
                 continue
-            mean = 0.0
-            for k in range(lo, hi):
-                t = order[k]
-                along[k] = centroid[t, 0] * ax[0, 0] + centroid[t, 1] * ax[1, 0]
-                along[k] += centroid[t, 2] * ax[2, 0]
-                mean += along[k]
-            mean /= hi - lo
+            plane = _split(tri, order, lo, hi, ax, along, span, bins)
             i, j = lo, hi - 1
             while i <= j:
-                if along[i] < mean:
+                if along[i] < plane:
                     i += 1
                 else:
                     order[i], order[j] = order[j], order[i]
