@@ -855,14 +855,15 @@ def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
     assert full_legs[-1].after.classification == known.classification
 
 
-def test_a_stalled_descent_stays_unbalanced_near_where_the_longer_one_ends(
-    mech, quarter_20, monkeypatch
-):
+def test_a_stalled_descent_ends_near_where_the_longer_one_ends(mech, quarter_20, monkeypatch):
     """Where the thread starts meet edge to edge (held (1, 4), 348.5 to 348.8 degrees) some
-    descents of the continuation stall: they stop after ``stall_steps`` without progress.
-    Carried on to the step limit, each stays unbalanced (no rest state was given up), and
+    descents of the continuation stall: they stop after ``stall_steps`` without progress,
+    their potential wandering within the meshes' noise. Carried on to the step limit, each
     ends within half the thresholds the continuation tells a jump by (a fall of pitch /
-    40, a tilt of 0.5 degree) of where it stalled: the continuation's decisions stand."""
+    40, a tilt of 0.5 degree) of where it stalled: the continuation's decisions stand.
+    Some stay unbalanced, others balance in the end, there (which do rests on the
+    arithmetic's last bits: their contacts flicker at the touching threshold, the
+    potential within the meshes' noise of where they stalled)."""
     settled = _settles_of_a_continuation(mech, monkeypatch, (1, 4), 345.0, 5.0)
     stalled = [
         (a, k, rest)
@@ -880,11 +881,11 @@ def test_a_stalled_descent_stays_unbalanced_near_where_the_longer_one_ends(
             continue  # stopped by another rule than the stall (a degenerate step)
         compared += 1
         assert longer.iterations > rest.iterations
-        assert longer.classification == rest.classification
-        assert max(longer.balance["force"], longer.balance["moment"]) > BALANCE
         a, b = rest.state, longer.state
         assert math.dist(a.centre, b.centre) <= quarter_20.pitch / 80
         assert axis_angle(a.rotation, b.rotation) <= 0.25
+        if max(longer.balance["force"], longer.balance["moment"]) > BALANCE:
+            assert longer.classification == rest.classification
     assert compared
 
 
