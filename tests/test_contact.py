@@ -278,6 +278,50 @@ def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):
             assert np.all(local <= forest.extent[node] * (1 + 1e-9) + 1e-12)
 
 
+def test_obb_trees_split_each_node_where_the_children_have_least_surface():
+    """A node's split (contact/scene/_obb.py, the surface-area heuristic): of the planes
+    evenly spaced across its triangles' centroids along each of its box's axes, the one
+    whose two children (the triangles each side of it, their extents along the node's
+    axes) have the least surface weighted by their count, recomputed here plane by plane
+    for random triangles of three shapes (the triangles left of the plane returned)."""
+    from threadmate.contact.scene import _obb
+
+    rng = np.random.default_rng(7)
+    for scale in ([1.0, 1.0, 1.0], [5.0, 0.2, 0.1], [0.3, 2.0, 0.05]):
+        centres = rng.normal(size=(150, 1, 3)) * scale
+        tri = np.ascontiguousarray(centres + 0.05 * rng.normal(size=(150, 3, 3)))
+        order = np.arange(len(tri))
+        axes = np.ascontiguousarray(np.linalg.qr(rng.normal(size=(3, 3)))[0])
+        along = np.empty(len(tri))
+        span = np.empty((len(tri), 3, 3))
+        bins = np.empty((_obb.SPLIT_BINS, 8))
+        plane = _obb._split(tri, order, 0, len(tri), axes, along, span, bins)
+        local = tri @ axes  # each vertex along the node's axes
+        centroid = local.mean(axis=1)
+
+        def cost(left: np.ndarray, local: np.ndarray = local) -> float:
+            total = 0.0
+            for side in (left, ~left):
+                ext = local[side].reshape(-1, 3)
+                x, y, z = ext.max(axis=0) - ext.min(axis=0)
+                total += side.sum() * (x * y + y * z + z * x)
+            return total
+
+        costs = {}
+        for c in range(3):
+            low, high = centroid[:, c].min(), centroid[:, c].max()
+            for cut in range(1, _obb.SPLIT_BINS):
+                at = low + cut * (high - low) / _obb.SPLIT_BINS
+                left = centroid[:, c] < at
+                if 0 < left.sum() < len(tri):
+                    costs[(c, cut)] = cost(left)
+        chosen = along < plane
+        assert 0 < chosen.sum() < len(tri)
+        axis = int(np.argmin([np.abs(along - centroid[:, c]).max() for c in range(3)]))
+        np.testing.assert_allclose(along, centroid[:, axis], rtol=0, atol=1e-12)
+        assert cost(chosen) == pytest.approx(min(costs.values()), rel=1e-12)
+
+
 def test_a_scene_is_built_once_per_spec_and_chord(quarter_20):
     """The scene of the default chord is one whether the chord is given or not (a sweep
     names it, a model built by hand need not): its trees are built once per process."""
