@@ -858,12 +858,11 @@ def test_a_continuation_that_arrives_at_a_known_state_would_have_ended_there(
 def test_a_stalled_descent_ends_near_where_the_longer_one_ends(mech, quarter_20, monkeypatch):
     """Where the thread starts meet edge to edge (held (1, 4), 348.5 to 348.8 degrees) some
     descents of the continuation stall: they stop after ``stall_steps`` without progress,
-    their potential wandering within the meshes' noise. Carried on to the step limit, each
+    their potential moving by about the meshes' noise. Carried on to the step limit, each
     ends within half the thresholds the continuation tells a jump by (a fall of pitch /
     40, a tilt of 0.5 degree) of where it stalled: the continuation's decisions stand.
     Some stay unbalanced, others balance in the end, there (which do rests on the
-    arithmetic's last bits: their contacts flicker at the touching threshold, the
-    potential within the meshes' noise of where they stalled)."""
+    arithmetic's last bits: their contacts flicker at the touching threshold)."""
     settled = _settles_of_a_continuation(mech, monkeypatch, (1, 4), 345.0, 5.0)
     stalled = [
         (a, k, rest)
