@@ -54,10 +54,10 @@ __all__ = ["PAIR_KEY", "CrossingQuery", "ObbForest", "obb_forest", "unique_face_
 
 #: Box pairs a query's walk holds at once: far more than two trees' depths need.
 _STACK = 4096
-#: Most triangles in a leaf. One, as FCL has it: a leaf of two saves the walk its deepest
-#: level of box tests for more triangle tests, which the default parts' sweeps gain
-#: nothing by and the flat parts' lose a fifth of their time to; four or more cost more.
-LEAF_SIZE = 1
+#: Most triangles in a leaf. Two (FCL has one): a leaf of two saves the walk its deepest
+#: level of box tests for more triangle tests, which the surface-area split's trees gain
+#: by (FCL's lost by it); three or more cost more (docs/validation.md).
+LEAF_SIZE = 2
 #: What a query asks (:func:`_crossing`): every crossing pair, whether any, or whether any
 #: in each tree of the nut asked.
 ALL, ANY, EACH = 0, 1, 2
