@@ -53,10 +53,11 @@ def _load() -> str:
 
 
 def _stage(text: str) -> str:
-    """The stage a progress message opens: a setting, a robustness case, the look."""
-    for prefix in ("setting", "robustness", "most robust"):
+    """The stage a progress message opens: a setting, the optimum at the envelope's own
+    grid, a robustness case, the look."""
+    for prefix in ("setting", "the optimum", "robustness", "most robust"):
         if text.startswith(prefix):
-            return prefix
+            return prefix.removeprefix("the ")
     return "other"
 
 

@@ -26,6 +26,10 @@ DESIGNATION = "1/4-20 UNC-2A/2B"
 #: The tiny envelope: upright and 2 degrees toward -X, one start phase, bisected to 1
 #: degree (soft settings snap at 2 degrees there, stiff ones do not).
 TINY = {"tilt": "0,2", "direction": "180", "phase": "300", "tolerance": 1.0}
+#: The grid the tiny design measures its optimum again at, in place of the envelope's own
+#: (16 directions, 18 phases: minutes on these parts): TINY's sizes and phase, two
+#: directions.
+CONFIRM = {**TINY, "direction": "0,180"}
 
 
 @pytest.fixture(scope="module")
@@ -185,40 +189,47 @@ def test_the_default_search_finds_a_plateau_narrower_than_two_refinements_reach(
     assert shallow.best()[1].tolerated == 2.50
 
 
+def _tiny_design(*args: str) -> tuple[int, str, str]:
+    """``threadmate design ARGS`` on the tiny configuration: two ratios (the bounds), no
+    refinement, no robustness (tested through the API below), the optimum measured again
+    at :data:`CONFIRM` unless ``--no-confirm``."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr("threadmate.design._best.FINE", CONFIRM)
+        return run_captured(
+            "design",
+            DESIGNATION,
+            *FLAT,
+            "--force",
+            "5:20",
+            "--stiffness",
+            "0.5:20",
+            "--ratios",
+            "2",
+            "--refinements",
+            "0",
+            "--no-robustness",
+            "--tilt",
+            TINY["tilt"],
+            "--direction",
+            TINY["direction"],
+            "--phase",
+            TINY["phase"],
+            "--tolerance",
+            str(TINY["tolerance"]),
+            "--workers",
+            "1",
+            *args,
+        )
+
+
 @pytest.fixture(scope="module")
 def design_doc(tmp_path_factory):
-    """``threadmate design --json`` on the tiny configuration: two ratios (the bounds),
-    no refinement, no robustness (tested through the API below)."""
+    """``threadmate design --json`` on the tiny configuration (:func:`_tiny_design`)."""
     figure = tmp_path_factory.mktemp("design") / "design.png"
-    code, out, err = run_captured(
-        "design",
-        DESIGNATION,
-        *FLAT,
-        "--force",
-        "5:20",
-        "--stiffness",
-        "0.5:20",
-        "--ratios",
-        "2",
-        "--refinements",
-        "0",
-        "--no-robustness",
-        "--tilt",
-        TINY["tilt"],
-        "--direction",
-        TINY["direction"],
-        "--phase",
-        TINY["phase"],
-        "--tolerance",
-        str(TINY["tolerance"]),
-        "--workers",
-        "1",
-        "--plot",
-        figure,
-        "--json",
-    )
+    code, out, err = _tiny_design("--plot", figure, "--json")
     assert code == 0, err
     assert "design: setting 1" in err  # progress on stderr
+    assert "design: the optimum at the envelope's own grid" in err
     return json.loads(out), figure
 
 
@@ -229,8 +240,18 @@ def test_design_json_says_what_to_set_with_units(design_doc):
     o = doc["optimum"]
     assert doc["summary"].startswith(f"F = {o['force']:.3g} N, k = {o['stiffness']:.3g} N m/rad")
     assert "held upright" in doc["summary"] and doc["held"] == "upright"
-    # The coarse figure holds in the directions evaluated (TINY's one), not in any direction.
-    assert "misalignment in the one direction evaluated" in doc["summary"]
+    # The lead's figure is the optimum's at the confirming grid, and holds in its two
+    # directions; the coarse envelope (TINY's one direction) only ranks the settings.
+    fine = doc["fine_envelope"]
+    assert [d["direction"] for d in fine["directions"]] == [0.0, 180.0]
+    tolerated = fine["tolerated"]["100%"]
+    least = "at least " if tolerated["beyond_range"] else ""
+    assert (
+        f"tolerates {least}{tolerated['tilt']:.2f} deg of misalignment in each of the 2 "
+        "directions evaluated"
+    ) in doc["summary"]
+    assert fine["compliance"] == doc["envelope"]["compliance"]
+    assert len(doc["envelope"]["directions"]) == 1
     assert doc["pretilt"] is None and doc["pretilts"] == []
     assert 5 <= o["force"] <= 20 and 0.5 <= o["stiffness"] <= 20
     assert o["stiffness"] / o["force"] == pytest.approx(o["ratio"], rel=1e-9)
@@ -459,7 +480,7 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
         return Envelope(
             directions=[{"direction": 360.0 * i / directions} for i in range(directions)],
             tolerated={"100%": {"tilt": 2.0}},
-            inside={},
+            inside={"turn_mean": 150.0},
             compliance={},
             spec={},
             grid={},
@@ -470,8 +491,14 @@ def test_the_lead_says_what_the_worst_case_tolerates_when_the_recommendation_doe
             source="spec",
         )
 
+    # Its figures are the fine envelope's, the turn too.
     text = lead(True, [], fine=measured(16), coarse=measured(8))
     assert "tolerates 2.00 deg of misalignment in any direction;" in text
+    assert text.endswith("snaps after 150 deg of turn on average")
+    # Robustness cases measured at the coarse grid beside it say so.
+    text = lead(False, short, fine=measured(16), coarse=measured(8))
+    assert "in any direction with the nominal parts and friction, 0.00 deg with maximum " in text
+    assert "maximum material at the coarse grid (the recommendation does not hold" in text
     text = lead(True, [], coarse=measured(8))
     assert "tolerates 2.25 deg of misalignment in each of the 8 directions evaluated;" in text
 
@@ -653,3 +680,41 @@ def test_an_envelope_around_a_pretilt_probes_the_pretilted_hold(flat_pair):
     share = env.directions[0]["shares"][0]
     assert share == [0.0, 1.0 if direct.snap is not None else 0.0]
     assert env.to_dict()["pretilt"] == {"size": 2.0, "direction": 180.0}
+
+
+def test_the_confirmed_lead_agrees_with_direct_searches_in_its_worst_direction(
+    flat_pair, design_doc
+):
+    """The lead's figure, the optimum measured at the confirming grid: in its worst
+    direction the start phase snaps within one turn at the tolerated tilt and not at the
+    first failure the bisection found (direct searches)."""
+    doc, _ = design_doc
+    fine = doc["fine_envelope"]
+    o = doc["optimum"]
+    compliance = Compliance(force=o["force"], stiffness=o["stiffness"])
+    worst = fine["tolerated"]["100%"]["worst_directions"][0]
+    row = next(x for x in fine["directions"] if x["direction"] == worst)
+    inside, outside = row["tilt"]["100%"], row["first_failure"]["100%"]
+    phase = float(TINY["phase"])
+
+    def snaps(tilt: float) -> bool:
+        roll, pitch = held_tilt_from_polar(tilt, worst)
+        return (
+            search(flat_pair, roll, pitch, phase, compliance=compliance, turns=1.0).snap is not None
+        )
+
+    assert snaps(inside)
+    if outside is not None:
+        assert not snaps(outside)
+
+
+def test_design_without_confirming_leads_with_the_coarse_figure_where_it_holds():
+    """``--no-confirm``: no envelope at the confirming grid; the lead gives the coarse
+    figure and says it holds in the one direction evaluated, and the text says how to
+    measure the figure to rely on."""
+    code, out, err = _tiny_design("--no-confirm")
+    assert code == 0, err
+    assert "the optimum at the envelope's own grid" not in err
+    first = out.splitlines()[0]
+    assert "misalignment in the one direction evaluated" in first
+    assert "without --no-confirm the optimum is measured at the envelope's own grid" in out

@@ -25,7 +25,10 @@ bounds as far as ``may_exceed`` allows (the force stays at its bound, the stiffn
 beyond its own), and a pick at a bound is said to be one.
 
 Each setting is evaluated with a coarse envelope (few directions and phases, a coarse
-tolerance); ``fine=True`` evaluates the optimum again at the envelope's own resolution.
+tolerance), which ranks the settings; the optimum is then measured again at the envelope's
+own grid (``confirm``), the figure the design leads with: a worst direction or phase
+between the coarse grid's can tolerate less. ``fine=True`` measures the robustness cases
+at that grid too.
 The compliance centre ``compliance_z`` is geometric and not reduced: given several, each
 is searched and the best kept.
 
@@ -68,7 +71,8 @@ COARSE: Mapping[str, Any] = {
     "phase": "0:340:40",
     "tolerance": 0.25,
 }
-#: The full envelope (``fine=True``): the envelope's own defaults.
+#: The optimum's envelope (``confirm``, and the robustness's with ``fine=True``): the
+#: envelope's own defaults.
 FINE: Mapping[str, Any] = {"tilt": None, "direction": None, "phase": None, "tolerance": TOLERANCE}
 #: Ratios of the first, log-spaced grid (the bounds included).
 RATIOS = 5
@@ -147,7 +151,8 @@ class ComplianceDesign:
     envelope : Envelope
         The optimum's coarse envelope.
     fine : Envelope or None
-        The optimum's envelope at full resolution, when asked.
+        The optimum's envelope at the envelope's own grid (:data:`FINE`), the figure the
+        lead gives; None when not measured (``confirm=False``).
     robustness : Robustness or None
         The optimum re-evaluated over the parts' tolerance band and the friction range.
     bounds : dict
@@ -172,6 +177,9 @@ class ComplianceDesign:
         Where the optimum does not hold over what varies: the setting evaluated whose
         worst case tolerates the most (:func:`threadmate.design.most_robust`), None
         when none tolerates more than the optimum's worst case or it was not looked for.
+    fine_cases : bool
+        Whether the robustness cases were measured at the envelope's own grid
+        (``fine=True``) rather than the coarse one.
     """
 
     optimum: dict[str, Any]
@@ -190,18 +198,21 @@ class ComplianceDesign:
     pretilt: dict[str, Any] | None = None
     pretilts: list[dict[str, Any]] = field(default_factory=list)
     robust_setting: dict[str, Any] | None = None
+    #: The robustness cases measured at the envelope's own grid (``fine=True``), as the
+    #: lead's figure is; else at the coarse grid.
+    fine_cases: bool = False
 
     def summary_line(self) -> str:
         """What to buy and set, and what it tolerates; where that does not hold over what
         varies, what the worst case tolerates (the lead must not promise more)."""
         o = self.optimum
         tolerated = o["tolerated_tilt"] if self.pretilt is None else self.pretilt["tolerated_tilt"]
+        turn, beyond = o["turn_mean"], o["tolerated_beyond_range"]
         if self.fine is not None:
-            tolerated = self.fine.tolerated_tilt
-        turn = o["turn_mean"]
+            tolerated, turn = self.fine.tolerated_tilt, self.fine.inside.get("turn_mean")
+            beyond = bool(self.fine.tolerated["100%"].get("beyond_range"))
         turn_words = "" if turn is None else f"; snaps after {turn:.0f} deg of turn on average"
         bound = f" (at the {o['at_bound']})" if o["at_bound"] else ""
-        beyond = self.fine is None and o["tolerated_beyond_range"]
         least = "at least " if beyond else ""
         worst = None if self.robustness is None else self.robustness.worst_case()
         caveat = ""
@@ -213,10 +224,12 @@ class ComplianceDesign:
                 else f"; over it F = {r['force']:.3g} N, k = {r['stiffness']:.3g} N m/rad "
                 f"tolerates {r['tolerated_tilt']:.2f} deg"
             )
+            # The cases measured at the coarse grid, beside a figure at the envelope's own.
+            coarse = " at the coarse grid" if self.fine is not None and not self.fine_cases else ""
             caveat = (
                 f" with the nominal parts and friction, {worst['tolerated_tilt']:.2f} deg "
-                f"with {worst['case']} (the recommendation does not hold over what varies"
-                f"{instead})"
+                f"with {worst['case']}{coarse} (the recommendation does not hold over what "
+                f"varies{instead})"
             )
         return (
             f"F = {o['force']:.3g} N, k = {o['stiffness']:.3g} N m/rad{bound}, held "
@@ -384,6 +397,7 @@ def best_compliance(
     direction: Any = COARSE["direction"],
     phase: Any = COARSE["phase"],
     tolerance: float = COARSE["tolerance"],
+    confirm: bool = True,
     fine: bool = False,
     robust: bool = True,
     azimuth_known: bool = False,
@@ -422,9 +436,14 @@ def best_compliance(
     tilt, direction, phase, tolerance
         The coarse envelope of every setting (:data:`COARSE`), as
         :func:`threadmate.design.envelope` takes them.
+    confirm : bool
+        Measure the optimum again at the envelope's own grid (:data:`FINE`: 16
+        directions, 18 start phases, its tolerance), the figure the lead gives ("in any
+        direction"). False leaves the lead at the coarse envelope, which holds only in
+        the directions it evaluates (minutes less).
     fine : bool
-        Evaluate the optimum (and the robustness cases) again at the envelope's own
-        resolution (its defaults; costly).
+        Measure the robustness cases at the envelope's own grid too (implies
+        ``confirm``; three full envelopes more).
     robust : bool
         Re-evaluate the optimum at maximum and minimum material and at friction 0.08 and
         0.20 (:func:`threadmate.design.robustness`).
@@ -580,9 +599,9 @@ def best_compliance(
     elif azimuth_known:
         held = "upright (no pre-tilt searched tolerates more)"
     at = None if pretilt is None else (pretilt["size"], pretilt["direction"])
-    if fine:
+    if confirm or fine:
         if progress is not None:
-            progress("the optimum at full resolution")
+            progress("the optimum at the envelope's own grid")
         fine_env = envelope(
             spec,
             compliance=comp,
@@ -591,6 +610,7 @@ def best_compliance(
             torque_limit=torque_limit,
             pretilt=at,
             frictions=frictions,
+            **FINE,
         )
     robustness = None
     if robust:
@@ -658,6 +678,7 @@ def best_compliance(
         seconds=time.perf_counter() - start,
         notes=notes,
         robust_setting=robust_setting,
+        fine_cases=fine and robustness is not None,
     )
 
 
@@ -728,11 +749,15 @@ def format_compliance_design(design: ComplianceDesign) -> str:
     )
     if design.fine is None:
         lines.append(
-            "A worst direction or phase between those evaluated can tolerate less: --fine "
-            "measures the optimum at the envelope's own grid, the figure to rely on."
+            "A worst direction or phase between those evaluated can tolerate less: without "
+            "--no-confirm the optimum is measured at the envelope's own grid, the figure "
+            "to rely on."
         )
     else:
-        lines.append(f"At full resolution the optimum {design.fine.summary_line()}.")
+        lines.append(
+            f"At the envelope's own grid the optimum {design.fine.summary_line()}; the "
+            "figure above."
+        )
     lines += [
         "",
         "| k/F m/rad | F N | k N m/rad | tolerated deg | turn mean deg | work mean mJ "
