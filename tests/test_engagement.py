@@ -548,21 +548,20 @@ def test_the_library_records_the_snaps_window():
 
 
 def test_the_click_is_the_whole_fall_a_sensor_sees(flat, mech):
-    """Held (2, -1.5) from 200 degrees, frictionless: the bolt rides the nut's top face
-    flat until about 348.7 degrees, then the branch falls steeply (many leads per
-    degree) for a few hundredths of a degree before it ends in the snap. A sensor sees
-    the whole fall, as a dynamic simulation does: the click is the highest the branch
-    stands within the last degree of turn (``CLICK_SPAN``) less the landing. The branch
-    is followed independently here in steps of 0.05 degree from the search's state at
-    345 to a hundredth of a degree before the snap: it does not engage before the snap,
-    and what it jumps on the way (the bolt rolls down a nearly neutral valley as it tips,
-    and a walk of other steps can leave it by a small jump) lies within that last degree;
-    the click is larger than the jump's own drop."""
-    run = search(mech, 2.0, -1.5, 200.0)
+    """Held (0, -3) from 30 degrees, frictionless: the bolt rides the nut's top face
+    until about 348.7 degrees, then the branch falls steeply (many leads per degree) for
+    its last hundredths of a degree before it ends in the snap. A sensor sees the whole
+    fall, as a dynamic simulation does: the click is the highest the branch stands within
+    the last degree of turn (``CLICK_SPAN``) less the landing. The branch is followed
+    independently here in steps of 0.05 degree from the search's state at 345 to a
+    hundredth of a degree before the snap: it does not engage before the snap, and what
+    it jumps on the way (a walk of other steps can leave a steep stretch by a small jump)
+    lies within that last degree; the click is larger than the jump's own drop."""
+    run = search(mech, 0.0, -3.0, 30.0)
     assert run.snap is not None and run.snap.engagement is not None
     assert run.snap.engagement.engaged
     landing = run.states[-1]
-    walk = Continuation(mech, 2.0, -1.5, step=0.05)
+    walk = Continuation(mech, 0.0, -3.0, step=0.05)
     state = next(s for s in run.states if s.phase == pytest.approx(345.0))
     end = run.snap.phase - 0.01
     _, events, states = walk.advance(state, 345.0, end - 345.0)

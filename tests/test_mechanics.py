@@ -946,6 +946,37 @@ def test_every_lowering_a_descent_keeps_is_at_the_first_touch_from_above(
         assert found.zc - 1e-6 <= z <= found.zc + 1e-9
 
 
+@pytest.mark.parametrize("cfg", [(-3.15, 1.07, 136.95), (-2.25, -1.19, 138.33)])
+def test_a_lowering_from_above_stops_on_a_tooth_at_the_nuts_face(cfg):
+    """mechanics.md's h is the height at which the bolt, lowered along -Z, first touches.
+    Where the nut's thread runs out into its countersink, a tooth of it (here about 2e-3
+    in thick) lies above the flank the bolt meets next; a bracket step (up to a sixteenth
+    of a pitch) that crossed nothing at its foot passed it whole, and the lowering found
+    that flank, 5e-3 to 9e-3 in lower. The first touch is where a python-fcl scan of the
+    two whole meshes down from where the lowering started, in steps of 2e-5 in, first
+    collides (brute force, bisected)."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    mech = Mechanics(spec, DEFAULT)
+    rotation = mech._rotation(np.radians(cfg[:2]), cfg[2])
+    found = mech.drop(rotation, np.zeros(2), None)
+    assert found is not None
+    reference = collider(spec)
+    reach = DEFAULT.compliance_z
+
+    def collides(zc: float) -> bool:
+        return reference.collides(rotation, np.array([0.0, 0.0, zc]) - rotation[:, 2] * reach)
+
+    z = found.start
+    assert not collides(z)
+    while not collides(z):
+        z -= 2e-5
+    free, hit = z + 2e-5, z
+    while free - hit > 1e-8:
+        mid = 0.5 * (free + hit)
+        free, hit = (free, mid) if collides(mid) else (mid, hit)
+    assert found.zc == pytest.approx(free, abs=1e-6)
+
+
 @pytest.mark.parametrize("cfg", [(4, 0, 185), (2, -3, 40)])
 def test_infinitely_stiff_compliance_keeps_the_held_tilt(quarter_20, cfg):
     """k -> infinity (1e6 N m/rad): the rest tilt is the held one within 1e-3 degree, and the

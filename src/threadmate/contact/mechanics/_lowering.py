@@ -2,9 +2,12 @@
 
 The bolt at a tilt is placed a little above where it is expected to touch, checked free
 with one yes/no query, and every triangle pair that intersects a little lower is
-enumerated with one more (:meth:`_Lowering.drop`); the exact drop at which each pair
-first touches (:func:`threadmate.contact.scene.vertical_touch`) gives the contact height
-without bisection, and the gaps of the other contacts within the depth ``near``. A
+enumerated with one more, both in one walk of the trees swept between the two heights
+(:meth:`_Lowering.drop`); the exact drop at which each pair first touches
+(:func:`threadmate.contact.scene.vertical_touch`) gives the contact height without
+bisection, and the gaps of the other contacts within the depth ``near``. Where nothing
+intersects at the foot, the pairs the swept walk kept tell whether a tooth of the nut lay
+between, passed whole, before the bolt is lowered on. A
 lowering that is kept is verified (:meth:`_Lowering.verified`): the pairs crossing just
 above its touch, and yes/no queries above it, find what the pairs at the bracket's foot
 missed. It asks between the bracket's top and foot, where the bracket's walk of the trees
@@ -135,18 +138,15 @@ class _Lowering(_HeldBolt):
         start, hit = top, -math.inf  # hit: the highest height known to collide
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
-            # longer cross a little lower, so one enumeration below cannot tell. Where it is
-            # not known free, one walk asks both: whether it is, and the pairs at ``low``.
+            # longer cross a little lower, so one enumeration below cannot tell. One walk,
+            # swept from ``top`` down, asks whether it is (where not known), the pairs at
+            # ``low``, and keeps the leaf pairs between, where a tooth of the nut passed
+            # whole (none of its pairs crossing at ``low``) is found (:meth:`_tooth`).
             low = top - span - self.near
-            sweep = None
-            found: NDArray[np.int64] | None
-            if known_free:
-                found = eng.pairs(self._pose(rotation, xy, low))
-            else:
-                sweep = eng.pairs_below(
-                    self._pose(rotation, xy, low), self._pose(rotation, xy, top)
-                )
-                found = None if sweep is None else sweep.pairs
+            sweep = eng.pairs_below(
+                self._pose(rotation, xy, low), self._pose(rotation, xy, top), known_free
+            )
+            found = None if sweep is None else sweep.pairs
             if found is None:  # ``top`` collides
                 if reach is not None:
                     under = self._under(rotation, xy, top, reach)
@@ -174,6 +174,8 @@ class _Lowering(_HeldBolt):
                 span = min(2 * span, cap)
                 continue
             known_free, pairs = True, found
+            if len(pairs) == 0:
+                pairs = self._tooth(rotation, xy, top, top - low, sweep)
             if len(pairs) == 0:
                 top = low
                 span = min(2 * span, cap)
@@ -221,6 +223,29 @@ class _Lowering(_HeldBolt):
                 )
             )
         raise RuntimeError("lowering the bolt did not settle on a bracket")
+
+    def _tooth(
+        self,
+        rotation: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        top: float,
+        depth: float,
+        sweep: Sweep | None,
+    ) -> NDArray[np.int64]:
+        """The pairs of a tooth of the nut the bolt, lowered from the free height ``top``
+        by ``depth``, passes whole (none of them crosses at the foot): those among the
+        sweep's that touch within the drop (:func:`vertical_touch`, exact). Empty where the
+        drop is free. The model's height is the first touch from above (docs/mechanics.md,
+        "Lowering"), and a bracket step (up to a sixteenth of a pitch) can be longer than
+        a tooth is thick where a thread runs out into the countersink or the nut's face."""
+        if sweep is None:
+            return np.empty((0, 2), dtype=np.int64)
+        candidates = sweep.candidates()
+        if len(candidates) == 0:
+            return candidates
+        drop, _ = vertical_touch(*self.engine.triangles(self._pose(rotation, xy, top), candidates))
+        # (A negative drop: the nut's triangle lies above the bolt's, met going up.)
+        return candidates[np.isfinite(drop) & (drop >= 0.0) & (drop <= depth)]
 
     def _under(
         self, rotation: NDArray[np.float64], xy: NDArray[np.float64], top: float, reach: float

@@ -150,6 +150,28 @@ class Sweep:
         found = self._engine._nut.among(self._bolt[0], nodes, pose.rotation, pose.origin, ALL)
         return unique_face_pairs(found)
 
+    def candidates(self) -> NDArray[np.int64]:
+        """Every ``(bolt_face, nut_face)`` pair of the leaf pairs whose swept boxes met
+        (sorted, unique): each pair that crosses at some pose between the walk's two is
+        among them, whether or not it crosses at either."""
+        forest, nut = self._bolt[0], self._engine._nut.nut
+        bolt_node, nut_node = self._nodes[:, 0], self._nodes[:, 1]
+        bolt_size, nut_size = forest.size[bolt_node], nut.size[nut_node]
+        rows = [np.empty((0, 3), dtype=np.int64)]
+        for a in range(int(bolt_size.max(initial=0))):
+            for b in range(int(nut_size.max(initial=0))):
+                has = (a < bolt_size) & (b < nut_size)
+                rows.append(
+                    np.column_stack(
+                        [
+                            forest.faces[forest.leaf[bolt_node[has]] + a],
+                            nut.faces[nut.leaf[nut_node[has]] + b],
+                            self._nodes[has, 2],
+                        ]
+                    )
+                )
+        return unique_face_pairs(np.concatenate(rows).astype(np.int64))
+
     def collides_at(self, pose: Pose) -> bool:
         """:meth:`CollisionPair.collides` at a pose the walk covers (:meth:`covers`)."""
         hit = self._engine._nut.among(self._bolt[0], self._nodes, pose.rotation, pose.origin, ANY)
@@ -577,11 +599,12 @@ class CollisionPair:
         asked = self._sectors if sectors is None else [k for k in self._sectors if k in sectors]
         return unique_face_pairs(self._ask(asked, ALL))
 
-    def pairs_below(self, pose: Pose, above: Pose) -> Sweep | None:
+    def pairs_below(self, pose: Pose, above: Pose, free: bool = False) -> Sweep | None:
         """None where the bolt at ``above`` (the same rotation as ``pose``) intersects the
-        nut (:meth:`collides`); else the intersecting pairs at ``pose`` (:meth:`pairs`),
-        as the :class:`Sweep` that also answers between the two. Two queries (one where
-        ``above`` intersects), asked in one walk of the trees."""
+        nut (:meth:`collides`; not asked where it is known ``free``); else the
+        intersecting pairs at ``pose`` (:meth:`pairs`), as the :class:`Sweep` that also
+        answers between the two. Two queries (one where ``above`` intersects, one where it
+        is known free) asked in one walk of the trees."""
         self._place(pose)
         forest, tree = self._placed
         if tree != self._placed_at(self._bolt, above)[1]:
@@ -594,8 +617,9 @@ class CollisionPair:
             pose.rotation,
             pose.origin,
             above.origin,
+            free,
         )
-        self.queries += 1
+        self.queries += 0 if free else 1
         if hit:
             order.insert(0, order.pop(int(found[0, 2])))
             return None

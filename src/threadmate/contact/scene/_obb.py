@@ -488,6 +488,7 @@ def _crossing(
     stamp: int,
     above: NDArray[np.float64],
     kept: NDArray[np.int64],
+    free: bool,
 ) -> int:
     """The crossing pairs of the bolt tree at ``b_root`` (the bolt's frame) at the pose
     ``(rotation, origin)`` and the nut trees at ``n_roots`` (the fixed frame), in that
@@ -500,8 +501,9 @@ def _crossing(
     walk asks also whether the bolt at that pose crosses the nut: its boxes hold the nut's
     at both poses, and a leaf's triangles are tested at both. At the first pair crossing
     there, ``out[0]`` is that pair and the walk returns -1; else it returns the pairs at
-    ``origin`` (in :data:`ALL` mode). The two answers are those of two queries. Such a
-    walk keeps the leaf pairs whose swept boxes meet, ``(bolt node, nut node, position in
+    ``origin`` (in :data:`ALL` mode). The two answers are those of two queries; where the
+    pose ``above`` is known ``free``, the first is not asked. Such a walk keeps the leaf
+    pairs whose swept boxes meet, ``(bolt node, nut node, position in
     n_roots)``, in ``kept[1:]`` (their count in ``kept[0, 0]``, those past its rows
     counted, not written): every pair crossing at an origin between the two is among
     them (:func:`_among`).
@@ -562,12 +564,13 @@ def _crossing(
                         kept[row, 0], kept[row, 1], kept[row, 2] = i, j, k
                     kept[0, 0] = row
                 first = False  # (EACH: this tree's first pair found)
+                lift = swept and not free
                 for q in range(nj, nj + nsize[j]):
-                    if swept:
+                    if lift:
                         for v in range(3):
                             _moved(rt, tu, ntri[q, v], lifted[v])
                     for p in range(bi, bi + bsize[i]):
-                        if swept and _cross(btri[p], lifted, w):
+                        if lift and _cross(btri[p], lifted, w):
                             out[0, 0], out[0, 1], out[0, 2] = p, q, k
                             return -1
                         if _cross(btri[p], mtri[q], w):
@@ -681,7 +684,7 @@ class CrossingQuery:
         tree ``tree`` at the pose ``(rotation, origin)`` and the nut's ``trees`` (indices
         of its roots), asked in that order; in :data:`ANY` or :data:`EACH` ``mode``, the
         first pair found (of each tree)."""
-        found, rows = self._walk(bolt, tree, trees, rotation, origin, mode, origin)
+        found, rows = self._walk(bolt, tree, trees, rotation, origin, mode, origin, True)
         return rows
 
     def among(
@@ -713,14 +716,16 @@ class CrossingQuery:
         rotation: NDArray[np.float64],
         origin: NDArray[np.float64],
         above: NDArray[np.float64],
+        free: bool = False,
     ) -> tuple[bool, NDArray[np.int64], NDArray[np.int64]]:
-        """Whether the bolt at ``(rotation, above)`` crosses the nut's ``trees``, and, where
-        it does not, the crossing pairs at ``(rotation, origin)`` (as :meth:`__call__`);
-        where it does, the first pair found there. One walk answers both. And the leaf
-        pairs whose boxes, swept between the two origins, met: ``(bolt node, nut node,
-        position in trees)`` rows, among which lie the pairs crossing at any origin
-        between (:meth:`among`; empty where ``above`` crosses)."""
-        found, rows = self._walk(bolt, tree, trees, rotation, origin, ALL, above)
+        """Whether the bolt at ``(rotation, above)`` crosses the nut's ``trees`` (not asked
+        where it is known ``free``), and, where it does not, the crossing pairs at
+        ``(rotation, origin)`` (as :meth:`__call__`); where it does, the first pair found
+        there. One walk answers both. And the leaf pairs whose boxes, swept between the
+        two origins, met: ``(bolt node, nut node, position in trees)`` rows, among which
+        lie the pairs crossing at any origin between (:meth:`among`; empty where
+        ``above`` crosses)."""
+        found, rows = self._walk(bolt, tree, trees, rotation, origin, ALL, above, free)
         kept = self._kept[1 : 1 + self._kept[0, 0]] if found >= 0 else self._kept[:0]
         return found < 0, rows, kept.copy()
 
@@ -733,6 +738,7 @@ class CrossingQuery:
         origin: NDArray[np.float64],
         mode: int,
         above: NDArray[np.float64],
+        free: bool,
     ) -> tuple[int, NDArray[np.int64]]:
         b = _arrays(bolt)
         roots = self.nut.roots[trees]
@@ -754,6 +760,7 @@ class CrossingQuery:
                 self._stamp,
                 above,
                 self._kept,
+                free,
             )
             if found < 0:
                 break
