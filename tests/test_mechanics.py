@@ -676,6 +676,26 @@ def test_search_snaps_at_the_window_edge_by_the_axial_clearance(sharp_quarter_20
         assert s.centre[2] == pytest.approx(0.0, abs=5e-6)
 
 
+def test_the_standard_flat_pair_upright_and_stiff_drops_by_the_axial_clearance():
+    """The same closed form on the standard flat pair (its profile's fillets and all),
+    held stiffly (100 N m/rad) from 40 degrees as docs/validation.md's "Closed forms"
+    does: the bolt rides the nut's top face up to the end of the thin tooth where the
+    nut's thread starts and snaps off it where the window opens, by the axial clearance
+    c, within the meshes' height error as phase."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    c = (spec.nut.pitch_diameter - spec.bolt.pitch_diameter) / math.sqrt(3)
+    edge = 360.0 * (1.0 - c / (2.0 * spec.lead))
+    bolt, nut = thread_meshes(spec)
+    height_error = (bolt.max_deviation + nut.max_deviation) / (math.sqrt(3) / 2)
+    phase_error = 360.0 * height_error / spec.lead
+    stiff = Compliance(stiffness=100.0, friction=0.0)
+    run = search(Mechanics(spec, stiff), 0, 0, 40.0)
+    assert run.snap is not None and run.states[-1].classification == "in-phase"
+    assert run.snap.drop == pytest.approx(c, abs=1e-5)
+    assert run.snap.click == pytest.approx(c, abs=1e-5)
+    assert run.snap.phase == pytest.approx(edge, abs=0.05 + phase_error)
+
+
 @pytest.mark.parametrize("cfg", [(4, 0, 170), (-1, 2, 330)])
 def test_rest_state_is_a_consequence_of_load_and_spring_not_of_the_search(quarter_20, cfg):
     """A rest state with a finite stiffness is where load and spring balance: halving the
