@@ -145,7 +145,8 @@ Progress goes to stderr.
 @click.option(
     "--fine",
     is_flag=True,
-    help="Measure the robustness cases at the envelope's own grid too: three full envelopes more.",
+    help="Measure the robustness cases at the envelope's own grid too: two full envelopes "
+    "more (the material conditions).",
 )
 @click.option(
     "--azimuth-known",

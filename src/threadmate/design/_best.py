@@ -198,8 +198,6 @@ class ComplianceDesign:
     pretilt: dict[str, Any] | None = None
     pretilts: list[dict[str, Any]] = field(default_factory=list)
     robust_setting: dict[str, Any] | None = None
-    #: The robustness cases measured at the envelope's own grid (``fine=True``), as the
-    #: lead's figure is; else at the coarse grid.
     fine_cases: bool = False
 
     def summary_line(self) -> str:
@@ -443,7 +441,7 @@ def best_compliance(
         the directions it evaluates (minutes less).
     fine : bool
         Measure the robustness cases at the envelope's own grid too (implies
-        ``confirm``; three full envelopes more).
+        ``confirm``; two full envelopes more, the material conditions).
     robust : bool
         Re-evaluate the optimum at maximum and minimum material and at friction 0.08 and
         0.20 (:func:`threadmate.design.robustness`).
