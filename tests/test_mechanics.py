@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -32,7 +33,15 @@ from scipy.optimize import nnls
 from _exact_geometry import exact_centre_height, rot
 from _fcl import collider
 from _poses import axis_angle, leaves_branch
-from threadmate.contact import BALANCE, MAX_STEPS, Compliance, Continuation, Mechanics, search
+from threadmate.contact import (
+    BALANCE,
+    MAX_STEPS,
+    Compliance,
+    Continuation,
+    Mechanics,
+    search,
+    sensor_click,
+)
 from threadmate.contact.mechanics._search import FLICKER  # internal: no public form
 from threadmate.geometry import (
     BoltSpec,
@@ -763,6 +772,20 @@ def test_every_jump_of_the_continuation_leaves_the_branch(mech, quarter_20, held
         assert leaves_branch(fall, turned, in_phase, quarter_20.pitch), (leg.before.phase, fall)
 
 
+def test_a_click_is_the_fall_from_the_rest_states_before_the_jump(q20_rests):
+    """``sensor_click``: the fall from the branch's rest states within the span before the
+    jump to the landing (a landing 1e-3 below the one rest state: 1e-3), and unknown (NaN)
+    where the turn passed no rest state (a first contact only): no height to fall from."""
+    rest = q20_rests[(0, 0, 90)]
+    x, y, z = rest.state.centre
+    landing = replace(rest.state, centre=(x, y, z - 1e-3))
+    at = rest.state.phase - 1.0
+    assert sensor_click([rest.state], landing, at) == pytest.approx(1e-3, abs=1e-12)
+    first = rest.path[0]
+    assert first.classification == "unstable"
+    assert math.isnan(sensor_click([first], landing, at))
+
+
 def test_every_change_of_the_load_carrying_contacts_is_reported(mech):
     """The search's walk (contact changes located) from held (1, 4) over the thread starts'
     folds (340 to 350 degrees). Between any two rest states it returns, one after the
@@ -825,8 +848,6 @@ def test_a_probe_whose_lowering_climbs_past_its_fall_has_departed(mech, quarter_
     there, with no descent step and at less cost than the lowering alone. The pose it
     departed at collides (python-fcl on the whole meshes), so the first touch from above
     lies there or higher; lowered from the same pose with no ceiling, it does."""
-    from dataclasses import replace
-
     rest = mech.settle(1, -1, 120.0).state
     x, y, z = rest.centre
     sunk = replace(rest, centre=(x, y, z - 0.3 * quarter_20.pitch))

@@ -35,7 +35,6 @@ from typing import TYPE_CHECKING
 from .._lazy import lazy_exports
 
 if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ imports them
-    from ._executors import cpu_count as cpu_count
     from ._grid import (
         DEFAULT_GRID as DEFAULT_GRID,
         DEFAULT_POLAR_RANGES as DEFAULT_POLAR_RANGES,
@@ -97,7 +96,6 @@ _SOURCES = {
         "parse_range",
         "read_grid",
     ),
-    "._executors": ("cpu_count",),
     # The models, light to import: the commands offer them before the stage loads.
     "._models": ("MODELS",),
     "._probes": ("HeldTiltProbe",),

@@ -28,7 +28,6 @@ from ._workers import Job, prepare_inherited, run_chunk, set_worker_rank, with_m
 
 __all__ = [
     "check_execution",
-    "cpu_count",
     "lost_errors",
     "open_executor",
     "scheduler_from_dask_config",

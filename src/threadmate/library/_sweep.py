@@ -28,6 +28,7 @@ import pandas as pd
 import pyarrow as pa
 
 from .._errors import InputError, LibraryError, ThreadmateError
+from .._system import cpu_count
 from .._validate import check_max_faces, check_starts, check_whole
 from ..contact import (
     CONTINUATION_STEP,
@@ -36,7 +37,7 @@ from ..contact import (
     check_continuation,
 )
 from ..geometry import ThreadSpec, check_chord
-from ._executors import check_execution, cpu_count, lost_errors, open_executor
+from ._executors import check_execution, lost_errors, open_executor
 from ._grid import Values, make_grid
 from ._metadata import open_library, record_settings
 from ._models import check_model

@@ -35,6 +35,7 @@ from typing import Any, Generic, TypeVar
 
 from .._io import atomic_write_text, remove_stale_temporaries
 from .._json import json_text
+from .._system import cpu_count
 from .._text import number_text
 from .._units import json_units
 from .._validate import check_roll_spread
@@ -62,7 +63,7 @@ from ..design import (
     snap_detection,
 )
 from ..geometry import ThreadSpec
-from ..library import Grid, cpu_count, info, load, sweep, write_figures
+from ..library import Grid, info, load, sweep, write_figures
 from ..network import (
     WEIGHT_FORMULA,
     Recommendation,

@@ -387,7 +387,7 @@ class SearchEvent:
         within the last degree of turn (``CLICK_SPAN``) before the jump to the landing, a
         steep last stretch of the branch and earlier jumps within that turn included
         (``sensor_click`` in :mod:`threadmate.contact`; spec units); 0 for a contact
-        change.
+        change; NaN where no rest state precedes the jump.
     """
 
     phase: float

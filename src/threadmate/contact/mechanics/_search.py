@@ -176,10 +176,11 @@ def sensor_click(ride: Sequence[MechanicalState], landing: MechanicalState, at: 
     :class:`Continuation` settles a state there, so that the interpolation is exact. A
     ride that climbs into the jump (a flank riding onto an edge) clicks the fall from
     its top, a branch that falls steeply before the jump the fall from where it began.
+    NaN when ``ride`` holds no rest state: no height of the branch is known to fall from.
     """
     rest = sorted((s.phase, s.centre[2]) for s in ride if s.classification != UNSTABLE)
     if not rest:
-        return 0.0
+        return math.nan
     phases = [p for p, _ in rest]
     heights = [z for _, z in rest]
     lo, hi = sorted((at, landing.phase))
