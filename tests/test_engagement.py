@@ -31,6 +31,7 @@ from threadmate.contact import (
     MAX_STEP,
     PROOF_FOLD_TOLERANCE,
     SCREW_IN,
+    ClockwiseStarts,
     Compliance,
     Continuation,
     Mechanics,
@@ -236,6 +237,30 @@ def test_screw_jams_where_the_tilted_bolt_wedges(flat):
     assert len(engaged) >= 5
     rate = _rate(engaged[0], engaged[-1])
     assert rate == pytest.approx(-flat.lead / 360.0, rel=0.1)
+
+
+def test_clockwise_starts_of_a_held_tilt_share_their_walks_and_say_what_screw_says():
+    """``ClockwiseStarts`` (a sweep's clockwise starts), default parts held (-2, -2): a
+    start whose clockwise walk comes onto an earlier start's walk takes it from there,
+    and says what ``screw`` alone, walking the whole turn itself, says. The starts at 80
+    and 100 degrees ride; at 140 and 160 they wedge at one fold, located by bisection to
+    the phase tolerance on walks that meet it from states equal to the pose tolerance:
+    within a few hundredths of a degree."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    mech = Mechanics(spec, Compliance())
+    for first, later, outcome in ((80.0, 100.0, "riding"), (140.0, 160.0, "jammed")):
+        starts = ClockwiseStarts(mech, -2.0, -2.0)
+        assert starts.screw(first).outcome == outcome
+        joined = starts.screw(later)
+        alone = screw(mech, -2.0, -2.0, later)
+        assert joined.outcome == alone.outcome == outcome
+        if outcome == "jammed":
+            assert joined.decided_phase == pytest.approx(alone.decided_phase, abs=0.05)
+        else:
+            assert joined.decided_phase is alone.decided_phase is None
+        # The later start walked only to where it met the first's walk.
+        assert joined.queries < alone.queries / 5
+        assert abs(joined.states[-1].phase - alone.states[-1].phase) < 0.05
 
 
 def _exact_interference():

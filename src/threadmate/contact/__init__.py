@@ -16,7 +16,8 @@ that needs the compliance), ``unstable`` (not a rest state), ``in-phase`` (engag
 load-carrying contact lies on the helices). A snap is a jump into the in-phase state
 proved by screwing in: from it a clockwise continuation descends at the lead
 (:class:`Engagement`). :func:`screw` turns a start clockwise directly: ``engaged``,
-``riding`` or ``jammed`` (the thesis's clockwise question). A continuation's settings have
+``riding`` or ``jammed`` (the thesis's clockwise question); :class:`ClockwiseStarts` turns
+a held tilt's starts so, their walks shared where they meet. A continuation's settings have
 their defaults, ranges and checks in :mod:`.mechanics` (:data:`CONTINUATION_STEP`,
 :func:`check_continuation`, :func:`check_screw`); :func:`plot_search` and
 :func:`plot_screw` draw a turn's signature (height, tilt and torque against phase).
@@ -87,6 +88,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         SCREW_IN as SCREW_IN,
         SCREW_OUTCOMES as SCREW_OUTCOMES,
         TIGHTEN_STEP as TIGHTEN_STEP,
+        ClockwiseStarts as ClockwiseStarts,
         Compliance as Compliance,
         Continuation as Continuation,
         Engagement as Engagement,
@@ -195,6 +197,7 @@ _SOURCES = {
         "SCREW_OUTCOMES",
         "ScrewResult",
         "screw",
+        "ClockwiseStarts",
         "plot_screw",
         "plot_search",
         "CLICK_SPAN",

@@ -36,13 +36,13 @@ from ..contact import (
     QUASI_STABLE,
     STABLE,
     UNSTABLE,
+    ClockwiseStarts,
     Continuation,
     Leg,
     MechanicalState,
     Mechanics,
     blank_row,
     same_pose,
-    screw,
     state_id,
     state_row,
     state_schema,
@@ -243,7 +243,7 @@ def states_of_held_tilt(
     step, phase_tolerance : float
         The continuation's step and event tolerance (degrees).
     clockwise : bool
-        Also turn every start clockwise directly (:func:`threadmate.contact.screw`) and
+        Also turn every start clockwise directly (:class:`threadmate.contact.ClockwiseStarts`) and
         record its outcome on the start's row.
 
     Returns
@@ -340,6 +340,11 @@ def _walk_held_tilt(
     walk = Continuation(
         mech, roll, pitch, step=step, phase_tolerance=phase_tolerance, contact_changes=False
     )
+    # The starts in the grid's order (ascending in the unscrewing sense): each clockwise
+    # walk turns toward the starts before it and meets their walks.
+    clockwise_starts = ClockwiseStarts(
+        mech, roll, pitch, step=step, phase_tolerance=phase_tolerance
+    )
     for j, phase in enumerate(grid):
         try:
             rest = mech.settle(roll, pitch, phase)
@@ -360,7 +365,7 @@ def _walk_held_tilt(
             tilt.link(prev, sid, "settling", UNSTABLE)
         if clockwise:
             try:
-                turned = screw(mech, roll, pitch, phase, step=step, phase_tolerance=phase_tolerance)
+                turned = clockwise_starts.screw(phase)
                 at = turned.decided_phase
                 tilt.rows[sid].update(
                     clockwise=turned.outcome,

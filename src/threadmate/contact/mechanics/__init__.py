@@ -30,6 +30,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
     from ._screw import (
         ENGAGED_TURN as ENGAGED_TURN,
         SCREW_OUTCOMES as SCREW_OUTCOMES,
+        ClockwiseStarts as ClockwiseStarts,
         ScrewResult as ScrewResult,
         screw as screw,
     )
@@ -86,6 +87,7 @@ _SOURCES = {
         "turn_units",
     ),
     "._screw": (
+        "ClockwiseStarts",
         "ENGAGED_TURN",
         "SCREW_OUTCOMES",
         "screw",

@@ -32,11 +32,11 @@ from ._rest_state import (
     tightening_torque,
     turn_units,
 )
-from ._search import Leg, begin_turn, wedged
+from ._search import Leg, Turn, Walked, begin_turn, joined_walk, wedged
 from ._settings import CONTINUATION_STEP, PHASE_TOLERANCE
 from ._settle import Mechanics
 
-__all__ = ["SCREW_OUTCOMES", "ENGAGED_TURN", "ScrewResult", "screw"]
+__all__ = ["SCREW_OUTCOMES", "ENGAGED_TURN", "ClockwiseStarts", "ScrewResult", "screw"]
 
 #: What a clockwise start does.
 SCREW_OUTCOMES = ("engaged", "riding", "jammed")
@@ -202,6 +202,22 @@ def screw(
         torque_limit=torque_limit,
         sense="tighten",
     )
+    return _turned(turn, roll, pitch, phase, turns, progress=progress)
+
+
+def _turned(
+    turn: Turn,
+    roll: float,
+    pitch: float,
+    phase: float,
+    turns: float,
+    *,
+    progress: Callable[[int, int], None] | None = None,
+    walks: list[Walked] | None = None,
+) -> ScrewResult:
+    """The clockwise start ``turn`` (:func:`begin_turn`'s set-up) turned and judged; with
+    ``walks``, its pieces joined to the earlier walks there where they reach one of
+    their states (:func:`joined_walk`), and its own walk added to them."""
     mech, walk, end = turn.mech, turn.walk, turn.end
     lead = mech.spec.lead
     states = [turn.start]
@@ -209,11 +225,15 @@ def screw(
     legs: list[Leg] = []
     outcome, decided, reason = "riding", None, ""
     at, ph = 0.0, float(phase)
+    walked = states  # every state walked, those past a jam included (``walks``)
     while at < end - 1e-9:
         if progress is not None:
             progress(int(at), int(math.ceil(end)))
         piece = min(ENGAGED_TURN, end - at)
-        more_legs, more_events, more = walk.advance(states[-1], ph, piece)
+        if walks is None:
+            more_legs, more_events, more = walk.advance(states[-1], ph, piece)
+        else:
+            more_legs, more_events, more = joined_walk(walks, walk, states[-1], ph, piece)
         legs += more_legs
         events += more_events
         states += more
@@ -250,6 +270,8 @@ def screw(
                 f"{descent:.4g} {mech.units} per turn (the lead {lead:.4g} {mech.units})"
             )
             break
+    if walks is not None:
+        walks.append(Walked(turn.start, legs, events, walked[1:]))
     if progress is not None:
         progress(int(math.ceil(end)), int(math.ceil(end)))
     if outcome == "riding":
@@ -275,3 +297,58 @@ def screw(
         lead,
         mech.engine.queries - turn.queries,
     )
+
+
+class ClockwiseStarts:
+    """The clockwise starts of one held tilt, each turned as :func:`screw` turns it, the
+    walks shared where they meet.
+
+    Turned clockwise, the starts of one held tilt often come onto one branch: a start's
+    walk that reaches a state of an earlier start's walk (the same class and pose at the
+    same phase) joins it, for the quasi-static dynamics are deterministic: from there on
+    the two are one (:func:`joined_walk`, as the snaps' proofs share theirs). A walk turns
+    toward lower phases (a right-hand thread), so starts asked in ascending phase (a
+    left-hand thread: descending) meet the walks of those before them.
+
+    Parameters
+    ----------
+    mech : Mechanics
+        The thread pair and compliance.
+    roll, pitch : float
+        Held tilt (degrees).
+    turns, step, phase_tolerance, torque_limit
+        As :func:`screw`.
+    """
+
+    def __init__(
+        self,
+        mech: Mechanics,
+        roll: float,
+        pitch: float,
+        *,
+        turns: float = 1.0,
+        step: float = CONTINUATION_STEP,
+        phase_tolerance: float = PHASE_TOLERANCE,
+        torque_limit: float | None = None,
+    ) -> None:
+        self.mech, self.roll, self.pitch = mech, float(roll), float(pitch)
+        self.turns, self.step, self.phase_tolerance = turns, step, phase_tolerance
+        self.torque_limit = torque_limit
+        self.walks: list[Walked] = []
+
+    def screw(self, phase: float) -> ScrewResult:
+        """The start at ``phase`` (degrees) turned clockwise (:func:`screw`)."""
+        turn = begin_turn(
+            self.mech,
+            self.roll,
+            self.pitch,
+            phase,
+            compliance=None,
+            turns=self.turns,
+            step=self.step,
+            phase_tolerance=self.phase_tolerance,
+            chord=None,
+            torque_limit=self.torque_limit,
+            sense="tighten",
+        )
+        return _turned(turn, self.roll, self.pitch, phase, self.turns, walks=self.walks)

@@ -367,9 +367,9 @@ def same_pose(a: MechanicalState, b: MechanicalState, pitch: float) -> bool:
 
 
 @dataclass(frozen=True)
-class _Walked:
-    """A proof's clockwise walk: its start, and the legs, events and states
-    :meth:`Continuation.advance` gave."""
+class Walked:
+    """A clockwise walk (a proof's, a clockwise start's): its start, and the legs, events
+    and states :meth:`Continuation.advance` gave (:func:`joined_walk`)."""
 
     start: MechanicalState
     legs: list[Leg]
@@ -408,6 +408,51 @@ class _Walked:
             if within(leg.after.phase) and sign * (leg.before.phase - phase) >= -1e-9
         ]
         return legs, [e for e in self.events if within(e.phase)], states
+
+
+def joined_walk(
+    walks: list[Walked],
+    walk: Continuation,
+    state: MechanicalState,
+    phase: float,
+    turn: float,
+) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]]:
+    """``walk.advance(state, phase, turn)``, taken from the earlier ``walks`` (walked
+    with the same settings and in the same sense) where it can.
+
+    The landings and the starts of one held tilt often lie on one branch. A walk that
+    reaches a state of an earlier one (the same class and pose at the same phase,
+    :meth:`Walked.beyond`) joins it, for the quasi-static dynamics are deterministic:
+    from there on the two are one. So the walk is turned on to where it may join: the
+    start of an earlier walk further on, or (once, for a state between an earlier walk's
+    phases) the next of that walk's states within a step; beyond what the earlier walks
+    hold, it goes on by itself."""
+    sign, pitch = walk.sign, walk.mech.spec.pitch
+    legs: list[Leg] = []
+    events: list[SearchEvent] = []
+    states: list[MechanicalState] = []
+    at, s, ph, aligned = 0.0, state, phase, False
+    while at < turn - 1e-9:
+        reach = turn - at
+        piece = next((p for w in walks if (p := w.beyond(s, ph, reach, sign, pitch))), None)
+        if piece is None:
+            ahead = [
+                o.phase
+                for w in walks
+                for o, near in [(w.start, False), *((o, True) for o in w.states)]
+                if 1e-9 < sign * (o.phase - ph) <= (min(walk.step, reach) if near else reach)
+                and not (near and aligned)
+            ]
+            aligned = True
+            to = min((sign * (x - ph) for x in ahead), default=reach)
+            piece = walk.advance(s, ph, to)
+        legs += piece[0]
+        events += piece[1]
+        states += piece[2]
+        s = piece[2][-1]
+        at += sign * (s.phase - ph)
+        ph = s.phase
+    return legs, events, states
 
 
 def wedged(legs: list[Leg], events: list[SearchEvent]) -> tuple[SearchEvent, Leg] | None:
@@ -500,7 +545,7 @@ class Continuation:
         self.screw_in = float(screw_in)
         self.torque_limit = default_torque_limit(mech) if torque_limit is None else torque_limit
         #: The proofs' clockwise walks so far (:meth:`_tighten` joins them).
-        self._screwed: list[_Walked] = []
+        self._screwed: list[Walked] = []
         #: The friction coefficients strictly between which every proof made so far
         #: judges alike (:attr:`Engagement.frictions`, intersected).
         self.frictions: tuple[float, float] = (0.0, math.inf)
@@ -834,7 +879,7 @@ class Continuation:
             fold_tolerance=PROOF_FOLD_TOLERANCE,
             clicks=False,
         )
-        legs, events, states = self._tighten(walk, state, phase, self.screw_in)
+        legs, events, states = joined_walk(self._screwed, walk, state, phase, self.screw_in)
         turned, piece = self.screw_in, 0.5 * self.screw_in
         proof = engagement(walk, state, legs, events, states, turned, piece)
         while (
@@ -842,58 +887,18 @@ class Continuation:
             and proof.descent > LEAD_TOLERANCE * proof.lead
             and turned + piece <= PROOF_TURN_LIMIT + 1e-9
         ):
-            more_legs, more_events, more = self._tighten(walk, states[-1], states[-1].phase, piece)
+            more_legs, more_events, more = joined_walk(
+                self._screwed, walk, states[-1], states[-1].phase, piece
+            )
             legs += more_legs
             events += more_events
             states += more
             turned += piece
             proof = engagement(walk, state, legs, events, states, turned, piece)
-        self._screwed.append(_Walked(state, legs, events, states))
+        self._screwed.append(Walked(state, legs, events, states))
         low, high = proof.frictions
         self.frictions = (max(self.frictions[0], low), min(self.frictions[1], high))
         return proof
-
-    def _tighten(
-        self, walk: Continuation, state: MechanicalState, phase: float, turn: float
-    ) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]]:
-        """``walk.advance(state, phase, turn)`` (a clockwise walk), taken from an earlier
-        proof's walk where it can.
-
-        The landings and the starts in phase of one held tilt often lie on one branch in
-        the thread. A walk that reaches a state of an earlier one (the same class and
-        pose at the same phase, :meth:`_Walked.beyond`) joins it, for the quasi-static
-        dynamics are deterministic: from there on the two are one. So the walk is turned
-        on to where it may join: the start of an earlier walk further on, or (once, for
-        a state between an earlier walk's phases) the next of that walk's states within
-        a step; beyond what the earlier walks hold, it goes on by itself."""
-        sign, pitch = walk.sign, self.mech.spec.pitch
-        legs: list[Leg] = []
-        events: list[SearchEvent] = []
-        states: list[MechanicalState] = []
-        at, s, ph, aligned = 0.0, state, phase, False
-        while at < turn - 1e-9:
-            reach = turn - at
-            piece = next(
-                (p for w in self._screwed if (p := w.beyond(s, ph, reach, sign, pitch))), None
-            )
-            if piece is None:
-                ahead = [
-                    o.phase
-                    for w in self._screwed
-                    for o, near in [(w.start, False), *((o, True) for o in w.states)]
-                    if 1e-9 < sign * (o.phase - ph) <= (min(walk.step, reach) if near else reach)
-                    and not (near and aligned)
-                ]
-                aligned = True
-                to = min((sign * (x - ph) for x in ahead), default=reach)
-                piece = walk.advance(s, ph, to)
-            legs += piece[0]
-            events += piece[1]
-            states += piece[2]
-            s = piece[2][-1]
-            at += sign * (s.phase - ph)
-            ph = s.phase
-        return legs, events, states
 
     def _click(self, passed: list[MechanicalState], jump: float, landing: MechanicalState) -> float:
         """The click of the jump at phase ``jump`` onto ``landing`` (:func:`sensor_click`),
