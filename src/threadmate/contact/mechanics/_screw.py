@@ -216,8 +216,8 @@ def _turned(
     walks: list[Walked] | None = None,
 ) -> ScrewResult:
     """The clockwise start ``turn`` (:func:`begin_turn`'s set-up) turned and judged; with
-    ``walks``, its pieces joined to the earlier walks there where they reach one of
-    their states (:func:`joined_walk`), and its own walk added to them."""
+    ``walks``, its pieces taken from the earlier walks where it reaches one of their
+    states (:func:`joined_walk`), and its own walk added to them."""
     mech, walk, end = turn.mech, turn.walk, turn.end
     lead = mech.spec.lead
     states = [turn.start]
