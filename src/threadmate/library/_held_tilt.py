@@ -243,8 +243,9 @@ def states_of_held_tilt(
     step, phase_tolerance : float
         The continuation's step and event tolerance (degrees).
     clockwise : bool
-        Also turn every start clockwise directly (:class:`threadmate.contact.ClockwiseStarts`) and
-        record its outcome on the start's row.
+        Also turn every start clockwise directly and record its outcome on the start's
+        row (:class:`threadmate.contact.ClockwiseStarts`: as ``screw``, the walks of the
+        held tilt's starts shared where they meet).
 
     Returns
     -------

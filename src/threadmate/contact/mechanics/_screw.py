@@ -202,13 +202,11 @@ def screw(
         torque_limit=torque_limit,
         sense="tighten",
     )
-    return _turned(turn, roll, pitch, phase, turns, progress=progress)
+    return _turned(turn, phase, turns, progress=progress)
 
 
 def _turned(
     turn: Turn,
-    roll: float,
-    pitch: float,
     phase: float,
     turns: float,
     *,
@@ -280,8 +278,8 @@ def _turned(
     kept = [leg for leg in legs if walk.sign * (leg.after.phase - states[-1].phase) <= 0]
     return ScrewResult(
         mech.units,
-        float(roll),
-        float(pitch),
+        walk.held_roll,
+        walk.held_pitch,
         float(phase),
         mech.compliance.to_dict(),
         outcome,
@@ -351,4 +349,4 @@ class ClockwiseStarts:
             torque_limit=self.torque_limit,
             sense="tighten",
         )
-        return _turned(turn, self.roll, self.pitch, phase, self.turns, walks=self.walks)
+        return _turned(turn, phase, self.turns, walks=self.walks)
