@@ -141,11 +141,11 @@ def mesh_deviation(mesh: trimesh.Trimesh, body: ThreadBody) -> float:
     f = np.asarray(mesh.faces, dtype=np.int64)
     if len(f) == 0:
         return float("inf")
-    edges = np.unique(
-        np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1), axis=0
-    )
+    pairs = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    # Each edge once, by one integer key (numpy's unique of rows costs ten times more).
+    edges = np.unique(pairs[:, 0] * len(v) + pairs[:, 1])
     worst = _max_distance(body, v)
-    worst = max(worst, _max_distance(body, 0.5 * (v[edges[:, 0]] + v[edges[:, 1]])))
+    worst = max(worst, _max_distance(body, 0.5 * (v[edges // len(v)] + v[edges % len(v)])))
     tri = v[f]
     for w in _BARYCENTRIC:
         worst = max(worst, _max_distance(body, np.einsum("k,nkd->nd", w, tri)))
