@@ -44,7 +44,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     from threadmate.contact import Compliance, Mechanics, search, warm_kernels
     from threadmate.contact.mechanics import _contact_set
     from threadmate.contact.scene import _kernels, _obb
-    from threadmate.geometry import _profile, with_parts
+    from threadmate.geometry import _profile_distance, with_parts
 
     warm_kernels(reverse=True)
     warm_kernels()
@@ -53,7 +53,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     search(mech, 1.0, -1.0, 100.0, turns=0.05)
     kernels = [
         (module.__name__, name, kernel)
-        for module in (_obb, _kernels, _contact_set, _profile)
+        for module in (_obb, _kernels, _contact_set, _profile_distance)
         for name, kernel in vars(module).items()
         if hasattr(kernel, "signatures") and hasattr(kernel, "py_func")
     ]
