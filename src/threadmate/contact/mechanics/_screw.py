@@ -330,23 +330,19 @@ class ClockwiseStarts:
         torque_limit: float | None = None,
     ) -> None:
         self.mech, self.roll, self.pitch = mech, float(roll), float(pitch)
-        self.turns, self.step, self.phase_tolerance = turns, step, phase_tolerance
-        self.torque_limit = torque_limit
+        # What :func:`screw` passes :func:`begin_turn` for a ready ``Mechanics``.
+        self._turn: dict[str, Any] = {
+            "compliance": None,
+            "turns": turns,
+            "step": step,
+            "phase_tolerance": phase_tolerance,
+            "chord": None,
+            "torque_limit": torque_limit,
+            "sense": "tighten",
+        }
         self.walks: list[Walked] = []
 
     def screw(self, phase: float) -> ScrewResult:
         """The start at ``phase`` (degrees) turned clockwise (:func:`screw`)."""
-        turn = begin_turn(
-            self.mech,
-            self.roll,
-            self.pitch,
-            phase,
-            compliance=None,
-            turns=self.turns,
-            step=self.step,
-            phase_tolerance=self.phase_tolerance,
-            chord=None,
-            torque_limit=self.torque_limit,
-            sense="tighten",
-        )
-        return _turned(turn, phase, self.turns, walks=self.walks)
+        turn = begin_turn(self.mech, self.roll, self.pitch, phase, **self._turn)
+        return _turned(turn, phase, self._turn["turns"], walks=self.walks)
