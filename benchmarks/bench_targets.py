@@ -6,9 +6,15 @@ Usage::
     python benchmarks/bench_targets.py                          # this checkout
     python benchmarks/bench_targets.py --src OLD/src,NEW/src    # before and after
     python benchmarks/bench_targets.py --src OLD/src,NEW/src --run   # and `threadmate run`
+    python benchmarks/bench_targets.py --src OLD/src,NEW/src --together [--run]
 
 Each source tree is measured in a child process of its own (``PYTHONPATH`` set to it),
-one after the other, with the host's load (``os.getloadavg``) printed beside. The pair is
+one after the other, with the host's load (``os.getloadavg``) printed beside. On a
+shared host whose speed drifts by more than a change moves its figures, ``--together``
+runs the children at the same time instead, each on a core of its own
+(``os.sched_setaffinity``; at most one source tree per core), so that the codes compared
+meet the same host; with ``--run`` they then time ``threadmate run --workers 1``, each on
+its core, at the same time (a comparison, not the two-core target). The pair is
 1/4-20 UNC-2A/2B at mean material, default chord and compliance: its ``flat`` parts
 (no point, no countersink) and its default parts (the chamfered point and the
 countersink of the standard nut). Costs are CPU time of this process (one core) divided
@@ -33,6 +39,7 @@ Targets (a ratio below 1 meets one):
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import resource
@@ -41,6 +48,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 TARGETS = {
     "flat_config_qe": 45.0,
@@ -135,19 +143,10 @@ def _threadmate_run(src: str) -> tuple[float, float]:
     """Wall time and CPU time (all its processes) of ``threadmate run`` on its defaults,
     with an empty compile cache."""
     with tempfile.TemporaryDirectory(prefix="bench-run-") as folder:
-        env = {
-            **os.environ,
-            "PYTHONPATH": src,
-            "NUMBA_CACHE_DIR": str(Path(folder) / "numba"),
-        }
-        code = "import sys; from threadmate.cli import main; sys.exit(main())"
         t = time.perf_counter()
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         proc = subprocess.run(
-            [sys.executable, "-c", code, "run", "-o", str(Path(folder) / "out")],
-            env=env,
-            capture_output=True,
-            text=True,
+            _run_command(folder), env=_run_env(src, folder), capture_output=True, text=True
         )
         wall = time.perf_counter() - t
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -157,12 +156,115 @@ def _threadmate_run(src: str) -> tuple[float, float]:
         return wall, cpu
 
 
+def _run_command(folder: str, *extra: str) -> list[str]:
+    code = "import sys; from threadmate.cli import main; sys.exit(main())"
+    return [sys.executable, "-c", code, "run", "-o", str(Path(folder) / "out"), *extra]
+
+
+def _run_env(src: str, folder: str) -> dict[str, str]:
+    """``threadmate run``'s environment: the source tree, an empty compile cache."""
+    return {**os.environ, "PYTHONPATH": src, "NUMBA_CACHE_DIR": str(Path(folder) / "numba")}
+
+
+def _on_core(core: int | None) -> Any:
+    """A ``preexec_fn`` that pins the child to ``core`` (None: no pinning)."""
+    if core is None:
+        return None
+    return lambda: os.sched_setaffinity(0, {core})
+
+
+def _children(srcs: list[str], args: argparse.Namespace, cores: list[int] | None) -> list[dict]:
+    """Each source tree's figures, measured by its own child: one after the other, or all
+    at the same time, child ``i`` pinned to ``cores[i]``."""
+    here = Path(__file__).resolve().parent
+    cmd = [sys.executable, __file__, "--_child", f"--phases={args.phases}"]
+    cmd += ["--rest-states", str(args.rest_states)]
+    envs = [{**os.environ, "PYTHONPATH": os.pathsep.join([src, str(here)])} for src in srcs]
+    if cores is None:
+        results = []
+        for src, env in zip(srcs, envs, strict=True):
+            load0 = os.getloadavg()[0]
+            proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
+            r = _parsed(src, proc.returncode, proc.stdout, proc.stderr)
+            if args.run:
+                r["run_s"], r["run_cpu_s"] = _threadmate_run(src)
+            r["load"] = [load0, os.getloadavg()[0]]
+            results.append(r)
+            print(f"{src}: load {r['load'][0]:.2f} -> {r['load'][1]:.2f}", flush=True)
+        return results
+    load0 = os.getloadavg()[0]
+    procs = [
+        subprocess.Popen(
+            cmd,
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            preexec_fn=_on_core(core),
+        )
+        for env, core in zip(envs, cores, strict=True)
+    ]
+    outs = [p.communicate() for p in procs]
+    results = [
+        _parsed(src, p.returncode, out, err)
+        for src, p, (out, err) in zip(srcs, procs, outs, strict=True)
+    ]
+    if args.run:
+        for src, wall in zip(srcs, _runs_together(srcs, cores), strict=True):
+            results[srcs.index(src)]["run_one_core_s"] = wall
+    for r in results:
+        r["load"] = [load0, os.getloadavg()[0]]
+    print(f"together, one core each: load {load0:.2f} -> {os.getloadavg()[0]:.2f}", flush=True)
+    return results
+
+
+def _runs_together(srcs: list[str], cores: list[int]) -> list[float]:
+    """Wall times of ``threadmate run --workers 1`` for each source tree, all started at
+    once, each pinned to its core, from empty compile caches."""
+    with contextlib.ExitStack() as stack:
+        folders = [stack.enter_context(tempfile.TemporaryDirectory()) for _ in srcs]
+        logs = [stack.enter_context(open(Path(f) / "stderr", "w+")) for f in folders]
+        t = time.perf_counter()
+        procs = [
+            subprocess.Popen(
+                _run_command(folder, "--workers", "1"),
+                env=_run_env(src, folder),
+                stdout=subprocess.DEVNULL,
+                stderr=log,
+                preexec_fn=_on_core(core),
+            )
+            for src, folder, log, core in zip(srcs, folders, logs, cores, strict=True)
+        ]
+        walls = [0.0] * len(procs)
+        while any(p.returncode is None for p in procs):
+            for i, p in enumerate(procs):
+                if p.returncode is None and p.poll() is not None:
+                    walls[i] = time.perf_counter() - t
+            time.sleep(0.05)
+        for src, p, log in zip(srcs, procs, logs, strict=True):
+            if p.returncode:
+                log.seek(0)
+                sys.exit(f"threadmate run failed ({src}):\n{log.read()[-2000:]}")
+        return walls
+
+
+def _parsed(src: str, code: int, stdout: str, stderr: str) -> dict:
+    if code:
+        sys.exit(f"benchmark failed ({src}):\n{stderr[-3000:]}")
+    return dict(json.loads(stdout.strip().splitlines()[-1]))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--src", default=None, help="comma list of source trees (default: ours)")
     parser.add_argument("--phases", default="0:355:5", help="grid phases (default 0:355:5)")
     parser.add_argument("--rest-states", type=int, default=20, help="fresh drops (default 20)")
     parser.add_argument("--run", action="store_true", help="also time `threadmate run`")
+    parser.add_argument(
+        "--together",
+        action="store_true",
+        help="measure the source trees at the same time, each on a core of its own",
+    )
     parser.add_argument("--_child", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args._child:
@@ -170,21 +272,13 @@ def main() -> None:
         return
     here = Path(__file__).resolve().parent
     srcs = args.src.split(",") if args.src else [str(here.parent / "src")]
-    results = []
-    for src in srcs:
-        load0 = os.getloadavg()[0]
-        env = {**os.environ, "PYTHONPATH": os.pathsep.join([src, str(here)])}
-        cmd = [sys.executable, __file__, "--_child", f"--phases={args.phases}"]
-        cmd += ["--rest-states", str(args.rest_states)]
-        proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
-        if proc.returncode:
-            sys.exit(f"benchmark failed ({src}):\n{proc.stderr[-3000:]}")
-        r = json.loads(proc.stdout.strip().splitlines()[-1])
-        if args.run:
-            r["run_s"], r["run_cpu_s"] = _threadmate_run(src)
-        r["load"] = [load0, os.getloadavg()[0]]
-        results.append(r)
-        print(f"{src}: load {r['load'][0]:.2f} -> {r['load'][1]:.2f}", flush=True)
+    cores = None
+    if args.together:
+        free = sorted(os.sched_getaffinity(0))
+        if len(srcs) > len(free):
+            parser.error(f"--together: {len(srcs)} source trees, {len(free)} cores")
+        cores = free[: len(srcs)]
+    results = _children(srcs, args, cores)
     print()
     head = f"{'target':46s} {'limit':>7s}" + "".join(
         f" {Path(s).parent.name[-14:]:>22s}" for s in srcs
@@ -204,6 +298,7 @@ def main() -> None:
         "flat_config_ms",
         "default_config_ms",
         "run_cpu_s",
+        "run_one_core_s",
     ):
         if key in results[0]:
             print(f"{key:46s} {'':7s}" + "".join(f" {r[key]:22.0f}" for r in results))

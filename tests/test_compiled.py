@@ -120,8 +120,17 @@ def test_kernels_warmed_aside_in_a_process_that_ends():
 
     process = warm_kernels_aside()
     assert process is not None and process.daemon  # this machine has two CPUs and fork
+    # Asked again while it warms, the same process; once it has ended, a new one.
+    second = warm_kernels_aside()
+    assert second is process or process.exitcode is not None
     process.join(300)
     assert process.exitcode == 0
+    again = warm_kernels_aside()
+    assert again is not None and again is not process
+    for p in (second, again):
+        assert p is not None
+        p.join(300)
+        assert p.exitcode == 0
 
 
 def test_warming_without_a_folder_for_its_lock_files_runs_every_step(monkeypatch, tmp_path):

@@ -813,3 +813,50 @@ def test_the_architecture_page_lists_the_state_record_as_stored():
     rows = [line.split("|") for line in section.splitlines() if line.startswith("| `")]
     assert [r[1].strip().strip("`") for r in rows] == [c.name for c in STATE_COLUMNS]
     assert [r[3].strip() for r in rows] == [c.unit or "-" for c in STATE_COLUMNS]
+
+
+def _inherited(quarter_20, conn) -> None:  # pragma: no cover - runs in a forked child
+    """In a process forked after ``prepare_inherited``: build the worker's model with no
+    contact scene built, and report which kernels were not compiled on arrival."""
+    from threadmate.contact.scene import _kernels, _obb, _scene
+    from threadmate.library._workers import Job, _worker_for
+
+    kernels = {
+        "walk": _obb._crossing,
+        "trees": _obb._build,
+        "vertical touch": _kernels._vertical_touch,
+        "signed distance": _kernels._signed_distance,
+    }
+    cold = sorted(name for name, kernel in kernels.items() if not kernel.signatures)
+
+    def refused(*args, **kwargs):
+        raise AssertionError("a worker built a contact scene of its own")
+
+    _scene.ContactScene.__init__ = refused
+    try:
+        job = Job(quarter_20, None, CHORD, "mechanics", Compliance())
+        _worker_for(job)
+        conn.send(("ok", cold))
+    except BaseException as exc:  # noqa: BLE001 - reported to the test
+        conn.send((repr(exc), cold))
+
+
+def test_a_forked_worker_inherits_the_scene_and_the_compiled_kernels(quarter_20):
+    """A pool's worker, forked after the sweep's process prepared the job
+    (``prepare_inherited``), finds the contact scene, its collision trees included, and
+    the compiled kernels there: it compiles, loads and builds none of them."""
+    import multiprocessing
+
+    from threadmate.library._workers import Job, prepare_inherited
+
+    prepare_inherited(Job(quarter_20, None, CHORD, "mechanics", Compliance()))
+    ours, theirs = multiprocessing.get_context("fork").Pipe()
+    child = multiprocessing.get_context("fork").Process(
+        target=_inherited, args=(quarter_20, theirs)
+    )
+    child.start()
+    assert ours.poll(120)
+    outcome, cold = ours.recv()
+    child.join(30)
+    assert outcome == "ok"
+    assert cold == []

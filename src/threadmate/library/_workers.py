@@ -4,7 +4,8 @@ A :class:`Job` is everything a worker needs (small and picklable: it travels to 
 process or a Dask worker). Each worker process (or Dask worker thread) builds ONE
 :class:`~threadmate.contact.Mechanics` (or thesis analyser), meshes and collision trees
 included, the first time it sees a job, and keeps it for every later chunk: building the
-meshes and trees is the cost, and an analyser's queries reuse buffers of their own, so
+meshes and trees is the cost (a forked pool's workers find those their parent built,
+:func:`prepare_inherited`), and an analyser's queries reuse buffers of their own, so
 threads do not share one. :func:`run_chunk` turns a chunk of ``config_id`` into rows of
 the library schema.
 """
@@ -178,13 +179,29 @@ def set_worker_rank(rank: int) -> None:
 
 
 def prepare_inherited(job: Job) -> None:
-    """Build ``job``'s generated meshes in this process, before it forks a pool's workers:
-    they inherit them (:func:`threadmate.geometry.thread_meshes` keeps them per process)
-    instead of each tessellating its own, and so does this process's report after the
-    sweep. A job whose meshes all come from CAD, or whose analyser is the caller's own,
-    builds nothing here."""
+    """Build in this process, before it forks a pool's workers, what they would each
+    build alike: they inherit it, and so does this process's report after the sweep.
+
+    ``job``'s generated meshes (:func:`threadmate.geometry.thread_meshes` keeps them per
+    process; none where they all come from CAD or the analyser is the caller's own),
+    and, for the mechanics, the compiled kernels and the contact scene, its collision
+    trees included (:func:`threadmate.contact.contact_scene` keeps it). On a machine
+    whose numba cache is empty the kernels are compiled here, taking turns with a
+    process that warms them beside this one (:func:`threadmate.contact.warm_kernels_aside`,
+    started here unless one runs): the two cores compile while the workers, not yet
+    forked, would otherwise compile them three at a time on two cores."""
+    mechanics = job.model == "mechanics" and job.analyzer is None
+    if mechanics:
+        from ..contact import warm_kernels_aside
+
+        warm_kernels_aside()
     if job.analyzer is None and (job.bolt_mesh is None or job.nut_mesh is None):
         thread_meshes(job.spec, job.chord)
+    if mechanics:
+        from ..contact import contact_scene, warm_kernels
+
+        warm_kernels()
+        contact_scene(job.spec, chord=job.chord, **job.mesh_arguments())
 
 
 def _worker_for(job: Job) -> Any:

@@ -180,18 +180,29 @@ def _warm_aside(parent: int) -> None:
         warm_kernels(reverse=True)
 
 
+#: The process :func:`warm_kernels_aside` started last, by the process of that pid (a
+#: forked child holds its parent's entry, not its own child).
+_ASIDE: dict[int, multiprocessing.process.BaseProcess] = {}
+
+
 def warm_kernels_aside() -> multiprocessing.process.BaseProcess | None:
     """Start warming the kernels (:func:`warm_kernels`) in a forked process beside this one,
     and return it: a caller about to start a process pool on a machine whose numba cache
     may be empty calls this first, so that one core compiles while the caller imports
-    and prepares. None where it would not help (numba missing, one CPU, no ``fork``).
-    The process is a daemon: it ends with its caller at the latest."""
+    and prepares. The one it started already while that one still runs; None where it
+    would not help (numba missing, one CPU, no ``fork``). The process is a daemon: it
+    ends with its caller at the latest."""
     if not COMPILED or "fork" not in multiprocessing.get_all_start_methods():
         return None
     if cpu_count() < 2:
         return None
+    running = _ASIDE.get(os.getpid())
+    if running is not None and running.is_alive():
+        return running
     process = multiprocessing.get_context("fork").Process(
         target=_warm_aside, args=(os.getpid(),), name="threadmate-warm", daemon=True
     )
     process.start()
+    _ASIDE.clear()
+    _ASIDE[os.getpid()] = process
     return process
