@@ -210,8 +210,8 @@ def _children(srcs: list[str], args: argparse.Namespace, cores: list[int] | None
         for src, p, (out, err) in zip(srcs, procs, outs, strict=True)
     ]
     if args.run:
-        for src, wall in zip(srcs, _runs_together(srcs, cores), strict=True):
-            results[srcs.index(src)]["run_one_core_s"] = wall
+        for r, wall in zip(results, _runs_together(srcs, cores), strict=True):
+            r["run_one_core_s"] = wall
     for r in results:
         r["load"] = [load0, os.getloadavg()[0]]
     print(f"together, one core each: load {load0:.2f} -> {os.getloadavg()[0]:.2f}", flush=True)
