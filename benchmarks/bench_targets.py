@@ -281,7 +281,7 @@ def main() -> None:
     results = _children(srcs, args, cores)
     print()
     head = f"{'target':46s} {'limit':>7s}" + "".join(
-        f" {Path(s).parent.name[-14:]:>22s}" for s in srcs
+        f" {Path(s).resolve().parent.name[-14:]:>22s}" for s in srcs
     )
     print(head)
     for key, limit in TARGETS.items():
