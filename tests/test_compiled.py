@@ -12,7 +12,7 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
     from threadmate._compiled import COMPILED
 
     # An internal with no public form: the grouping of contact points.
-    from threadmate.contact.mechanics._contact_set import _linked
+    from threadmate.contact.scene._linkage import _linked
 
     # And the collision query's walk of the trees.
     from threadmate.contact.scene._obb import _crossing
@@ -23,13 +23,13 @@ def test_kernels_are_compiled_with_an_on_disk_cache():
 
 
 def test_contact_points_group_as_the_connected_components_of_their_links():
-    from threadmate.contact.mechanics._contact_set import _single_linkage
+    from threadmate.contact.scene import single_linkage
 
     rng = np.random.default_rng(7)
     for n in (1, 2, 5, 40, 300, 450):  # 450: the k-d tree's branch
         points = rng.uniform(0.0, 1.0, (n, 3)) * rng.uniform(0.2, 3.0)
         separation = 0.2
-        labels = _single_linkage(points, separation)
+        labels = single_linkage(points, separation)
         # Independently: the components of the graph of links, numbered by first point.
         _, comp = connected_components(cdist(points, points) <= separation, directed=False)
         order = {c: k for k, c in enumerate(dict.fromkeys(comp.tolist()))}
@@ -42,8 +42,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     step of the default parts, no kernel holds a second compiled signature (one would
     mean the warm-up compiled a signature the work never asks for)."""
     from threadmate.contact import Compliance, Mechanics, search, warm_kernels
-    from threadmate.contact.mechanics import _contact_set
-    from threadmate.contact.scene import _kernels, _obb
+    from threadmate.contact.scene import _kernels, _linkage, _obb
     from threadmate.geometry import _profile_distance, with_parts
 
     warm_kernels(reverse=True)
@@ -53,7 +52,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     search(mech, 1.0, -1.0, 100.0, turns=0.05)
     kernels = [
         (module.__name__, name, kernel)
-        for module in (_obb, _kernels, _contact_set, _profile_distance)
+        for module in (_obb, _kernels, _linkage, _profile_distance)
         for name, kernel in vars(module).items()
         if hasattr(kernel, "signatures") and hasattr(kernel, "py_func")
     ]

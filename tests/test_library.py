@@ -818,7 +818,7 @@ def test_the_architecture_page_lists_the_state_record_as_stored():
 def _inherited(quarter_20, conn) -> None:  # pragma: no cover - runs in a forked child
     """In a process forked after ``prepare_inherited``: build the worker's model with no
     contact scene built, and report which kernels were not compiled on arrival."""
-    from threadmate.contact.scene import _kernels, _obb, _scene
+    from threadmate.contact.scene import _kernels, _linkage, _obb, _scene
     from threadmate.library._workers import Job, _worker_for
 
     kernels = {
@@ -826,6 +826,7 @@ def _inherited(quarter_20, conn) -> None:  # pragma: no cover - runs in a forked
         "trees": _obb._build,
         "vertical touch": _kernels._vertical_touch,
         "signed distance": _kernels._signed_distance,
+        "contact grouping": _linkage._linked,
     }
     cold = sorted(name for name, kernel in kernels.items() if not kernel.signatures)
 

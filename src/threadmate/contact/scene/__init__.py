@@ -5,7 +5,8 @@ CAD, with their fit to the spec), the collision queries on them and the toleranc
 follow; :func:`contact_scene` builds it once per process, and :func:`scene_for` gives
 a model the scene it was handed or that one. Around it, the queries both models ask:
 collisions and triangle pairs (:mod:`._collision`, :mod:`._triangles`), the vertical
-touch of a lowering (:mod:`._vertical`), and the exact contact geometry on the exact
+touch of a lowering (:mod:`._vertical`), points grouped by single linkage
+(:mod:`._linkage`), and the exact contact geometry on the exact
 bodies -- features, regions, normals, edge contact points (:mod:`._exact`), where a CAD
 mesh leaves the spec (:mod:`._cad`) -- with the record types both share (:mod:`._regions`)
 and the names of the contact states' classes (:mod:`._classes`).
@@ -65,6 +66,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         turn_axis_tangent as turn_axis_tangent,
     )
     from ._kernels import deep_candidates as deep_candidates
+    from ._linkage import single_linkage as single_linkage
     from ._regions import RegionPair as RegionPair, Vec as Vec, as_vec as as_vec
     from ._scene import (
         OFF_SPEC_FACTOR as OFF_SPEC_FACTOR,
@@ -150,6 +152,7 @@ _SOURCES = {
         "TRAVEL_TOLERANCE",
     ),
     "._warm": ("warm_kernels", "warm_kernels_aside"),
+    "._linkage": ("single_linkage",),
     "._triangles": (
         "cluster_location",
         "cluster_segments",

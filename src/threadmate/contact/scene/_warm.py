@@ -42,6 +42,7 @@ from ._kernels import (
     signed_distance,
     vertical_touch,
 )
+from ._linkage import single_linkage
 from ._obb import ALL, ANY, CrossingQuery, ObbForest, obb_forest, unique_face_pairs
 
 __all__ = ["warm_kernels", "warm_kernels_aside"]
@@ -88,6 +89,7 @@ def _walks() -> None:
 
 def _touch() -> None:
     vertical_touch(*_triangles())
+    single_linkage(np.zeros((2, 3)), 1.0)  # (the contact set's grouping)
 
 
 def _exact() -> None:
