@@ -188,8 +188,8 @@ def prepare_inherited(job: Job) -> None:
     trees included (:func:`threadmate.contact.contact_scene` keeps it). On a machine
     whose numba cache is empty the kernels are compiled here, taking turns with a
     process that warms them beside this one (:func:`threadmate.contact.warm_kernels_aside`,
-    started here unless one runs): the two cores compile while the workers, not yet
-    forked, would otherwise compile them three at a time on two cores."""
+    started here unless one runs): each is compiled once, on the two cores, before the
+    workers exist, not by the workers and that process three at a time."""
     mechanics = job.model == "mechanics" and job.analyzer is None
     if mechanics:
         from ..contact import warm_kernels_aside
@@ -209,8 +209,10 @@ def _worker_for(job: Job) -> Any:
     kept.
 
     A pool's worker first warms the compiled kernels, odd ranks in the reverse order
-    (:func:`threadmate.contact.warm_kernels`): on a machine whose numba cache is empty,
-    the workers then compile each kernel about once between them, not once each."""
+    (:func:`threadmate.contact.warm_kernels`): where the workers are not forked from a
+    process that warmed them (:func:`prepare_inherited`), on a machine whose numba cache
+    is empty, they then compile each kernel about once between them, not once each;
+    forked, each call finds its kernel compiled."""
     if _RANK[0] is not None:
         from ..contact import warm_kernels
 
