@@ -307,6 +307,23 @@ def test_kkt_with_the_point_seated_round_the_countersink(phase):
     check_kkt(spec, DEFAULT, rest)
 
 
+def test_kkt_where_the_countersinks_kink_lies_along_the_points_cone():
+    """The standard 1/4-20 parts held (-1, -2) from phase 280 degrees (a start of the
+    default run): the nut's edge where its countersink meets its thread lies along the
+    bolt's chamfer cone, a few 1e-7 in off it, and touches where it crosses the bolt's
+    own kink. The mesh's pairs within the length tolerance of touching run along the cone
+    from one pose and not from the next, so the group was its hull's corners on the cone
+    at one step and the kinks' crossing at the other, and the descent alternated between
+    them for all 60 steps, unbalanced. With both kept, settle returns a rest state
+    satisfying the KKT conditions, each recomputed from the state, and the crossing
+    carries load."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    rest = Mechanics(spec, DEFAULT).settle(-1.0, -2.0, 280.0)
+    check_kkt(spec, DEFAULT, rest)
+    loaded = [c for c in rest.state.touching if c.force > 0]
+    assert any((c.bolt_feature, c.nut_feature) == ("kink", "kink") for c in loaded), loaded
+
+
 @pytest.mark.parametrize("cfg", [(1, 4, 348.0), (2, 4, 347.5)])
 def test_kkt_where_the_thread_starts_meet_edge_to_edge(mech, quarter_20, cfg):
     """The bolt's thread start (a thin wedge on its tip face) lowered onto the nut's (one on

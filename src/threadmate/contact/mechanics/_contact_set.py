@@ -23,6 +23,7 @@ from scipy.spatial import ConvexHull, QhullError
 
 from ..._angles import TWO_PI, phase_difference
 from ..scene import (
+    EDGE_FEATURE_KINDS,
     contact_normal,
     edge_crossing,
     lowest_on_rim,
@@ -191,10 +192,22 @@ class _ContactSet(_Lowering):
                 out.extend(self._rim_modes(d, first))
             else:
                 # The corners of a flat contact are where the mesh puts them.
-                out.extend(
+                at_corners = [
                     self._contact(d, pts[flat][c], float(gaps[flat][c]), refine=False)
                     for c in corners
-                )
+                ]
+                out.extend(at_corners)
+                if (
+                    first.bolt_feature in EDGE_FEATURE_KINDS
+                    or first.nut_feature in EDGE_FEATURE_KINDS
+                ) and all(float(first.normal @ c.normal) < 1.0 - 1e-9 for c in at_corners):
+                    # The group's least gap, refined onto an exact edge, supports the bolt
+                    # in a direction no corner does (a countersink's kink lying along the
+                    # point's cone touches where the kinks cross, while the mesh's flat
+                    # pairs run along the cone): it is a contact too, so that the set does
+                    # not jump between the corners and that edge as the area's span
+                    # crosses ``extent`` from pose to pose.
+                    out.append(first)
             if first.helical or (first.bolt_region, first.nut_region) in RING_REGIONS:
                 out.extend(self._round_the_axis(d, pts, gaps, j))
         if d.over_pairs is None:

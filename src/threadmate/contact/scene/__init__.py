@@ -50,6 +50,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
     )
     from ._exact import (
         CREASE as CREASE,
+        EDGE_FEATURE_KINDS as EDGE_FEATURE_KINDS,
         OFF_SPEC_REGIONS as OFF_SPEC_REGIONS,
         Feature as Feature,
         OffSpec as OffSpec,
@@ -123,6 +124,7 @@ _SOURCES = {
     "._exact": (
         "contact_normal",
         "CREASE",
+        "EDGE_FEATURE_KINDS",
         "edge_crossing",
         "engagement_outline",
         "Feature",

@@ -66,6 +66,7 @@ from ._kernels import (
 )
 
 __all__ = [
+    "EDGE_FEATURE_KINDS",
     "Feature",
     "OffSpec",
     "CREASE",
@@ -87,6 +88,11 @@ __all__ = [
 #: ``mesh-edge``); below it they tessellate one smooth surface (a chord of a thousandth
 #: of a radius turns the faces by some 5 degrees).
 CREASE = 30.0
+
+
+#: Kinds of :class:`Feature` that are edges: the rim, a sharp corner of the thread, a
+#: kink (where a point or countersink meets the thread), a CAD mesh's edge.
+EDGE_FEATURE_KINDS = frozenset({"rim", "corner", "kink", "mesh-edge"})
 
 
 @dataclass(frozen=True)
@@ -112,8 +118,8 @@ class Feature:
 
     @property
     def is_edge(self) -> bool:
-        """Whether the feature is an edge (rim, sharp corner, kink, a CAD mesh's edge)."""
-        return self.kind in ("rim", "corner", "kink", "mesh-edge")
+        """Whether the feature is an edge (:data:`EDGE_FEATURE_KINDS`)."""
+        return self.kind in EDGE_FEATURE_KINDS
 
     @property
     def face_normal(self) -> NDArray[np.float64]:
