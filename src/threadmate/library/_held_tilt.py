@@ -343,8 +343,10 @@ def _walk_held_tilt(
     )
     # The starts in the grid's order (ascending in the unscrewing sense): each clockwise
     # walk turns toward the starts before it and meets their walks.
-    clockwise_starts = ClockwiseStarts(
-        mech, roll, pitch, step=step, phase_tolerance=phase_tolerance
+    clockwise_starts = (
+        ClockwiseStarts(mech, roll, pitch, step=step, phase_tolerance=phase_tolerance)
+        if clockwise
+        else None
     )
     for j, phase in enumerate(grid):
         try:
@@ -364,7 +366,7 @@ def _walk_held_tilt(
         sid = tilt.add(rest.state, "start", ids[j])
         if prev is not None:
             tilt.link(prev, sid, "settling", UNSTABLE)
-        if clockwise:
+        if clockwise_starts is not None:
             try:
                 turned = clockwise_starts.screw(phase)
                 at = turned.decided_phase
