@@ -23,7 +23,12 @@ several times). A settle's CPU goes to the stage it serves:
 - ``other``: the snap's window, its click, the tilted settles that look for a branch
   beyond a fold.
 
-A descent of 30 steps or more counts also as ``long`` (the step limit is 60). A proof's
+A descent of 30 steps or more counts also as ``long`` (the step limit is 60), and the
+long ones are told apart by how they end (balanced or arrived at a rest state known
+already, at the step limit, or stopped short of it unbalanced: stalled, nothing left to
+gain, the trust region spent) and by the share of their steps whose trial pose no lowering
+could place (``lowered`` refused: at the step's tilt the bolt meets the nut above and
+below at every height, pinched between the flanks). A proof's
 whole cost, its settles and all else, is printed beside. The
 collision queries are counted by kind, yes/no (free or colliding) and enumerations (with
 the pairs they report), and by the part of
@@ -51,7 +56,7 @@ LONG = 30
 
 def _install(acc: dict[str, Any]) -> None:
     """Wrap the methods whose calls are timed; ``acc`` collects the figures."""
-    from threadmate.contact.mechanics import _lowering, _search, _settle
+    from threadmate.contact.mechanics import _descent, _lowering, _search, _settle
     from threadmate.contact.scene import _collision
 
     stack: list[str] = []
@@ -79,11 +84,24 @@ def _install(acc: dict[str, Any]) -> None:
     for name in ("prove", "_bisect", "snap_window", "_click", "_tilted"):
         stage(name)
 
+    # Trial lowerings of the descents' steps, and those refused (None).
+    trials = [0, 0]
+    lowered = _descent._Descent.lowered
+
+    def counted_lowering(self: Any, *args: Any, **kwargs: Any) -> Any:
+        out = lowered(self, *args, **kwargs)
+        trials[0] += 1
+        trials[1] += out is None
+        return out
+
+    _descent._Descent.lowered = counted_lowering
+
     settle = _settle.Mechanics.settle
 
     def timed_settle(self: Any, *args: Any, **kwargs: Any) -> Any:
         # The whole settle: the first touch is made as the descent is set up.
         t = time.process_time()
+        before = list(trials)
         rest = settle(self, *args, **kwargs)
         cpu = time.process_time() - t
         start = kwargs.get("start")
@@ -106,6 +124,16 @@ def _install(acc: dict[str, Any]) -> None:
         row[0] += 1
         row[1] += cpu
         row[2] += rest.iterations
+        length = "long" if rest.iterations >= LONG else "short"
+        ends = acc["ends"][length]
+        if rest.balance.get("converged", 0.0) or rest.balance.get("arrived", 0.0):
+            ends[0] += 1
+        elif rest.iterations >= _descent.MAX_STEPS:
+            ends[1] += 1
+        elif rest.state.kind != "departed":
+            ends[2] += 1
+        ends[3] += trials[0] - before[0]
+        ends[4] += trials[1] - before[1]
         if rest.iterations >= LONG:
             row[3] += 1
             row[4] += cpu
@@ -179,6 +207,9 @@ def _start_worker(step: float) -> None:
         "stages": collections.defaultdict(lambda: [0, 0.0, 0, 0, 0.0]),
         "queries": collections.defaultdict(lambda: [0, 0.0, 0]),
         "proofs": [0, 0.0],
+        # Per length of descent (long, short): balanced (or arrived), at the step limit,
+        # stopped short unbalanced; trial lowerings, of which refused.
+        "ends": collections.defaultdict(lambda: [0, 0, 0, 0, 0]),
     }
     _install(acc)
     mech = Mechanics(spec_from_designation("1/4-20 UNC-2A/2B"), Compliance())
@@ -193,7 +224,7 @@ def _held_tilt(held: tuple[float, float], phase: str) -> dict[str, Any]:
     from threadmate.library._held_tilt import states_of_held_tilt
 
     acc, mech = _WORKER["acc"], _WORKER["mech"]
-    for key in ("stages", "queries"):
+    for key in ("stages", "queries", "ends"):
         acc[key].clear()
     acc["proofs"][:] = [0, 0.0]
     phases = [float(p) for p in parse_range(phase, "phase")]
@@ -212,16 +243,17 @@ def _held_tilt(held: tuple[float, float], phase: str) -> dict[str, Any]:
         "held": {f"{roll:g},{pitch:g}": time.process_time() - t},
         "stages": dict(acc["stages"]),
         "queries": dict(acc["queries"]),
+        "ends": dict(acc["ends"]),
         "proofs": list(acc["proofs"]),
     }
 
 
 def _merge(parts: list[dict[str, Any]]) -> dict[str, Any]:
-    out: dict[str, Any] = {"stages": {}, "queries": {}, "held": {}, "proofs": [0, 0.0]}
+    out: dict[str, Any] = {"stages": {}, "queries": {}, "ends": {}, "held": {}, "proofs": [0, 0.0]}
     for part in parts:
         out["held"].update(part["held"])
         out["proofs"] = [a + b for a, b in zip(out["proofs"], part["proofs"], strict=True)]
-        for key in ("stages", "queries"):
+        for key in ("stages", "queries", "ends"):
             for name, row in part[key].items():
                 acc = out[key].setdefault(name, [0] * len(row))
                 out[key][name] = [a + b for a, b in zip(acc, row, strict=True)]
@@ -282,6 +314,17 @@ def main() -> None:
         f"  proofs whole (descents and all else): {n} proofs, {cpu:.1f} s "
         f"({100 * cpu / total:.1f} %)"
     )
+    print(
+        f"\nhow descents end (of {LONG} steps or more, and fewer): balanced, at the step "
+        "limit, stopped short unbalanced; their trial lowerings, and those refused (pinched)"
+    )
+    for length in ("long", "short"):
+        balanced, limit, stalled, tried, refused = result["ends"].get(length, [0] * 5)
+        print(
+            f"  {length:6s} {balanced:6d} balanced, {limit:5d} at the limit, {stalled:5d} "
+            f"short of it; {tried:7d} trial lowerings, {refused:6d} refused "
+            f"({100 * refused / max(tried, 1):.0f} %)"
+        )
     print("\ncollision queries: count, CPU (share), pairs reported")
     for name, (n, cpu, pairs) in sorted(result["queries"].items(), key=lambda kv: -kv[1][1]):
         print(f"  {name:46s} {n:7d} {cpu:7.1f} s ({100 * cpu / total:4.1f} %) {pairs:9d} pairs")
