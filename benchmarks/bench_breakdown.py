@@ -26,9 +26,9 @@ several times). A settle's CPU goes to the stage it serves:
 A descent of 30 steps or more counts also as ``long`` (the step limit is 60), and the
 long ones are told apart by how they end (balanced or arrived at a rest state known
 already, at the step limit, or stopped short of it unbalanced: stalled, nothing left to
-gain, the trust region spent) and by the share of their steps whose trial pose no lowering
-could place (``lowered`` refused: at the step's tilt the bolt meets the nut above and
-below at every height, pinched between the flanks). A proof's
+gain, the trust region spent) and by how many of their steps' trial lowerings were
+refused (mostly where, at the step's tilt, the bolt meets the nut above and below at
+every height: pinched between the flanks). A proof's
 whole cost, its settles and all else, is printed beside. The
 collision queries are counted by kind, yes/no (free or colliding) and enumerations (with
 the pairs they report), and by the part of

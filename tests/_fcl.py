@@ -5,11 +5,13 @@ spec's generated meshes as such (:func:`collider`, one per spec)."""
 from __future__ import annotations
 
 import functools
+import math
 from typing import Any
 
 import fcl
 import numpy as np
 
+from _exact_geometry import rot
 from threadmate.geometry import thread_meshes
 
 
@@ -76,6 +78,20 @@ class Collider:
             else:
                 hi = mid
         return hi
+
+    def potential(self, compliance, held, phase, roll, pitch, z_guess, reach, metres):
+        """U (J) of the bolt at ``(roll, pitch)`` and ``phase`` (degrees) lowered to first
+        touch (:meth:`first_touch`, from ``z_guess`` with ``reach``), its compliance centre
+        the tip's centre (``compliance_z`` 0, the bolt's origin) held at x = y = 0:
+        ``F z_C + k/2 |tilt - held|^2``, ``held`` the held (roll, pitch) and ``metres``
+        the metres per spec unit."""
+        assert compliance.compliance_z == 0.0
+        z = self.first_touch(rot(roll, pitch, phase), 0.0, 0.0, z_guess, reach)
+        return (
+            compliance.force * z * metres
+            + 0.5 * compliance.roll_stiffness * math.radians(roll - held[0]) ** 2
+            + 0.5 * compliance.pitch_stiffness * math.radians(pitch - held[1]) ** 2
+        )
 
 
 @functools.lru_cache(maxsize=8)

@@ -329,13 +329,9 @@ def test_kkt_where_the_countersinks_kink_lies_along_the_points_cone():
     col = collider(spec)
 
     def potential(roll, pitch):
-        # The compliance centre is the tip centre, the bolt's origin, held at x = y = 0.
-        z = col.first_touch(rot(roll, pitch, rest.phase), 0.0, 0.0, s.origin[2], spec.pitch / 20)
-        return (
-            DEFAULT.force * z * METRES[spec.units]
-            + 0.5 * DEFAULT.roll_stiffness * math.radians(roll - rest.held_roll) ** 2
-            + 0.5 * DEFAULT.pitch_stiffness * math.radians(pitch - rest.held_pitch) ** 2
-        )
+        held = (rest.held_roll, rest.held_pitch)
+        args = (s.origin[2], spec.pitch / 20, METRES[spec.units])
+        return col.potential(DEFAULT, held, rest.phase, roll, pitch, *args)
 
     u0 = potential(s.roll, s.pitch)
     # (The state's potential is in mJ.)

@@ -84,11 +84,8 @@ def test_rest_state_within_the_meshes_accuracy_is_a_balanced_minimum(
 
     # A minimum: perturbed tilts, each lowered to first touch on the whole meshes.
     def potential(roll, pitch):
-        z = col.first_touch(rot(roll, pitch, phase), 0.0, 0.0, s.origin[2], 2e-3)
-        return (
-            f * z * INCH_M
-            + 0.5 * k * math.radians(roll - roll0) ** 2
-            + 0.5 * k * math.radians(pitch - pitch0) ** 2
+        return col.potential(
+            DEFAULT, (roll0, pitch0), phase, roll, pitch, s.origin[2], 2e-3, INCH_M
         )
 
     np.testing.assert_allclose(s.centre, s.origin, atol=1e-12)  # C at the tip's centre

@@ -192,14 +192,12 @@ def prepare_inherited(job: Job) -> None:
     workers exist, not by the workers and that process three at a time."""
     mechanics = job.model == "mechanics" and job.analyzer is None
     if mechanics:
-        from ..contact import warm_kernels_aside
+        from ..contact import contact_scene, warm_kernels, warm_kernels_aside
 
         warm_kernels_aside()
     if job.analyzer is None and (job.bolt_mesh is None or job.nut_mesh is None):
         thread_meshes(job.spec, job.chord)
     if mechanics:
-        from ..contact import contact_scene, warm_kernels
-
         warm_kernels()
         contact_scene(job.spec, chord=job.chord, **job.mesh_arguments())
 
