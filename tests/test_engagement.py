@@ -199,6 +199,47 @@ def test_the_proof_locates_a_jump_down_to_a_degree_with_the_same_verdict():
     )
 
 
+@pytest.mark.slow
+def test_a_proof_that_wedges_ends_at_the_wedge():
+    """Screwing in, the driver stalls where the bolt wedges (docs/mechanics.md, "A fold
+    is a fold only when no rest state continues the branch"): the proof of the start in
+    phase of the default parts held (2, -2) at 140 degrees, whose screw-in wedges within
+    its first half, walks no further. Its last state is the landing past the fold, above
+    the state before it by the potential recomputed from the two poses (U = F z_C + k/2
+    |tilt - held|^2), no state lies beyond it, and the proof's turn and descent are those
+    up to it: the descent over the whole turn, which is shorter than the half judged."""
+    spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    comp = Compliance()
+    mech = Mechanics(spec, comp)
+    start = mech.settle(2.0, -2.0, 140.0).state
+    walk = Continuation(
+        mech,
+        2.0,
+        -2.0,
+        sense="tighten",
+        contact_changes=False,
+        fold_tolerance=PROOF_FOLD_TOLERANCE,
+    )
+    legs, events, states = walk.advance(start, 140.0, SCREW_IN)
+    wedge = events[-1]
+    assert wedge.kind == "jump"
+    assert states[-1].phase == pytest.approx(wedge.phase, abs=1e-9)
+    assert all(s.phase >= wedge.phase - 1e-9 for s in states)
+    turned = 140.0 - wedge.phase
+    assert turned < 0.5 * SCREW_IN
+
+    def potential(s):  # J
+        tilt = np.radians([s.roll - 2.0, s.pitch + 2.0])
+        return comp.force * s.centre[2] * 0.0254 + 0.5 * float(np.dot(comp.stiffness, tilt**2))
+
+    assert potential(states[-1]) > potential(states[-2])
+    proof = engagement(walk, start, legs, events, states, SCREW_IN, 0.5 * SCREW_IN)
+    assert proof.jammed and not proof.engaged
+    assert proof.turn == pytest.approx(turned, abs=1e-9)
+    descent = (start.centre[2] - states[-1].centre[2]) * 360.0 / turned
+    assert proof.descent == pytest.approx(descent, rel=1e-12)
+
+
 def test_screw_engages_from_a_start_out_of_phase(flat):
     """Upright from 100 degrees, turned clockwise: the bolt rides its tip face to the
     window, drops in, and then descends the lead per turn; recomputed from the states

@@ -223,7 +223,7 @@ def _turned(
     legs: list[Leg] = []
     outcome, decided, reason = "riding", None, ""
     at, ph = 0.0, float(phase)
-    walked = states  # every state walked, those past a jam included (``walks``)
+    walked = states  # every state walked, those past a torque jam included (``walks``)
     while at < end - 1e-9:
         if progress is not None:
             progress(int(at), int(math.ceil(end)))

@@ -426,7 +426,8 @@ def joined_walk(
     from there on the two are one. So the walk is turned on to where it may join: the
     start of an earlier walk further on, or (once, for a state between an earlier walk's
     phases) the next of that walk's states within a step; beyond what the earlier walks
-    hold, it goes on by itself."""
+    hold, it goes on by itself. It ends at a wedge, as :meth:`Continuation.advance`
+    does."""
     sign, pitch = walk.sign, walk.mech.spec.pitch
     legs: list[Leg] = []
     events: list[SearchEvent] = []
@@ -449,6 +450,8 @@ def joined_walk(
         legs += piece[0]
         events += piece[1]
         states += piece[2]
+        if wedged(piece[0], piece[1]) is not None:
+            break  # the driver stalls at the wedge (:meth:`Continuation.advance`)
         s = piece[2][-1]
         at += sign * (s.phase - ph)
         ph = s.phase
@@ -925,7 +928,8 @@ class Continuation:
         arrive: Callable[[MechanicalState], MechanicalState | None] | None = None,
     ) -> tuple[list[Leg], list[SearchEvent], list[MechanicalState]]:
         """Turn from ``state`` (a rest state at ``phase``, degrees) by ``turn`` degrees in
-        the unscrewing sense, stopping early at a snap. ``arrive``: rest states already
+        this continuation's sense, stopping early at a snap or, screwing in, at a wedge
+        (:func:`wedged`: the driver stalls there). ``arrive``: rest states already
         known at the end of the turn, as :meth:`Mechanics.settle` asks for them on its
         last step (the library's sweep).
 
@@ -1116,6 +1120,10 @@ class Continuation:
                 if proof is not None and not proof.engaged:
                     note = f"not a snap: {proof.reason}"
             if snap(lo, hi, s_lo, s_hi, note, proof):
+                return legs, _without_flicker(events), states
+            if self.tightening and s_hi.potential > s_lo.potential:
+                # Wedged (:func:`wedged`): screwing in, the driver stalls here; the turn
+                # beyond, from a landing the bolt could reach only by rising, is no walk.
                 return legs, _without_flicker(events), states
             prev, at = s_hi, hi
             branch, branch_start, work = [s_hi], hi, [0.0, 0.0]
