@@ -28,8 +28,10 @@ long ones are told apart by how they end (balanced or arrived at a rest state kn
 already, at the step limit, or stopped short of it unbalanced: stalled, nothing left to
 gain, the trust region spent) and by how many of their steps' trial lowerings were
 refused (mostly where, at the step's tilt, the bolt meets the nut above and below at
-every height: pinched between the flanks). A proof's
-whole cost, its settles and all else, is printed beside. The
+every height: pinched between the flanks). The proofs' whole cost, their settles and
+all else, is printed beside by verdict (engaged, wedged, the torque past its limit,
+riding), and so is that of the searches for a rest state at tilts nearby where a turn's
+landing climbed (``_tilted``: a wedge is told where none is found). The
 collision queries are counted by kind, yes/no (free or colliding) and enumerations (with
 the pairs they report), and by the part of
 the lowering that asks them (``_lowering``): the bracket, the verification of a kept
@@ -54,6 +56,16 @@ RUN_HELD = [(float(r), float(p)) for r in range(-2, 3) for p in range(-2, 3)]
 LONG = 30
 
 
+def _verdict(proof: Any) -> str:
+    """A proof's verdict in a word: engaged, wedged (no rest state continues its turn),
+    torque (the tightening torque passes its limit) or rides."""
+    if proof.engaged:
+        return "engaged"
+    if proof.jammed:
+        return "torque" if proof.torque_jam is not None else "wedged"
+    return "rides"
+
+
 def _install(acc: dict[str, Any]) -> None:
     """Wrap the methods whose calls are timed; ``acc`` collects the figures."""
     from threadmate.contact.mechanics import _descent, _lowering, _search, _settle
@@ -67,17 +79,27 @@ def _install(acc: dict[str, Any]) -> None:
         inner = getattr(cls, name)
 
         def wrapped(*args: Any, **kwargs: Any) -> Any:
-            # A proof's whole cost (its descents and all else) is timed at the outermost.
+            # A proof's whole cost (its descents and all else) is timed at the outermost,
+            # by its verdict; the search for a rest state beyond a climb, whole.
             outer = name == "prove" and "prove" not in stack
             stack.append(name)
             t = time.process_time()
+            out = None
             try:
-                return inner(*args, **kwargs)
+                out = inner(*args, **kwargs)
+                return out
             finally:
                 stack.pop()
-                if outer:
-                    acc["proofs"][0] += 1
-                    acc["proofs"][1] += time.process_time() - t
+                cpu = time.process_time() - t
+                if outer and out is not None:
+                    row = acc["proofs"][_verdict(out)]
+                    row[0] += 1
+                    row[1] += cpu
+                    row[2] += out.turn
+                if name == "_tilted":
+                    acc["tilted"][0] += 1
+                    acc["tilted"][1] += cpu
+                    acc["tilted"][2] += out is not None
 
         setattr(cls, name, wrapped)
 
@@ -206,7 +228,10 @@ def _start_worker(step: float) -> None:
         "step": step,
         "stages": collections.defaultdict(lambda: [0, 0.0, 0, 0, 0.0]),
         "queries": collections.defaultdict(lambda: [0, 0.0, 0]),
-        "proofs": [0, 0.0],
+        # Per verdict (engaged, wedged, torque, rides): proofs, CPU, degrees turned.
+        "proofs": collections.defaultdict(lambda: [0, 0.0, 0.0]),
+        # The searches for a rest state beyond a climb: calls, CPU, found.
+        "tilted": [0, 0.0, 0],
         # Per length of descent (long, short): balanced (or arrived), at the step limit,
         # stopped short unbalanced; trial lowerings, of which refused.
         "ends": collections.defaultdict(lambda: [0, 0, 0, 0, 0]),
@@ -224,9 +249,9 @@ def _held_tilt(held: tuple[float, float], phase: str) -> dict[str, Any]:
     from threadmate.library._held_tilt import states_of_held_tilt
 
     acc, mech = _WORKER["acc"], _WORKER["mech"]
-    for key in ("stages", "queries", "ends"):
+    for key in ("stages", "queries", "ends", "proofs"):
         acc[key].clear()
-    acc["proofs"][:] = [0, 0.0]
+    acc["tilted"][:] = [0, 0.0, 0]
     phases = [float(p) for p in parse_range(phase, "phase")]
     roll, pitch = held
     t = time.process_time()
@@ -244,16 +269,18 @@ def _held_tilt(held: tuple[float, float], phase: str) -> dict[str, Any]:
         "stages": dict(acc["stages"]),
         "queries": dict(acc["queries"]),
         "ends": dict(acc["ends"]),
-        "proofs": list(acc["proofs"]),
+        "proofs": dict(acc["proofs"]),
+        "tilted": list(acc["tilted"]),
     }
 
 
 def _merge(parts: list[dict[str, Any]]) -> dict[str, Any]:
-    out: dict[str, Any] = {"stages": {}, "queries": {}, "ends": {}, "held": {}, "proofs": [0, 0.0]}
+    out: dict[str, Any] = {"stages": {}, "queries": {}, "ends": {}, "proofs": {}, "held": {}}
+    out["tilted"] = [0, 0.0, 0]
     for part in parts:
         out["held"].update(part["held"])
-        out["proofs"] = [a + b for a, b in zip(out["proofs"], part["proofs"], strict=True)]
-        for key in ("stages", "queries", "ends"):
+        out["tilted"] = [a + b for a, b in zip(out["tilted"], part["tilted"], strict=True)]
+        for key in ("stages", "queries", "ends", "proofs"):
             for name, row in part[key].items():
                 acc = out[key].setdefault(name, [0] * len(row))
                 out[key][name] = [a + b for a, b in zip(acc, row, strict=True)]
@@ -309,10 +336,16 @@ def main() -> None:
             f"  {name:30s} {n:6d} {cpu:7.1f} s ({100 * cpu / total:4.1f} %) "
             f"{steps:7d} steps; long {n_long:4d}, {cpu_long:6.1f} s"
         )
-    n, cpu = result["proofs"]
+    print("  proofs whole (descents and all else), by verdict:")
+    for verdict, (n, cpu, turned) in sorted(result["proofs"].items(), key=lambda kv: -kv[1][1]):
+        print(
+            f"    {verdict:8s} {n:4d} proofs, {cpu:6.1f} s ({100 * cpu / total:4.1f} %), "
+            f"{turned / max(n, 1):4.0f} degrees turned on average"
+        )
+    n, cpu, found = result["tilted"]
     print(
-        f"  proofs whole (descents and all else): {n} proofs, {cpu:.1f} s "
-        f"({100 * cpu / total:.1f} %)"
+        f"  rest states looked for beyond a climb (tilted settles), whole: {n} times, "
+        f"{cpu:.1f} s ({100 * cpu / total:.1f} %), found {found}"
     )
     print(
         f"\nhow descents end (of {LONG} steps or more, and fewer): balanced, at the step "
