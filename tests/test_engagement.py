@@ -228,7 +228,7 @@ def test_a_proof_that_wedges_ends_at_the_wedge():
     turned = 140.0 - wedge.phase
     assert turned < 0.5 * SCREW_IN
 
-    def potential(s):  # J
+    def potential(s):  # J, the compliance centre's height in inches
         tilt = np.radians([s.roll - 2.0, s.pitch + 2.0])
         return comp.force * s.centre[2] * 0.0254 + 0.5 * float(np.dot(comp.stiffness, tilt**2))
 
