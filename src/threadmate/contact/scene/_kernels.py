@@ -1,6 +1,6 @@
 """Compiled kernels of the exact contact geometry: the kink's height, the vertical touch,
-the signed distance from a thread body, where two exact edges cross, which points can lie
-deep inside a thread body.
+the signed distance from a thread body, the feature at a point, where two exact edges
+cross, which points can lie deep inside a thread body.
 
 The contact code asks these one edge or a few triangle pairs at a time, thousands of
 times per rest state, where Python's and numpy's per-call overhead is most of the cost.
@@ -14,8 +14,11 @@ The profile and the envelope travel as float arrays (:func:`profile_array`,
 for operation for operation (:meth:`threadmate.geometry.Profile.radius` and ``slope``,
 the envelope's ``radius`` and ``signed_distance``, :func:`scipy.optimize.brentq`), so
 that its results are those methods' to the last bit, bar the order of rounding in a
-library call. The one that stands for no method, :func:`deep_candidates`, is a filter
-before the exact tests, with margins far above rounding: its last bits decide nothing.
+library call. The feature at a point (:func:`feature`) goes further: it gives Python's
+results to the last bit, Python's ``math.hypot`` and ``** 2`` included (:func:`_hypot`,
+:data:`_TWO`), for its normals feed every descent step. The one that stands for no
+method, :func:`deep_candidates`, is a filter before the exact tests, with margins far
+above rounding: its last bits decide nothing.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..._angles import TWO_PI
-from ..._compiled import compiled
+from ..._compiled import compiled, inlined
 
 if TYPE_CHECKING:
     from ...geometry import ThreadBody
@@ -38,9 +41,11 @@ __all__ = [
     "KINK",
     "RIM",
     "EdgeCurve",
+    "FEATURE_KINDS",
     "crossing_of_edges",
     "deep_candidates",
     "envelope_array",
+    "feature",
     "kink_height",
     "kink_heights",
     "profile_array",
@@ -286,6 +291,7 @@ def _arrays(body: ThreadBody) -> _Arrays:
                 body.cap_z,
                 0.0 if env is None else env.face_radius,
                 0.0 if env is None else math.hypot(1.0, env.slope_rz),
+                2.0,  # (:data:`_TWO`)
             ]
         )
         got = _Arrays(
@@ -683,3 +689,283 @@ def crossing_of_edges(
     ):
         return None
     return out.reshape(2, 3)
+
+
+# -- the feature at a point ---------------------------------------------------------------
+#: :func:`feature`'s ``shape`` slot holding 2.0, the exponent of Python's ``x ** 2``: read at
+#: run time, it keeps the compiler from turning ``math.pow(x, 2.0)`` into ``x * x``, which
+#: differs from the C library's ``pow`` (Python's ``**``) in the last bit of about one
+#: result in a thousand.
+_TWO = 6
+
+
+@inlined
+def _radius_as_python(prof: NDArray[np.float64], t: float, two: float) -> float:
+    """:func:`_profile_radius` with Python's ``** 2`` (see :data:`_TWO`)."""
+    pitch = prof[13]
+    u = abs(t - pitch * math.floor(t / pitch + 0.5))
+    if u <= prof[0]:
+        return prof[4]
+    if u <= prof[1]:
+        rho = prof[8]
+        return prof[7] + math.sqrt(max(rho * rho - math.pow(u - prof[6], two), 0.0))
+    if u <= prof[2]:
+        return prof[12] + math.sqrt(3.0) * (pitch / 4 - u)
+    if u <= prof[3]:
+        rho = prof[11]
+        return prof[10] - math.sqrt(max(rho * rho - math.pow(u - prof[9], two), 0.0))
+    return prof[5]
+
+
+@inlined
+def _envelope_radius_as_python(env: NDArray[np.float64], z: float, two: float) -> float:
+    """:func:`_envelope_radius` with Python's ``** 2`` (see :data:`_TWO`)."""
+    if not env[6] <= z <= env[7]:
+        return math.inf * env[1]
+    if env[0] == 0.0:
+        return env[2] + env[3] * z
+    rho = env[5]
+    return math.sqrt(max(rho * rho - math.pow(z - env[4], two), 0.0))
+
+
+@inlined
+def _slope_as_python(prof: NDArray[np.float64], t: float, two: float) -> float:
+    """:func:`_profile_slope` with Python's ``** 2`` (see :data:`_TWO`)."""
+    pitch = prof[13]
+    t = t - pitch * math.floor(t / pitch + 0.5)
+    u = abs(t)
+    if u <= prof[0]:
+        out = 0.0
+    elif u <= prof[1]:
+        rho = prof[8]
+        out = -(u - prof[6]) / math.sqrt(max(rho * rho - math.pow(u - prof[6], two), 1e-300))
+    elif u <= prof[2]:
+        out = -math.sqrt(3.0)
+    elif u <= prof[3]:
+        rho = prof[11]
+        out = (u - prof[9]) / math.sqrt(max(rho * rho - math.pow(u - prof[9], two), 1e-300))
+    else:
+        out = 0.0
+    return (-1.0 if t < 0 else 1.0) * out
+
+
+@inlined
+def _two_product(x: float, y: float) -> tuple[float, float]:
+    """``x * y`` as ``hi + lo`` exactly (Dekker's product of Veltkamp's halves)."""
+    t = x * 134217729.0
+    xh = t - (t - x)
+    xl = x - xh
+    t = y * 134217729.0
+    yh = t - (t - y)
+    yl = y - yh
+    p = xh * yh
+    q = xh * yl + xl * yh
+    hi = p + q
+    return hi, p - hi + q + xl * yl
+
+
+@inlined
+def _hypot(x: float, y: float) -> float:
+    """Python's own ``math.hypot(x, y)`` (CPython's ``vector_norm`` of two numbers: a sum
+    of squares kept exact in two parts, its root corrected once), not the C library's,
+    which differs from it in the last bit of one result in about two hundred: the exact
+    geometry's Python methods use Python's, and this kernel gives their results to the
+    last bit."""
+    x = abs(x)
+    y = abs(y)
+    top = max(x, y)
+    if math.isinf(top):
+        return top
+    if math.isnan(x) or math.isnan(y):
+        return math.nan
+    if top == 0.0:
+        return top
+    e = math.frexp(top)[1]
+    if e < -1021:  # subnormal: far below any length here; the C library's is as good
+        return math.hypot(x, y)
+    scale = math.ldexp(1.0, -e)
+    csum, frac1, frac2 = 1.0, 0.0, 0.0
+    for v in (x * scale, y * scale):
+        hi, lo = _two_product(v, v)
+        s = csum + hi
+        frac2 += (csum - s) + hi
+        csum = s
+        frac1 += lo
+    h = math.sqrt(csum - 1.0 + (frac1 + frac2))
+    hi, lo = _two_product(-h, h)
+    s = csum + hi
+    frac2 += (csum - s) + hi
+    csum = s
+    frac1 += lo
+    h += (csum - 1.0 + (frac1 + frac2)) / (2.0 * h)
+    return h / scale
+
+
+#: :func:`feature` kinds, by the code the kernel returns.
+FEATURE_KINDS = ("rim", "cap", "kink", "bevel", "corner", "thread")
+
+
+@inlined
+def _unit3(x: float, y: float, z: float) -> tuple[float, float, float]:
+    n = math.sqrt(x * x + y * y + z * z)  # (numpy's ``v @ v`` of three: the same sum)
+    if n > 0:
+        return x / n, y / n, z / n
+    return x, y, z
+
+
+@inlined
+def _helical_normal3(
+    prof: NDArray[np.float64],
+    is_bolt: bool,
+    hand_lead: float,
+    x: float,
+    y: float,
+    t: float,
+    two: float,
+) -> tuple[float, float, float]:
+    r = max(_hypot(x, y), 1e-300)
+    c, s = x / r, y / r
+    slope = _slope_as_python(prof, t, two)
+    g = slope * hand_lead / (TWO_PI * r)
+    if is_bolt:
+        return _unit3(c - g * s, s + g * c, -slope)
+    return _unit3(-(c - g * s), -(s + g * c), slope)  # (the bolt's, reversed)
+
+
+@inlined
+def _bevel_normal3(
+    env: NDArray[np.float64], k_cone: float, x: float, y: float, z: float
+) -> tuple[float, float, float]:
+    r = max(_hypot(x, y), 1e-300)
+    if env[0] == 0.0:
+        n_r, n_z = env[1] / k_cone, -env[1] * env[3] / k_cone
+    else:
+        h = _hypot(r, z - env[4])
+        if h == 0.0:
+            h = 1.0
+        n_r, n_z = env[1] * r / h, env[1] * (z - env[4]) / h
+    return n_r * x / r, n_r * y / r, n_z
+
+
+@inlined
+def _rim_tangent3(
+    prof: NDArray[np.float64],
+    with_env: bool,
+    hand_lead: float,
+    cap_z: float,
+    x: float,
+    y: float,
+    two: float,
+) -> tuple[float, float, float]:
+    theta = math.atan2(y, x)
+    if with_env:
+        return -math.sin(theta), math.cos(theta), 0.0
+    pitch = prof[13]
+    t = cap_z - hand_lead * theta / TWO_PI
+    t = t - pitch * math.floor(t / pitch + 0.5)
+    radius = _radius_as_python(prof, t, two)
+    d_radius = _slope_as_python(prof, t, two) * (-hand_lead / TWO_PI)
+    c, s = math.cos(theta), math.sin(theta)
+    return _unit3(d_radius * c - radius * s, d_radius * s + radius * c, 0.0)
+
+
+@compiled
+def _feature(
+    prof: NDArray[np.float64],
+    env: NDArray[np.float64],
+    shape: NDArray[np.float64],
+    x: float,
+    y: float,
+    z: float,
+    tol: float,
+    out: NDArray[np.float64],
+) -> int:
+    """The feature of a thread body at ``(x, y, z)`` (its frame): the code of its kind
+    in :data:`FEATURE_KINDS`, and in ``out`` its face normal, edge tangent and side
+    (:class:`._exact.Feature`). The arithmetic of :func:`._exact.feature_at`, operation
+    for operation."""
+    is_bolt, with_env, hand_lead, cap_z = shape[0] > 0, shape[1] > 0, shape[2], shape[3]
+    face, k_cone, two = shape[4], shape[5], shape[_TWO]
+    pitch = prof[13]
+    cap_nz = -1.0 if is_bolt else 1.0
+    r = _hypot(x, y)
+    # The helix coordinate, the profile radius there and the distance to the thread.
+    t = z - hand_lead * math.atan2(y, x) / TWO_PI
+    t = t - pitch * math.floor(t / pitch + 0.5)
+    R = _radius_as_python(prof, t, two)
+    d_thread = abs(_hypot(x, y) - R) / _hypot(1.0, _slope_as_python(prof, t, two))
+    d_cap = abs(z - cap_z)
+    out[:] = np.nan
+    if with_env:
+        e = _envelope_radius_as_python(env, z, two)
+        # The distance to the whole cone or sphere, also just beyond the span where it
+        # trims the thread: the kink where a countersink meets the nut's crest lies on the
+        # span's end.
+        if env[0] == 0.0:
+            at = (r - env[2] - env[3] * z) / _hypot(1.0, env[3])
+        else:
+            at = math.hypot(r, z - env[4]) - env[5]  # (numpy's hypot: the C library's)
+        d_env = abs(env[1] * at)
+        over = r <= face + tol if is_bolt else r >= face - tol
+        near_cap = d_cap <= tol and over
+        near_env = d_env <= tol
+        if near_cap and near_env:
+            b0, b1, b2 = _bevel_normal3(env, k_cone, x, y, z)
+            out[3], out[4], out[5] = _rim_tangent3(prof, with_env, hand_lead, cap_z, x, y, two)
+            out[6], out[7], out[8] = _unit3(0.0 + b0, 0.0 + b1, cap_nz + b2)
+            return 0
+        if near_cap or (over and d_cap < min(d_thread, d_env)):
+            out[0], out[1], out[2] = 0.0, 0.0, cap_nz
+            return 1
+        bounds = math.isfinite(e) and (e < R if is_bolt else e > R)
+        if near_env and d_thread <= tol:
+            b0, b1, b2 = _bevel_normal3(env, k_cone, x, y, z)
+            h0, h1, h2 = _helical_normal3(prof, is_bolt, hand_lead, x, y, t, two)
+            out[3], out[4], out[5] = _unit3(b1 * h2 - b2 * h1, b2 * h0 - b0 * h2, b0 * h1 - b1 * h0)
+            out[6], out[7], out[8] = _unit3(b0 + h0, b1 + h1, b2 + h2)
+            return 2
+        if near_env or (bounds and d_env < d_thread):
+            out[0], out[1], out[2] = _bevel_normal3(env, k_cone, x, y, z)
+            return 3
+    over = r <= R + tol if is_bolt else r >= R - tol
+    near_cap = d_cap <= tol and over
+    if near_cap and d_thread <= tol:
+        h0, h1, h2 = _helical_normal3(prof, is_bolt, hand_lead, x, y, t, two)
+        out[3], out[4], out[5] = _rim_tangent3(prof, with_env, hand_lead, cap_z, x, y, two)
+        out[6], out[7], out[8] = _unit3(0.0 + h0, 0.0 + h1, cap_nz + h2)
+        return 0
+    if near_cap or (over and d_cap < d_thread):
+        out[0], out[1], out[2] = 0.0, 0.0, cap_nz
+        return 1
+    # A sharp corner: the profile point nearest to (t, r) within ``tol`` of one.
+    u = abs(t)
+    for k in range(2):
+        if (prof[8] if k == 0 else prof[11]) > 0:
+            continue  # a fillet: no corner
+        uc = prof[0] if k == 0 else prof[3]
+        if _hypot(u - uc, r - _radius_as_python(prof, uc, two)) <= tol:
+            h = 1e-4 * pitch
+            sign = 1.0 if t >= 0 else -1.0
+            i0, i1, i2 = _helical_normal3(
+                prof, is_bolt, hand_lead, x, y, sign * max(uc - h, 0.0), two
+            )
+            o0, o1, o2 = _helical_normal3(
+                prof, is_bolt, hand_lead, x, y, sign * min(uc + h, pitch / 2), two
+            )
+            theta = math.atan2(y, x)
+            out[3], out[4], out[5] = _unit3(
+                -r * math.sin(theta), r * math.cos(theta), hand_lead / TWO_PI
+            )
+            out[6], out[7], out[8] = _unit3(i0 + o0, i1 + o1, i2 + o2)
+            return 4
+    out[0], out[1], out[2] = _helical_normal3(prof, is_bolt, hand_lead, x, y, t, two)
+    return 5
+
+
+def feature(body: ThreadBody, x: float, y: float, z: float, tol: float) -> tuple[str, Any]:
+    """The feature of ``body`` at the point ``(x, y, z)`` (its frame) within ``tol``: its
+    kind (:data:`FEATURE_KINDS`) and a (9,) array of its face normal, edge tangent and side
+    (NaN where it has none; a face's side is its normal)."""
+    got = _arrays(body)
+    out = np.empty(9)
+    return FEATURE_KINDS[_feature(got.prof, got.env, got.shape, x, y, z, tol, out)], out

@@ -37,6 +37,7 @@ from ._kernels import (
     _arrays,
     crossing_of_edges,
     deep_candidates,
+    feature,
     kink_height,
     kink_heights,
     signed_distance,
@@ -96,6 +97,7 @@ def _exact() -> None:
     body = bolt_body(spec_from_designation("1/4-20 UNC-2A/2B"))
     body.profile.distance(np.zeros(1), np.zeros(1))  # (the meshes' accuracy)
     kink_height(body, 0.0, 0.0)
+    feature(body, 0.0, 0.0, 0.0, 1e-7)
     kink_heights(body, np.zeros(2), 0.0)
     p = np.zeros((1, 3))
     signed_distance(body, p, np.arctan2(p[:, 1], p[:, 0]))

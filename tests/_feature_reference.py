@@ -1,0 +1,173 @@
+"""The feature of an exact thread body at a point, computed in Python as threadmate did
+before its compiled kernel (``contact.scene._kernels.feature``): the tests' reference for
+that kernel, which must give these results to the last bit (Python's ``math.hypot`` and
+``** 2`` included)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from threadmate._angles import TWO_PI
+from threadmate.contact.scene import Feature
+from threadmate.geometry import ThreadBody
+
+
+def _t_of(body: ThreadBody, theta: float, z: float) -> float:
+    """:meth:`ThreadBody.t_of` of one point, in plain floats (the same operations: the
+    contact code asks one point at a time, where numpy's overhead is most of the cost)."""
+    t = z - body.hand * body.lead * theta / TWO_PI
+    thread_pitch = body.profile.pitch
+    return t - thread_pitch * math.floor(t / thread_pitch + 0.5)
+
+
+def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``np.cross`` of two 3-vectors by its formula (its axis handling costs more than the
+    products, and the edge code asks one pair at a time)."""
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+
+
+def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    n = math.sqrt(float(v @ v))  # ``np.linalg.norm`` of a vector, without its overhead
+    return v / n if n > 0 else v
+
+
+def _helical_normal(body: ThreadBody, p: NDArray[np.float64], t: float) -> NDArray[np.float64]:
+    """Outward unit normal of the body's thread surface at ``p`` using the slope at ``t``."""
+    r = max(math.hypot(p[0], p[1]), 1e-300)
+    c, s = p[0] / r, p[1] / r
+    slope = float(body.profile.slope(t))
+    g_theta = slope * body.hand * body.lead / (TWO_PI * r)
+    grad = np.array([c - g_theta * s, s + g_theta * c, -slope])
+    return _unit(grad if body.kind == "bolt" else -grad)
+
+
+def _rim_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
+    theta = math.atan2(p[1], p[0])
+    if body.envelope is not None:  # the end face's outline is a circle
+        return np.array([-math.sin(theta), math.cos(theta), 0.0])
+    t = _t_of(body, theta, body.cap_z)
+    radius = float(body.profile.radius(t))
+    d_radius = float(body.profile.slope(t)) * (-body.hand * body.lead / TWO_PI)
+    c, s = math.cos(theta), math.sin(theta)
+    return _unit(np.array([d_radius * c - radius * s, d_radius * s + radius * c, 0.0]))
+
+
+def _helix_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
+    r = math.hypot(p[0], p[1])
+    theta = math.atan2(p[1], p[0])
+    return _unit(
+        np.array([-r * math.sin(theta), r * math.cos(theta), body.hand * body.lead / TWO_PI])
+    )
+
+
+def _sharp_corners(body: ThreadBody) -> list[float]:
+    """``|t|`` of the profile's sharp corners (a zero fillet keeps its corner)."""
+    prof = body.profile
+    a1, _, _, a4 = prof.breakpoints
+    out = []
+    if prof.fillet_hi <= 0:
+        out.append(a1)
+    if prof.fillet_lo <= 0:
+        out.append(a4)
+    return out
+
+
+def _cap_normal(body: ThreadBody) -> NDArray[np.float64]:
+    """Outward unit normal of the body's end face (a new array: callers keep it)."""
+    return np.array([0.0, 0.0, -1.0 if body.kind == "bolt" else 1.0])
+
+
+def _bevel_normal(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Outward unit normal of the body's point or countersink surface at ``p``."""
+    assert body.envelope is not None
+    r = max(math.hypot(p[0], p[1]), 1e-300)
+    n_r, n_z = body.envelope.normal(r, float(p[2]))
+    return np.array([n_r * p[0] / r, n_r * p[1] / r, n_z])
+
+
+def _bevel_feature(
+    body: ThreadBody,
+    p: NDArray[np.float64],
+    tol: float,
+    t: float,
+    R: float,
+    d_thread: float,
+    d_cap: float,
+) -> Feature | None:
+    """The feature at ``p`` of a body with a point or countersink, or None where the thread
+    alone bounds it (then the thread's features apply)."""
+    env = body.envelope
+    assert env is not None
+    r = math.hypot(p[0], p[1])
+    z = float(p[2])
+    e = float(env.radius(z))
+    # The distance to the whole cone or sphere, also just beyond the span where it trims
+    # the thread: the kink where a countersink meets the nut's crest lies on the span's end.
+    d_env = abs(float(env.signed_distance(r, z)))
+    face = env.face_radius
+    over_cap = r <= face + tol if body.kind == "bolt" else r >= face - tol
+    near_cap = d_cap <= tol and over_cap
+    near_env = d_env <= tol
+    if near_cap and near_env:
+        side = _cap_normal(body) + _bevel_normal(body, p)
+        return Feature("rim", None, _rim_tangent(body, p), _unit(side))
+    if near_cap or (over_cap and d_cap < min(d_thread, d_env)):
+        cap_normal = _cap_normal(body)
+        return Feature("cap", cap_normal, None, cap_normal)
+    bounds = math.isfinite(e) and (e < R if body.kind == "bolt" else e > R)
+    if near_env and d_thread <= tol:
+        n_env, n_thr = _bevel_normal(body, p), _helical_normal(body, p, t)
+        return Feature("kink", None, _unit(_cross(n_env, n_thr)), _unit(n_env + n_thr))
+    if near_env or (bounds and d_env < d_thread):
+        n = _bevel_normal(body, p)
+        return Feature("bevel", n, None, n)
+    return None
+
+
+def _thread_distance(body: ThreadBody, p: NDArray[np.float64]) -> tuple[float, float, float]:
+    """The helix coordinate ``t`` of ``p`` (body frame), the profile radius there and the
+    distance to the thread in the axial section: the radial offset projected on the
+    profile's normal (exact on flats and flanks; contact points lie within a tolerance)."""
+    prof = body.profile
+    t = _t_of(body, math.atan2(p[1], p[0]), float(p[2]))
+    R = float(prof.radius(t))
+    return t, R, abs(math.hypot(p[0], p[1]) - R) / math.hypot(1.0, float(prof.slope(t)))
+
+
+def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feature:
+    """The feature of ``body`` at ``point`` (body frame) within ``tol``."""
+    p = np.asarray(point, dtype=float)
+    prof = body.profile
+    r = math.hypot(p[0], p[1])
+    t, R, d_thread = _thread_distance(body, p)
+    d_cap = abs(p[2] - body.cap_z)
+    if body.envelope is not None:
+        found = _bevel_feature(body, p, tol, t, R, d_thread, d_cap)
+        if found is not None:
+            return found
+    over_cap = r <= R + tol if body.kind == "bolt" else r >= R - tol
+    near_cap = d_cap <= tol and over_cap
+    near_thread = d_thread <= tol
+    if near_cap and near_thread:
+        side = _cap_normal(body) + _helical_normal(body, p, t)
+        return Feature("rim", None, _rim_tangent(body, p), _unit(side))
+    if near_cap or (over_cap and d_cap < d_thread):
+        cap_normal = _cap_normal(body)
+        return Feature("cap", cap_normal, None, cap_normal)
+    # A sharp corner: the profile point nearest to (t, r) is within tol of a corner.
+    u = abs(t)
+    for uc in _sharp_corners(body):
+        rc = float(prof.radius(uc))
+        if math.hypot(u - uc, r - rc) <= tol:
+            h = 1e-4 * prof.pitch
+            sign = 1.0 if t >= 0 else -1.0
+            n_in = _helical_normal(body, p, sign * max(uc - h, 0.0))
+            n_out = _helical_normal(body, p, sign * min(uc + h, prof.pitch / 2))
+            return Feature("corner", None, _helix_tangent(body, p), _unit(n_in + n_out))
+    n = _helical_normal(body, p, t)
+    return Feature("thread", n, None, n)
