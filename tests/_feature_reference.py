@@ -1,7 +1,8 @@
-"""The feature of an exact thread body at a point, computed in Python as threadmate did
-before its compiled kernel (``contact.scene._kernels.feature``): the tests' reference for
-that kernel, which must give these results to the last bit (Python's ``math.hypot`` and
-``** 2`` included)."""
+"""The feature of an exact thread body at a point, computed in Python (Python's
+``math.hypot`` and ``** 2``, the exact bodies' own methods): the tests' reference for the
+compiled ``contact.scene.feature_at`` (``contact.scene._kernels.feature``), which must give
+these results to the last bit. The helpers that the package still computes in Python it
+shares."""
 
 from __future__ import annotations
 
@@ -12,28 +13,8 @@ from numpy.typing import NDArray
 
 from threadmate._angles import TWO_PI
 from threadmate.contact.scene import Feature
+from threadmate.contact.scene._exact import _cross, _helix_tangent, _sharp_corners, _t_of, _unit
 from threadmate.geometry import ThreadBody
-
-
-def _t_of(body: ThreadBody, theta: float, z: float) -> float:
-    """:meth:`ThreadBody.t_of` of one point, in plain floats (the same operations: the
-    contact code asks one point at a time, where numpy's overhead is most of the cost)."""
-    t = z - body.hand * body.lead * theta / TWO_PI
-    thread_pitch = body.profile.pitch
-    return t - thread_pitch * math.floor(t / thread_pitch + 0.5)
-
-
-def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``np.cross`` of two 3-vectors by its formula (its axis handling costs more than the
-    products, and the edge code asks one pair at a time)."""
-    return np.array(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
-
-
-def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    n = math.sqrt(float(v @ v))  # ``np.linalg.norm`` of a vector, without its overhead
-    return v / n if n > 0 else v
 
 
 def _helical_normal(body: ThreadBody, p: NDArray[np.float64], t: float) -> NDArray[np.float64]:
@@ -55,26 +36,6 @@ def _rim_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64
     d_radius = float(body.profile.slope(t)) * (-body.hand * body.lead / TWO_PI)
     c, s = math.cos(theta), math.sin(theta)
     return _unit(np.array([d_radius * c - radius * s, d_radius * s + radius * c, 0.0]))
-
-
-def _helix_tangent(body: ThreadBody, p: NDArray[np.float64]) -> NDArray[np.float64]:
-    r = math.hypot(p[0], p[1])
-    theta = math.atan2(p[1], p[0])
-    return _unit(
-        np.array([-r * math.sin(theta), r * math.cos(theta), body.hand * body.lead / TWO_PI])
-    )
-
-
-def _sharp_corners(body: ThreadBody) -> list[float]:
-    """``|t|`` of the profile's sharp corners (a zero fillet keeps its corner)."""
-    prof = body.profile
-    a1, _, _, a4 = prof.breakpoints
-    out = []
-    if prof.fillet_hi <= 0:
-        out.append(a1)
-    if prof.fillet_lo <= 0:
-        out.append(a4)
-    return out
 
 
 def _cap_normal(body: ThreadBody) -> NDArray[np.float64]:

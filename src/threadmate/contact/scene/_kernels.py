@@ -266,9 +266,9 @@ class _Arrays(NamedTuple):
     prof: NDArray[np.float64]  # :func:`profile_array`
     env: NDArray[np.float64]  # :func:`envelope_array` (zeros without one)
     rise: float  # the helix's rise per radian
-    # :func:`signed_distance`'s: bolt (1) or nut (0), with an envelope (1), hand times
-    # lead, the end face's height, its outline's radius with an envelope, and
-    # ``hypot(1, slope)`` of a cone's.
+    # :func:`signed_distance`'s and :func:`feature`'s: bolt (1) or nut (0), with an
+    # envelope (1), hand times lead, the end face's height, its outline's radius with an
+    # envelope, ``hypot(1, slope)`` of a cone's, and 2.0 (:data:`_TWO`).
     shape: NDArray[np.float64]
 
 
@@ -882,8 +882,10 @@ def _feature(
 ) -> int:
     """The feature of a thread body at ``(x, y, z)`` (its frame): the code of its kind
     in :data:`FEATURE_KINDS`, and in ``out`` its face normal, edge tangent and side
-    (:class:`._exact.Feature`). The arithmetic of :func:`._exact.feature_at`, operation
-    for operation."""
+    (:class:`._exact.Feature`). Python's arithmetic of the profile's, the envelope's and
+    the helix's formulas, operation for operation, to the last bit (a test compares the
+    two).
+    """
     is_bolt, with_env, hand_lead, cap_z = shape[0] > 0, shape[1] > 0, shape[2], shape[3]
     face, k_cone, two = shape[4], shape[5], shape[_TWO]
     pitch = prof[13]
