@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..._angles import TWO_PI
-from ..._compiled import compiled, inlined
+from ..._compiled import compiled
 
 if TYPE_CHECKING:
     from ...geometry import ThreadBody
@@ -699,7 +699,7 @@ def crossing_of_edges(
 _TWO = 6
 
 
-@inlined
+@compiled
 def _radius_as_python(prof: NDArray[np.float64], t: float, two: float) -> float:
     """:func:`_profile_radius` with Python's ``** 2`` (see :data:`_TWO`)."""
     pitch = prof[13]
@@ -717,7 +717,7 @@ def _radius_as_python(prof: NDArray[np.float64], t: float, two: float) -> float:
     return prof[5]
 
 
-@inlined
+@compiled
 def _envelope_radius_as_python(env: NDArray[np.float64], z: float, two: float) -> float:
     """:func:`_envelope_radius` with Python's ``** 2`` (see :data:`_TWO`)."""
     if not env[6] <= z <= env[7]:
@@ -728,7 +728,7 @@ def _envelope_radius_as_python(env: NDArray[np.float64], z: float, two: float) -
     return math.sqrt(max(rho * rho - math.pow(z - env[4], two), 0.0))
 
 
-@inlined
+@compiled
 def _slope_as_python(prof: NDArray[np.float64], t: float, two: float) -> float:
     """:func:`_profile_slope` with Python's ``** 2`` (see :data:`_TWO`)."""
     pitch = prof[13]
@@ -749,7 +749,7 @@ def _slope_as_python(prof: NDArray[np.float64], t: float, two: float) -> float:
     return (-1.0 if t < 0 else 1.0) * out
 
 
-@inlined
+@compiled
 def _two_product(x: float, y: float) -> tuple[float, float]:
     """``x * y`` as ``hi + lo`` exactly (Dekker's product of Veltkamp's halves)."""
     t = x * 134217729.0
@@ -764,7 +764,7 @@ def _two_product(x: float, y: float) -> tuple[float, float]:
     return hi, p - hi + q + xl * yl
 
 
-@inlined
+@compiled
 def _hypot(x: float, y: float) -> float:
     """Python's own ``math.hypot(x, y)`` (CPython's ``vector_norm`` of two numbers: a sum
     of squares kept exact in two parts, its root corrected once), not the C library's,
@@ -805,7 +805,7 @@ def _hypot(x: float, y: float) -> float:
 FEATURE_KINDS = ("rim", "cap", "kink", "bevel", "corner", "thread")
 
 
-@inlined
+@compiled
 def _unit3(x: float, y: float, z: float) -> tuple[float, float, float]:
     n = math.sqrt(x * x + y * y + z * z)  # (numpy's ``v @ v`` of three: the same sum)
     if n > 0:
@@ -813,7 +813,7 @@ def _unit3(x: float, y: float, z: float) -> tuple[float, float, float]:
     return x, y, z
 
 
-@inlined
+@compiled
 def _helical_normal3(
     prof: NDArray[np.float64],
     is_bolt: bool,
@@ -832,7 +832,7 @@ def _helical_normal3(
     return _unit3(-(c - g * s), -(s + g * c), slope)  # (the bolt's, reversed)
 
 
-@inlined
+@compiled
 def _bevel_normal3(
     env: NDArray[np.float64], k_cone: float, x: float, y: float, z: float
 ) -> tuple[float, float, float]:
@@ -847,7 +847,7 @@ def _bevel_normal3(
     return n_r * x / r, n_r * y / r, n_z
 
 
-@inlined
+@compiled
 def _rim_tangent3(
     prof: NDArray[np.float64],
     with_env: bool,
