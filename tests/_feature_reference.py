@@ -13,7 +13,14 @@ from numpy.typing import NDArray
 
 from threadmate._angles import TWO_PI
 from threadmate.contact.scene import Feature
-from threadmate.contact.scene._exact import _cross, _helix_tangent, _sharp_corners, _t_of, _unit
+from threadmate.contact.scene._exact import (
+    _cross,
+    _helix_tangent,
+    _sharp_corners,
+    _t_of,
+    _thread_distance,
+    _unit,
+)
 from threadmate.geometry import ThreadBody
 
 
@@ -88,16 +95,6 @@ def _bevel_feature(
         n = _bevel_normal(body, p)
         return Feature("bevel", n, None, n)
     return None
-
-
-def _thread_distance(body: ThreadBody, p: NDArray[np.float64]) -> tuple[float, float, float]:
-    """The helix coordinate ``t`` of ``p`` (body frame), the profile radius there and the
-    distance to the thread in the axial section: the radial offset projected on the
-    profile's normal (exact on flats and flanks; contact points lie within a tolerance)."""
-    prof = body.profile
-    t = _t_of(body, math.atan2(p[1], p[0]), float(p[2]))
-    R = float(prof.radius(t))
-    return t, R, abs(math.hypot(p[0], p[1]) - R) / math.hypot(1.0, float(prof.slope(t)))
 
 
 def feature_at(body: ThreadBody, point: NDArray[np.float64], tol: float) -> Feature:
