@@ -42,7 +42,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     step of the default parts, no kernel holds a second compiled signature (one would
     mean the warm-up compiled a signature the work never asks for)."""
     from threadmate.contact import Compliance, Mechanics, search, warm_kernels
-    from threadmate.contact.scene import _kernels, _linkage, _obb
+    from threadmate.contact.scene import _along_edge, _kernels, _linkage, _obb
     from threadmate.geometry import _profile_distance, with_parts
 
     warm_kernels(reverse=True)
@@ -52,7 +52,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     search(mech, 1.0, -1.0, 100.0, turns=0.05)
     kernels = [
         (module.__name__, name, kernel)
-        for module in (_obb, _kernels, _linkage, _profile_distance)
+        for module in (_obb, _kernels, _linkage, _profile_distance, _along_edge)
         for name, kernel in vars(module).items()
         if hasattr(kernel, "signatures") and hasattr(kernel, "py_func")
     ]
@@ -218,3 +218,134 @@ def test_the_feature_at_a_point_is_pythons_to_the_last_bit():
                     assert (a is None and b is None) or np.array_equal(a, b), (got, want)
                 assert np.array_equal(got.side, want.side), (got, want)
     assert kinds == {"rim", "cap", "kink", "bevel", "corner", "thread"}
+
+
+def _numpy_rounds_as_the_edge_search() -> bool:
+    """Whether numpy here rounds as the compiled search along an edge reproduces: its
+    ``cos``, ``sin`` and ``arctan2`` the C library's (``math``'s), and its product of a few
+    points by a 3 x 3 matrix, per coordinate, a chain of fused multiply-adds (as OpenBLAS
+    computes it on x86-64 processors with FMA); the exact products by ``fractions``."""
+    import math
+    from fractions import Fraction
+
+    rng = np.random.default_rng(5)
+    x, m = rng.normal(size=(40, 3)), rng.normal(size=(3, 3))
+    if not (
+        np.array_equal(np.cos(x[:, 0]), [math.cos(v) for v in x[:, 0]])
+        and np.array_equal(np.sin(x[:, 0]), [math.sin(v) for v in x[:, 0]])
+        and np.array_equal(np.arctan2(x[:, 1], x[:, 2]), list(map(math.atan2, x[:, 1], x[:, 2])))
+    ):
+        return False
+
+    def fused(a: float, b: float, c: float) -> float:
+        return float(Fraction(a) * Fraction(b) + Fraction(c))
+
+    product = x @ m
+    return all(
+        product[i, j] == fused(x[i, 2], m[2, j], fused(x[i, 1], m[1, j], x[i, 0] * m[0, j]))
+        for i in range(len(x))
+        for j in range(3)
+    )
+
+
+def test_the_search_along_an_edge_is_numpys_to_the_last_bit():
+    """The compiled refinement of an edge-on-face contact (``contact.scene.refine_on_edge``:
+    the point of the exact edge closest to, or deepest into, the other body) gives what
+    numpy gave (``tests/_refine_reference.py``), bit for bit where numpy rounds as the
+    kernel reproduces (else within a few rounding errors): at points on every kind of
+    edge of either body (the circle where a point or countersink meets the end face, a
+    flat end's outline, the kink, the profile's sharp corners) of four thread pairs, the
+    bolt at tilted poses, and at the contacts of rest states."""
+    import math
+
+    from _refine_reference import refine_on_edge as reference
+    from threadmate.contact import Compliance, Mechanics
+    from threadmate.contact.scene import feature_at, refine_on_edge
+    from threadmate.contact.scene._exact import _sharp_corners
+    from threadmate.contact.scene._kernels import kink_height
+    from threadmate.geometry import (
+        Pose,
+        bolt_body,
+        nut_body,
+        spec_from_designation,
+        with_parts,
+    )
+
+    exact = _numpy_rounds_as_the_edge_search()
+    specs = [
+        with_parts("1/4-20 UNC-2A/2B"),
+        spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False),
+        with_parts("1/4-20 UNC-2A/2B", point="round"),
+        spec_from_designation("M10x1.5-6g/6H", point="flat", countersink=False),
+    ]
+    rng = np.random.default_rng(3)
+    tol = 2e-6
+    seen: set[tuple[str, str, str]] = set()
+    cases = 0
+
+    def compare(nut, bolt, pose, p, window):
+        nonlocal cases
+        fn, fb = feature_at(nut, p, tol), feature_at(bolt, pose.to_bolt(p), tol)
+        if fn.is_edge == fb.is_edge:
+            return
+        got = refine_on_edge(nut, bolt, pose, p, tol, window)
+        want = reference(nut, bolt, pose, p, window, fn, fb)
+        if exact:
+            assert np.array_equal(got, want), (fn.kind, fb.kind, got - want)
+        else:  # pragma: no cover - numpy rounding otherwise here
+            assert np.allclose(got, want, rtol=0.0, atol=1e-12), (fn.kind, fb.kind)
+        edge = "nut" if fn.is_edge else "bolt"
+        seen.add((edge, fn.kind if fn.is_edge else fb.kind, "envelope" if nut.envelope else ""))
+        cases += 1
+
+    for spec in specs:
+        nut, bolt = nut_body(spec), bolt_body(spec)
+        pitch = bolt.profile.pitch
+        for _ in range(150):
+            pose = Pose.from_angles(
+                rng.uniform(-3.0, 3.0),
+                rng.uniform(-3.0, 3.0),
+                rng.uniform(0.0, 360.0),
+                h=rng.uniform(-2.0, 2.0) * pitch,
+                x=rng.normal() * 0.02 * pitch,
+                y=rng.normal() * 0.02 * pitch,
+            )
+            body = nut if rng.random() < 0.5 else bolt
+            prof, env = body.profile, body.envelope
+            theta = rng.uniform(-math.pi, math.pi)
+            kinds = ["rim", "corner"] + (["kink"] if env is not None else [])
+            kind = kinds[rng.integers(len(kinds))]
+            inward = 1.0 if body.kind == "bolt" else -1.0  # the body's material from its end
+            if kind == "rim":
+                z = body.cap_z
+                r = env.face_radius if env else float(prof.radius(body.t_of(theta, z)))
+            elif kind == "kink":
+                z = kink_height(body, theta, body.cap_z + inward * 0.3 * env.depth)
+                r = float(env.radius(z))
+            else:
+                corner = _sharp_corners(body)[rng.integers(len(_sharp_corners(body)))]
+                t = corner * rng.choice([-1.0, 1.0])
+                z = body.cap_z + inward * rng.uniform(1.0, 3.0) * pitch
+                z += t - float(body.t_of(theta, z))
+                r = float(prof.radius(t))
+            q = np.array([r * math.cos(theta), r * math.sin(theta), z]) + rng.normal(size=3) * 1e-7
+            compare(nut, bolt, pose, q if body is nut else pose.to_fixed(q), pitch / 80)
+    # The contacts of rest states of the default parts, as the contact set refines them.
+    mech = Mechanics(specs[0], Compliance())
+    found = []
+    for roll, pitch_angle, phase in [(1.0, -1.0, 100.0), (0.0, 2.0, 40.0), (-2.0, 1.0, 250.0)]:
+        state = mech.settle(roll, pitch_angle, phase).state
+        found += [(state.pose, c.point) for c in state.contacts]
+    assert found
+    for pose, point in found:
+        compare(mech.scene.nut, mech.scene.bolt, pose, np.asarray(point), mech.separation / 4)
+    assert cases >= 300
+    assert {(e, k) for e, k, _ in seen} >= {
+        ("nut", "rim"),
+        ("nut", "kink"),
+        ("nut", "corner"),
+        ("bolt", "rim"),
+        ("bolt", "kink"),
+        ("bolt", "corner"),
+    }
+    assert {("bolt", "rim", "envelope"), ("bolt", "rim", "")} <= seen

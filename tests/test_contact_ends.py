@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+from _refine_reference import signed_distance_at
 from threadmate.contact import (
     Compliance,
     Mechanics,
@@ -22,10 +23,8 @@ from threadmate.contact import (
     region_at,
 )
 from threadmate.contact.scene import Feature, edge_crossing, feature_at, lowest_on_rim
-from threadmate.contact.scene._exact import (  # internals with no public form
-    _edge_points,
-    _signed_distance,
-)
+from threadmate.contact.scene._along_edge import edge_points  # internals with no public form
+from threadmate.contact.scene._exact import _edge_curve
 from threadmate.geometry import (
     BoltPoint,
     BoltSpec,
@@ -38,6 +37,8 @@ from threadmate.geometry import (
 )
 
 PITCH = 0.05
+
+
 BOLT = dict(major=0.24485, pitch_diameter=0.21455, minor=0.1887)
 NUT = dict(major=0.2500, pitch_diameter=0.21995, minor=0.2015)
 TIP = 0.17  # tip diameter, inside the bolt's minor diameter
@@ -142,24 +143,24 @@ def test_signed_distance_is_the_meridian_distance_to_the_nearest_surface(chamfer
         t = u_flank * rng.choice([-1.0, 1.0])
         z = t + lead * theta / (2 * math.pi)
         r = _sharp_radius(t, "bolt") + eps
-        assert abs(_signed_distance(bolt, _polar(r, theta, z + 4 * PITCH))[0] - eps / 2) < 1e-12
+        assert abs(signed_distance_at(bolt, _polar(r, theta, z + 4 * PITCH))[0] - eps / 2) < 1e-12
         r = _sharp_radius(t, "nut") + eps
-        assert abs(_signed_distance(nut, _polar(r, theta, z - 4 * PITCH))[0] + eps / 2) < 1e-12
+        assert abs(signed_distance_at(nut, _polar(r, theta, z - 4 * PITCH))[0] + eps / 2) < 1e-12
         # The chamfer r = TIP/2 + z and the countersink r = SINK/2 + z (z < 0).
         zc = rng.uniform(0.001, 0.006)
-        d = _signed_distance(bolt, _polar(TIP / 2 + zc + eps, theta, zc))[0]
+        d = signed_distance_at(bolt, _polar(TIP / 2 + zc + eps, theta, zc))[0]
         assert abs(d - eps / math.sqrt(2)) < 1e-12
         zs = -rng.uniform(0.001, 0.004)
-        d = _signed_distance(nut, _polar(SINK / 2 + zs + eps, theta, zs))[0]
+        d = signed_distance_at(nut, _polar(SINK / 2 + zs + eps, theta, zs))[0]
         assert abs(d + eps / math.sqrt(2)) < 1e-12
         # Beyond the tip face (z < 0) and the nut's top face (z > 0).
         h, off = rng.uniform(1e-5, 1e-3), rng.uniform(0.0, 0.01)
-        assert abs(_signed_distance(bolt, _polar(TIP / 2 - off, theta, -h))[0] - h) < 1e-12
-        d = _signed_distance(bolt, _polar(TIP / 2 + off, theta, -h))[0]
+        assert abs(signed_distance_at(bolt, _polar(TIP / 2 - off, theta, -h))[0] - h) < 1e-12
+        d = signed_distance_at(bolt, _polar(TIP / 2 + off, theta, -h))[0]
         assert abs(d - math.hypot(h, off)) < 1e-12
-        d = _signed_distance(nut, _polar(SINK / 2 - off, theta, h))[0]
+        d = signed_distance_at(nut, _polar(SINK / 2 - off, theta, h))[0]
         assert abs(d - math.hypot(h, off)) < 1e-12
-        assert abs(_signed_distance(nut, _polar(SINK / 2 + off, theta, h))[0] - h) < 1e-12
+        assert abs(signed_distance_at(nut, _polar(SINK / 2 + off, theta, h))[0] - h) < 1e-12
     # A flat tip: beyond it the outline is the thread's section at the tip face, here at
     # a polar angle where that section is mid-flank.
     flat = bolt_body(_spec(BoltPoint("flat"), None))
@@ -167,7 +168,7 @@ def test_signed_distance_is_the_meridian_distance_to_the_nearest_surface(chamfer
     outline = _sharp_radius(u_flank, "bolt")
     for off in (-0.003, 0.0, 0.002):
         p = _polar(outline + off, theta, -1e-4)
-        assert abs(_signed_distance(flat, p)[0] - math.hypot(1e-4, max(off, 0.0))) < 1e-12
+        assert abs(signed_distance_at(flat, p)[0] - math.hypot(1e-4, max(off, 0.0))) < 1e-12
 
 
 def test_round_point_normal_is_radial_from_the_sphere_centre():
@@ -306,7 +307,7 @@ def test_kink_edge_points_lie_on_cone_and_thread_nearest_the_anchor(chamfered):
         for z_true in roots:
             anchor = np.array([math.cos(theta0), math.sin(theta0), z_true + 0.002])
             angles = np.array([theta0])
-            point = _edge_points(nut, kink, anchor, angles)[0]
+            point = edge_points(_edge_curve(nut, kink, anchor), angles)[0]
             assert abs(point[2] - z_true) < 1e-12
             r = math.hypot(point[0], point[1])
             assert abs(r - (SINK / 2 + point[2] * math.tan(half))) < 1e-12

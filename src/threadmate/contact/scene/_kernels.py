@@ -47,7 +47,6 @@ __all__ = [
     "envelope_array",
     "feature",
     "kink_height",
-    "kink_heights",
     "profile_array",
     "signed_distance",
     "vertical_touch",
@@ -243,22 +242,6 @@ def _kink_height(
     return z0
 
 
-@compiled
-def _kink_walk(
-    prof: NDArray[np.float64],
-    env: NDArray[np.float64],
-    rise: float,
-    angles: NDArray[np.float64],
-    z: float,
-) -> NDArray[np.float64]:
-    out = np.empty(len(angles))
-    h = z
-    for i in range(len(angles)):
-        h = _kink_height(prof, env, rise, angles[i], h)
-        out[i] = h
-    return out
-
-
 class _Arrays(NamedTuple):
     """What the kernels read of one body."""
 
@@ -322,13 +305,6 @@ def kink_height(body: ThreadBody, theta: float, z: float) -> float:
     near."""
     prof, env, rise = _kink_arrays(body)
     return float(_kink_height(prof, env, rise, float(theta), float(z)))
-
-
-def kink_heights(body: ThreadBody, angles: NDArray[np.float64], z: float) -> NDArray[np.float64]:
-    """:func:`kink_height` at each of ``angles`` (radians, in order): the first from
-    ``z``, each next from the root before it (the kink followed along the edge)."""
-    prof, env, rise = _kink_arrays(body)
-    return _kink_walk(prof, env, rise, np.ascontiguousarray(angles, dtype=float), float(z))
 
 
 @compiled

@@ -31,6 +31,7 @@ import numpy as np
 from ..._compiled import COMPILED
 from ..._system import cpu_count
 from ...geometry import bolt_body, spec_from_designation
+from ._along_edge import closest_on_edge, edge_points, least_on_grid, window_grid
 from ._kernels import (
     KINK,
     EdgeCurve,
@@ -39,7 +40,6 @@ from ._kernels import (
     deep_candidates,
     feature,
     kink_height,
-    kink_heights,
     signed_distance,
     vertical_touch,
 )
@@ -98,13 +98,16 @@ def _exact() -> None:
     body.profile.distance(np.zeros(1), np.zeros(1))  # (the meshes' accuracy)
     kink_height(body, 0.0, 0.0)
     feature(body, 0.0, 0.0, 0.0, 1e-7)
-    kink_heights(body, np.zeros(2), 0.0)
     p = np.zeros((1, 3))
     signed_distance(body, p, np.arctan2(p[:, 1], p[:, 0]))
     deep_candidates(body, p, np.eye(3), p[0], inverse=True, depth=1.0, margin=0.0)
     got = _arrays(body)
     kink = EdgeCurve(KINK, got.prof, got.env, got.rise, float(body.lead), 0.0, 0.0, 0.0)
     crossing_of_edges(kink, kink, np.eye(3), np.zeros(3), 0.0, 1.0)
+    face = (got.prof, got.env, got.shape)
+    closest_on_edge(kink, face, np.eye(3), np.zeros(3), True, 0.0, 0.1)
+    least_on_grid(window_grid(0.0, 0.1), np.zeros(17))
+    edge_points(kink, np.zeros(1))
 
 
 #: The kernels' calls, in the forward order: the trees' build and the walk, the two
