@@ -42,7 +42,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     step of the default parts, no kernel holds a second compiled signature (one would
     mean the warm-up compiled a signature the work never asks for)."""
     from threadmate.contact import Compliance, Mechanics, search, warm_kernels
-    from threadmate.contact.scene import _along_edge, _kernels, _linkage, _obb
+    from threadmate.contact.scene import _along_edge, _collision, _kernels, _linkage, _obb
     from threadmate.geometry import _profile_distance, with_parts
 
     warm_kernels(reverse=True)
@@ -52,7 +52,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     search(mech, 1.0, -1.0, 100.0, turns=0.05)
     kernels = [
         (module.__name__, name, kernel)
-        for module in (_obb, _kernels, _linkage, _profile_distance, _along_edge)
+        for module in (_obb, _kernels, _linkage, _profile_distance, _along_edge, _collision)
         for name, kernel in vars(module).items()
         if hasattr(kernel, "signatures") and hasattr(kernel, "py_func")
     ]
@@ -220,11 +220,11 @@ def test_the_feature_at_a_point_is_pythons_to_the_last_bit():
     assert kinds == {"rim", "cap", "kink", "bevel", "corner", "thread"}
 
 
-def _numpy_rounds_as_the_edge_search() -> bool:
-    """Whether numpy here rounds as the compiled search along an edge reproduces: its
-    ``cos``, ``sin`` and ``arctan2`` the C library's (``math``'s), and its product of a few
-    points by a 3 x 3 matrix, per coordinate, a chain of fused multiply-adds (as OpenBLAS
-    computes it on x86-64 processors with FMA); the exact products by ``fractions``."""
+def _numpy_rounds_as_the_kernels() -> bool:
+    """Whether numpy here rounds as the compiled kernels reproduce: its ``cos``, ``sin``
+    and ``arctan2`` the C library's (``math``'s), and its product of a few points by a
+    3 x 3 matrix, per coordinate, a chain of fused multiply-adds (as OpenBLAS computes it
+    on x86-64 processors with FMA); the exact products by ``fractions``."""
     import math
     from fractions import Fraction
 
@@ -271,7 +271,7 @@ def test_the_search_along_an_edge_is_numpys_to_the_last_bit():
         with_parts,
     )
 
-    exact = _numpy_rounds_as_the_edge_search()
+    exact = _numpy_rounds_as_the_kernels()
     specs = [
         with_parts("1/4-20 UNC-2A/2B"),
         spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False),
@@ -349,3 +349,33 @@ def test_the_search_along_an_edge_is_numpys_to_the_last_bit():
         ("bolt", "corner"),
     }
     assert {("bolt", "rim", "envelope"), ("bolt", "rim", "")} <= seen
+
+
+def test_the_paired_triangles_are_numpys_to_the_last_bit():
+    """The compiled placement of paired triangles (``CollisionPair.triangles``: the bolt's
+    in the fixed frame at a pose, the nut's as they are) gives ``Pose.to_fixed``'s numbers
+    bit for bit where numpy rounds as the kernel reproduces (else within rounding): at
+    random pairs of the default parts' meshes and random tilted poses."""
+    from threadmate.contact import Compliance, Mechanics
+    from threadmate.geometry import Pose, with_parts
+
+    exact = _numpy_rounds_as_the_kernels()
+    engine = Mechanics(with_parts("1/4-20 UNC-2A/2B"), Compliance()).engine
+    rng = np.random.default_rng(8)
+    for n in (0, 1, 2, 7, 300):
+        for _ in range(20):
+            pose = Pose.from_angles(*rng.uniform(-5.0, 5.0, 2), rng.uniform(0.0, 360.0), h=0.1)
+            pairs = np.column_stack(
+                [
+                    rng.integers(len(engine.bolt_faces), size=n),
+                    rng.integers(len(engine.nut_faces), size=n),
+                ]
+            )
+            bolt, nut = engine.triangles(pose, pairs)
+            want = pose.to_fixed(engine.bolt_vertices[engine.bolt_faces[pairs[:, 0]]])
+            assert bolt.shape == nut.shape == (n, 3, 3)
+            assert np.array_equal(nut, engine.nut_vertices[engine.nut_faces[pairs[:, 1]]])
+            if exact:
+                assert np.array_equal(bolt, want)
+            else:  # pragma: no cover - numpy rounding otherwise here
+                assert np.allclose(bolt, want, rtol=0.0, atol=1e-12)

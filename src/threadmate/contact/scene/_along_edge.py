@@ -8,8 +8,8 @@ through it and its neighbours, and shrinks the window eightfold, three times. As
 few thousand times per held tilt, its numpy form spent most of its time in numpy's
 per-call overhead; compiled, it keeps numpy's results to the last bit: the points by the
 same arithmetic (:func:`._kernels._on_curve`), the bolt's pose applied as the BLAS numpy
-calls applies it to a few points (each coordinate a chain of fused multiply-adds,
-:data:`threadmate._compiled.fma`), the signed distance by the same kernel
+calls applies it to a few points (:func:`._kernels.placed_in_fixed`,
+:func:`._kernels.placed_in_bolt`), the signed distance by the same kernel
 (:func:`._kernels.signed_distance`).
 """
 
@@ -20,8 +20,8 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from ..._compiled import compiled, fma
-from ._kernels import EdgeCurve, _on_curve, _signed_distance
+from ..._compiled import compiled
+from ._kernels import EdgeCurve, _on_curve, _signed_distance, placed_in_bolt, placed_in_fixed
 
 __all__ = ["SAMPLES", "closest_on_edge", "edge_points", "least_on_grid", "window_grid"]
 
@@ -87,23 +87,15 @@ def _closest(
     moved = np.empty((SAMPLES, 3))
     theta = np.empty(SAMPLES)
     values = np.empty(SAMPLES)
-    d = np.empty(3)
     for _ in range(3):
         _grid(best, half, angles)
         _points(curve, angles, points)
         for i in range(SAMPLES):
-            if into_bolt:  # the nut's edge, the bolt's face: ``(p - origin) @ rotation``
-                for k in range(3):
-                    d[k] = points[i, k] - origin[k]
-                for a in range(3):
-                    s = d[0] * rotation[0, a]
-                    s = fma(d[1], rotation[1, a], s)
-                    moved[i, a] = fma(d[2], rotation[2, a], s)
-            else:  # the bolt's edge, the nut's face: ``p @ rotation.T + origin``
-                for a in range(3):
-                    s = points[i, 0] * rotation[a, 0]
-                    s = fma(points[i, 1], rotation[a, 1], s)
-                    moved[i, a] = fma(points[i, 2], rotation[a, 2], s) + origin[a]
+            x, y, z = points[i, 0], points[i, 1], points[i, 2]
+            if into_bolt:  # the nut's edge, the bolt's face
+                moved[i, 0], moved[i, 1], moved[i, 2] = placed_in_bolt(x, y, z, rotation, origin)
+            else:  # the bolt's edge, the nut's face
+                moved[i, 0], moved[i, 1], moved[i, 2] = placed_in_fixed(x, y, z, rotation, origin)
             theta[i] = math.atan2(moved[i, 1], moved[i, 0])
         _signed_distance(prof, env, shape, moved, theta, values)
         best = _least(angles, values)

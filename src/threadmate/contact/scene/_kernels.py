@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..._angles import TWO_PI
-from ..._compiled import compiled
+from ..._compiled import compiled, fma
 
 if TYPE_CHECKING:
     from ...geometry import ThreadBody
@@ -665,6 +665,42 @@ def crossing_of_edges(
     ):
         return None
     return out.reshape(2, 3)
+
+
+# -- the bolt's pose applied as numpy applies it ------------------------------------------
+# numpy multiplies a few points by a 3 x 3 matrix through its BLAS; OpenBLAS, on processors
+# with fused multiply-add, sums each coordinate as a chain of them, in the order below
+# (:data:`threadmate._compiled.fma`). These reproduce ``Pose.to_fixed`` and
+# ``Pose.to_bolt`` of two points or more (or of stacked triangles) to the last bit.
+
+
+@compiled
+def placed_in_fixed(
+    x: float, y: float, z: float, rotation: NDArray[np.float64], origin: NDArray[np.float64]
+) -> tuple[float, float, float]:
+    """The point ``(x, y, z)`` of the bolt's frame in the fixed frame: ``p @ rotation.T +
+    origin``."""
+    r = rotation
+    return (
+        fma(z, r[0, 2], fma(y, r[0, 1], x * r[0, 0])) + origin[0],
+        fma(z, r[1, 2], fma(y, r[1, 1], x * r[1, 0])) + origin[1],
+        fma(z, r[2, 2], fma(y, r[2, 1], x * r[2, 0])) + origin[2],
+    )
+
+
+@compiled
+def placed_in_bolt(
+    x: float, y: float, z: float, rotation: NDArray[np.float64], origin: NDArray[np.float64]
+) -> tuple[float, float, float]:
+    """The point ``(x, y, z)`` of the fixed frame in the bolt's frame: ``(p - origin) @
+    rotation``."""
+    r = rotation
+    dx, dy, dz = x - origin[0], y - origin[1], z - origin[2]
+    return (
+        fma(dz, r[2, 0], fma(dy, r[1, 0], dx * r[0, 0])),
+        fma(dz, r[2, 1], fma(dy, r[1, 1], dx * r[0, 1])),
+        fma(dz, r[2, 2], fma(dy, r[1, 2], dx * r[0, 2])),
+    )
 
 
 # -- the feature at a point ---------------------------------------------------------------

@@ -32,6 +32,7 @@ from ..._compiled import COMPILED
 from ..._system import cpu_count
 from ...geometry import bolt_body, spec_from_designation
 from ._along_edge import closest_on_edge, edge_points, least_on_grid, window_grid
+from ._collision import _paired_triangles
 from ._kernels import (
     KINK,
     EdgeCurve,
@@ -90,6 +91,9 @@ def _walks() -> None:
 
 def _touch() -> None:
     vertical_touch(*_triangles())
+    vertices, faces = np.eye(3), np.arange(3, dtype=np.int64).reshape(1, 3)
+    pairs, out = np.zeros((1, 2), dtype=np.int64), np.empty((2, 1, 3, 3))
+    _paired_triangles(vertices, faces, vertices, faces, pairs, np.eye(3), np.zeros(3), *out)
     single_linkage(np.zeros((2, 3)), 1.0)  # (the contact set's grouping)
 
 
