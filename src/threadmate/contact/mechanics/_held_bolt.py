@@ -132,8 +132,15 @@ class _HeldBolt:
     def _pose(self, rotation: NDArray[np.float64], xy: NDArray[np.float64], zc: float) -> Pose:
         """The bolt pose with its rotation and its compliance centre at ``(x, y, zc)``
         (the descent's coordinates are the centre's; a pose is the tip centre's)."""
-        centre = np.array([xy[0], xy[1], zc])
-        return Pose(rotation, centre - rotation[:, 2] * self.compliance.compliance_z)
+        # (Per coordinate, as ``centre - rotation[:, 2] * compliance_z`` would be: asked
+        # at every probe of a lowering, where numpy's per-call cost is most of it.)
+        cz = self.compliance.compliance_z
+        origin = [
+            xy[0] - rotation[0, 2] * cz,
+            xy[1] - rotation[1, 2] * cz,
+            zc - rotation[2, 2] * cz,
+        ]
+        return Pose(rotation, np.array(origin, dtype=float))
 
     def _rotation(self, tilt: NDArray[np.float64], phase: float) -> NDArray[np.float64]:
         """The bolt's rotation at ``tilt`` (roll, pitch in radians) and ``phase`` (degrees)."""

@@ -616,8 +616,8 @@ class CollisionPair:
 
     def sectors_around(self, pairs: NDArray[np.int64]) -> frozenset[int]:
         """The sectors of the nut faces of ``pairs``, and the sector either side of each."""
-        found = np.unique(self.nut_sector[pairs[:, 1]])
-        return frozenset(((found[:, None] + np.arange(-1, 2)) % SECTORS).ravel().tolist())
+        found = set(self.nut_sector[pairs[:, 1]].tolist())
+        return frozenset((k + step) % SECTORS for k in found for step in (-1, 0, 1))
 
     def pairs(self, pose: Pose, sectors: frozenset[int] | None = None) -> NDArray[np.int64]:
         """Intersecting ``(bolt_face, nut_face)`` index pairs at ``pose``, over the whole
