@@ -1,6 +1,6 @@
 """The refinement of an edge-on-face contact as numpy computed it: the tests' reference for
-the compiled search along an edge (``contact.scene._along_edge``), which must give these
-results to the last bit where numpy's ``cos``, ``sin`` and ``arctan2`` are the C
+the compiled search along an edge (``contact.scene._kernels.closest_on_edge``), which must
+give these results to the last bit where numpy's ``cos``, ``sin`` and ``arctan2`` are the C
 library's and its BLAS multiplies small matrices by chains of fused multiply-adds (as
 OpenBLAS does on every x86-64 processor since 2013). Edge-on-edge contacts, which the
 package refines by another kernel, are returned unmoved here."""

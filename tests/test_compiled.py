@@ -42,7 +42,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     step of the default parts, no kernel holds a second compiled signature (one would
     mean the warm-up compiled a signature the work never asks for)."""
     from threadmate.contact import Compliance, Mechanics, search, warm_kernels
-    from threadmate.contact.scene import _along_edge, _collision, _kernels, _linkage, _obb
+    from threadmate.contact.scene import _kernels, _linkage, _obb
     from threadmate.geometry import _profile_distance, with_parts
 
     warm_kernels(reverse=True)
@@ -52,7 +52,7 @@ def test_warming_compiles_the_signatures_the_work_asks_for():
     search(mech, 1.0, -1.0, 100.0, turns=0.05)
     kernels = [
         (module.__name__, name, kernel)
-        for module in (_obb, _kernels, _linkage, _profile_distance, _along_edge, _collision)
+        for module in (_obb, _kernels, _linkage, _profile_distance)
         for name, kernel in vars(module).items()
         if hasattr(kernel, "signatures") and hasattr(kernel, "py_func")
     ]

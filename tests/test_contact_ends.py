@@ -23,8 +23,8 @@ from threadmate.contact import (
     region_at,
 )
 from threadmate.contact.scene import Feature, edge_crossing, feature_at, lowest_on_rim
-from threadmate.contact.scene._along_edge import edge_points  # internals with no public form
-from threadmate.contact.scene._exact import _edge_curve
+from threadmate.contact.scene._exact import _edge_curve  # internals with no public form
+from threadmate.contact.scene._kernels import edge_points
 from threadmate.geometry import (
     BoltPoint,
     BoltSpec,

@@ -76,5 +76,5 @@ def _fused() -> Callable[[float, float, float], float]:
 #: ``fma(x, y, z)``: ``x * y + z`` rounded once, in compiled code (LLVM's ``llvm.fma``: the
 #: processor's instruction, or the C library's ``fma`` where it has none); as Python
 #: without numba, rounded twice. The BLAS that numpy calls multiplies a few points by a
-#: 3 x 3 matrix by such chains (:mod:`threadmate.contact.scene._along_edge` reproduces it).
+#: 3 x 3 matrix by such chains (``contact.scene._kernels.placed_in_fixed`` reproduces it).
 fma = _fused()

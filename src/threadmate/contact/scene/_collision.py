@@ -62,9 +62,8 @@ from numpy.typing import NDArray
 from scipy.spatial import ConvexHull, cKDTree
 
 from ..._angles import TWO_PI
-from ..._compiled import compiled
 from ...geometry import Pose
-from ._kernels import placed_in_fixed
+from ._kernels import paired_triangles
 from ._obb import (
     ALL,
     ANY,
@@ -183,32 +182,6 @@ class Sweep:
 def pair_keys(pairs: NDArray[np.int64]) -> NDArray[np.int64]:
     """One integer per ``(bolt_face, nut_face)`` pair (bolt face major)."""
     return pairs[:, 0] * PAIR_KEY + pairs[:, 1]
-
-
-@compiled
-def _paired_triangles(
-    bolt_vertices: NDArray[np.float64],
-    bolt_faces: NDArray[np.int64],
-    nut_vertices: NDArray[np.float64],
-    nut_faces: NDArray[np.int64],
-    pairs: NDArray[np.int64],
-    rotation: NDArray[np.float64],
-    origin: NDArray[np.float64],
-    bolt: NDArray[np.float64],
-    nut: NDArray[np.float64],
-) -> None:
-    """:meth:`CollisionPair.triangles` into ``bolt`` and ``nut``: the bolt's by
-    ``Pose.to_fixed``'s arithmetic (:func:`._kernels.placed_in_fixed`). Compiled: asked at
-    every lowering, of a few hundred pairs, where numpy's gathers and product cost most."""
-    for k in range(len(pairs)):
-        b, n = pairs[k, 0], pairs[k, 1]
-        for v in range(3):
-            p = bolt_vertices[bolt_faces[b, v]]
-            bolt[k, v, 0], bolt[k, v, 1], bolt[k, v, 2] = placed_in_fixed(
-                p[0], p[1], p[2], rotation, origin
-            )
-            q = nut_vertices[nut_faces[n, v]]
-            nut[k, v, 0], nut[k, v, 1], nut[k, v, 2] = q[0], q[1], q[2]
 
 
 def upward(triangles: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -693,19 +666,15 @@ class CollisionPair:
         self, pose: Pose, pairs: NDArray[np.int64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Vertices (fixed frame) of the paired bolt and nut triangles, each ``(n, 3, 3)``."""
-        bolt, nut = np.empty((len(pairs), 3, 3)), np.empty((len(pairs), 3, 3))
-        _paired_triangles(
+        return paired_triangles(
             self.bolt_vertices,
             self.bolt_faces,
             self.nut_vertices,
             self.nut_faces,
-            np.ascontiguousarray(pairs, dtype=np.int64),
-            np.ascontiguousarray(pose.rotation, dtype=float),
-            np.ascontiguousarray(pose.origin, dtype=float),
-            bolt,
-            nut,
+            pairs,
+            pose.rotation,
+            pose.origin,
         )
-        return bolt, nut
 
     def lowest_bolt_z(self, rotation: NDArray[np.float64]) -> float:
         """Lowest bolt vertex height (fixed frame) for a bolt at the origin turned by

@@ -53,7 +53,6 @@ from scipy.optimize import brentq
 
 from ..._angles import TWO_PI
 from ...geometry import Pose, ThreadBody
-from ._along_edge import closest_on_edge, edge_points, least_on_grid, window_grid
 from ._kernels import (
     CIRCLE,
     HELIX,
@@ -61,8 +60,12 @@ from ._kernels import (
     RIM,
     EdgeCurve,
     _arrays,
+    closest_on_edge,
     crossing_of_edges,
+    edge_points,
     feature,
+    least_on_grid,
+    window_grid,
 )
 
 __all__ = [
@@ -479,7 +482,7 @@ def _closest_to_mesh(
     best: float,
     half: float,
 ) -> NDArray[np.float64]:
-    """:func:`._along_edge.closest_on_edge` against a CAD mesh's own surface
+    """:func:`._kernels.closest_on_edge` against a CAD mesh's own surface
     (``off_spec``) where it does not follow the spec: the same windows, the mesh's signed
     distance in place of the exact body's."""
     for _ in range(3):
@@ -493,7 +496,7 @@ def _closest_to_mesh(
 
 def _edge_curve(body: ThreadBody, feature: Feature, anchor: NDArray[np.float64]) -> EdgeCurve:
     """The exact edge of ``feature`` through ``anchor`` (body frame), as the compiled
-    kernels follow it (:func:`._kernels.crossing_of_edges`, :mod:`._along_edge`)."""
+    kernels follow it (:func:`._kernels.crossing_of_edges`, :func:`._kernels.closest_on_edge`)."""
     got = _arrays(body)
     hand_lead = float(body.hand * body.lead)
     env = body.envelope

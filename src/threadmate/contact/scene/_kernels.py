@@ -1,13 +1,14 @@
 """Compiled kernels of the exact contact geometry: the kink's height, the vertical touch,
 the signed distance from a thread body, the feature at a point, where two exact edges
-cross, which points can lie deep inside a thread body.
+cross, which points can lie deep inside a thread body, the point of an edge closest to
+the other body, the bolt's pose applied to a point or to paired triangles.
 
 The contact code asks these one edge or a few triangle pairs at a time, thousands of
 times per rest state, where Python's and numpy's per-call overhead is most of the cost.
 They are plain loops over floats, compiled by numba (:mod:`threadmate._compiled`:
 once per machine, kept on disk). Without numba the same functions run as Python, slower,
 with the same results but for the last bit of ``math.hypot`` (Python's own, not the C
-library's).
+library's) and of a fused multiply-add (:data:`threadmate._compiled.fma`).
 
 The profile and the envelope travel as float arrays (:func:`profile_array`,
 :func:`envelope_array`); each kernel repeats the arithmetic of the Python methods it stands
@@ -18,7 +19,8 @@ library call. The feature at a point (:func:`feature`) goes further: it gives Py
 results to the last bit, Python's ``math.hypot`` and ``** 2`` included (:func:`_hypot`,
 :data:`_TWO`), for its normals feed every descent step. The one that stands for no
 method, :func:`deep_candidates`, is a filter before the exact tests, with margins far
-above rounding: its last bits decide nothing.
+above rounding: its last bits decide nothing. The bolt's pose is applied to a point as
+numpy's BLAS applies it to a few (:func:`placed_in_fixed`, :func:`placed_in_bolt`).
 """
 
 from __future__ import annotations
@@ -37,19 +39,27 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CIRCLE",
+    "SAMPLES",
     "HELIX",
     "KINK",
     "RIM",
     "EdgeCurve",
     "FEATURE_KINDS",
+    "closest_on_edge",
     "crossing_of_edges",
     "deep_candidates",
+    "edge_points",
     "envelope_array",
     "feature",
     "kink_height",
+    "least_on_grid",
+    "paired_triangles",
+    "placed_in_bolt",
+    "placed_in_fixed",
     "profile_array",
     "signed_distance",
     "vertical_touch",
+    "window_grid",
 ]
 
 #: Relative tolerance of :func:`scipy.optimize.brentq` by default (four machine epsilons).
@@ -983,3 +993,196 @@ def feature(body: ThreadBody, x: float, y: float, z: float, tol: float) -> tuple
     got = _arrays(body)
     out = np.empty(9)
     return FEATURE_KINDS[_feature(got.prof, got.env, got.shape, x, y, z, tol, out)], out
+
+
+# -- the search along an edge ------------------------------------------------------------
+# Where an exact edge touches the other body's face, the contact point is refined along
+# the edge (:func:`threadmate.contact.scene.refine_on_edge`): 17 polar angles about the
+# best so far, the other body's signed distance at each, the least taken and moved to the
+# vertex of the parabola through it and its neighbours, the window narrowed eightfold,
+# three times. The kernel keeps numpy's results to the last bit: the points by
+# :func:`_on_curve`, the pose by :func:`placed_in_fixed` and :func:`placed_in_bolt`, the
+# distances by :func:`_signed_distance`, the angles by the C library's ``atan2``.
+
+#: Angles sampled per window, the window's ends included.
+SAMPLES = 17
+
+
+@compiled
+def _grid(best: float, half: float, out: NDArray[np.float64]) -> None:
+    """``best + np.linspace(-half, half, SAMPLES)`` by numpy's arithmetic: the sample's
+    number times the spacing, minus ``half``, the last sample ``half`` itself."""
+    step = (half - -half) / (SAMPLES - 1)
+    for i in range(SAMPLES - 1):
+        out[i] = best + (float(i) * step + -half)
+    out[SAMPLES - 1] = best + half
+
+
+@compiled
+def _points(curve: EdgeCurve, angles: NDArray[np.float64], out: NDArray[np.float64]) -> None:
+    """The points of ``curve`` at ``angles`` (a kink followed from ``curve.height``, each
+    root from the one before)."""
+    last = curve.height
+    for i in range(len(angles)):
+        out[i, 0], out[i, 1], out[i, 2], last = _on_curve(curve, angles[i], last)
+
+
+@compiled
+def _least(angles: NDArray[np.float64], values: NDArray[np.float64]) -> float:
+    """The angle of the least value (numpy's ``argmin``: the first, or the first NaN),
+    moved to the vertex of the parabola through it and its neighbours where one opens
+    upward."""
+    j = 0
+    for i in range(len(values)):
+        if math.isnan(values[i]):
+            j = i
+            break
+        if values[i] < values[j]:
+            j = i
+    best = angles[j]
+    if 0 < j < len(values) - 1:
+        a, b, c = values[j - 1], values[j], values[j + 1]
+        den = a - 2 * b + c
+        if den > 0:
+            best += 0.5 * (a - c) / den * (angles[1] - angles[0])
+    return best
+
+
+@compiled
+def _closest(
+    curve: EdgeCurve,
+    prof: NDArray[np.float64],
+    env: NDArray[np.float64],
+    shape: NDArray[np.float64],
+    rotation: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    into_bolt: bool,
+    best: float,
+    half: float,
+    out: NDArray[np.float64],
+) -> None:
+    angles = np.empty(SAMPLES)
+    points = np.empty((SAMPLES, 3))
+    moved = np.empty((SAMPLES, 3))
+    theta = np.empty(SAMPLES)
+    values = np.empty(SAMPLES)
+    for _ in range(3):
+        _grid(best, half, angles)
+        _points(curve, angles, points)
+        for i in range(SAMPLES):
+            x, y, z = points[i, 0], points[i, 1], points[i, 2]
+            if into_bolt:  # the nut's edge, the bolt's face
+                moved[i, 0], moved[i, 1], moved[i, 2] = placed_in_bolt(x, y, z, rotation, origin)
+            else:  # the bolt's edge, the nut's face
+                moved[i, 0], moved[i, 1], moved[i, 2] = placed_in_fixed(x, y, z, rotation, origin)
+            theta[i] = math.atan2(moved[i, 1], moved[i, 0])
+        _signed_distance(prof, env, shape, moved, theta, values)
+        best = _least(angles, values)
+        half /= 8
+    out[0], out[1], out[2], _ = _on_curve(curve, best, curve.height)
+
+
+def window_grid(best: float, half: float) -> NDArray[np.float64]:
+    """The :data:`SAMPLES` polar angles (radians) of a window of half-width ``half``
+    about ``best``."""
+    out = np.empty(SAMPLES)
+    _grid(float(best), float(half), out)
+    return out
+
+
+def edge_points(curve: EdgeCurve, angles: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The points of ``curve`` at polar ``angles`` (radians, in order; its body's frame),
+    ``(n, 3)``."""
+    angles = np.ascontiguousarray(angles, dtype=float)
+    out = np.empty((len(angles), 3))
+    _points(curve, angles, out)
+    return out
+
+
+def least_on_grid(angles: NDArray[np.float64], values: NDArray[np.float64]) -> float:
+    """The angle of a window's least value, refined by the parabola through its
+    neighbours (see the module docstring)."""
+    return float(_least(angles, np.ascontiguousarray(values, dtype=float)))
+
+
+def closest_on_edge(
+    curve: EdgeCurve,
+    face: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
+    rotation: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    into_bolt: bool,
+    angle: float,
+    half: float,
+) -> NDArray[np.float64]:
+    """The point of ``curve`` (its body's frame) where it comes closest to, or deepest
+    into, the other body's exact surface, searched from the polar ``angle`` in a window of
+    half-width ``half`` (radians); ``face``: the other body's profile, envelope and shape
+    arrays (:func:`._kernels._arrays`); ``into_bolt``: the edge is the nut's and the face
+    the bolt's (else the reverse), the bolt at ``(rotation, origin)``."""
+    out = np.empty(3)
+    _closest(
+        curve,
+        *face,
+        np.ascontiguousarray(rotation, dtype=float),
+        np.ascontiguousarray(origin, dtype=float),
+        into_bolt,
+        float(angle),
+        float(half),
+        out,
+    )
+    return out
+
+
+# -- the paired triangles of a lowering --------------------------------------------------
+
+
+@compiled
+def _paired_triangles(
+    bolt_vertices: NDArray[np.float64],
+    bolt_faces: NDArray[np.int64],
+    nut_vertices: NDArray[np.float64],
+    nut_faces: NDArray[np.int64],
+    pairs: NDArray[np.int64],
+    rotation: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    bolt: NDArray[np.float64],
+    nut: NDArray[np.float64],
+) -> None:
+    for k in range(len(pairs)):
+        b, n = pairs[k, 0], pairs[k, 1]
+        for v in range(3):
+            p = bolt_vertices[bolt_faces[b, v]]
+            bolt[k, v, 0], bolt[k, v, 1], bolt[k, v, 2] = placed_in_fixed(
+                p[0], p[1], p[2], rotation, origin
+            )
+            q = nut_vertices[nut_faces[n, v]]
+            nut[k, v, 0], nut[k, v, 1], nut[k, v, 2] = q[0], q[1], q[2]
+
+
+def paired_triangles(
+    bolt_vertices: NDArray[np.float64],
+    bolt_faces: NDArray[np.int64],
+    nut_vertices: NDArray[np.float64],
+    nut_faces: NDArray[np.int64],
+    pairs: NDArray[np.int64],
+    rotation: NDArray[np.float64],
+    origin: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The vertices of the paired bolt and nut faces (``pairs`` of face numbers), each
+    ``(n, 3, 3)``: the bolt's moved by the pose ``(rotation, origin)`` as
+    ``Pose.to_fixed`` moves them (:func:`placed_in_fixed`), the nut's as they are. Asked
+    at every lowering, of a few hundred pairs, where numpy's gathers and product cost most
+    of the work."""
+    bolt, nut = np.empty((len(pairs), 3, 3)), np.empty((len(pairs), 3, 3))
+    _paired_triangles(
+        bolt_vertices,
+        bolt_faces,
+        nut_vertices,
+        nut_faces,
+        np.ascontiguousarray(pairs, dtype=np.int64),
+        np.ascontiguousarray(rotation, dtype=float),
+        np.ascontiguousarray(origin, dtype=float),
+        bolt,
+        nut,
+    )
+    return bolt, nut

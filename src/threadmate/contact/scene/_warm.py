@@ -31,18 +31,21 @@ import numpy as np
 from ..._compiled import COMPILED
 from ..._system import cpu_count
 from ...geometry import bolt_body, spec_from_designation
-from ._along_edge import closest_on_edge, edge_points, least_on_grid, window_grid
-from ._collision import _paired_triangles
 from ._kernels import (
     KINK,
     EdgeCurve,
     _arrays,
+    closest_on_edge,
     crossing_of_edges,
     deep_candidates,
+    edge_points,
     feature,
     kink_height,
+    least_on_grid,
+    paired_triangles,
     signed_distance,
     vertical_touch,
+    window_grid,
 )
 from ._linkage import single_linkage
 from ._obb import ALL, ANY, CrossingQuery, ObbForest, obb_forest, unique_face_pairs
@@ -92,8 +95,8 @@ def _walks() -> None:
 def _touch() -> None:
     vertical_touch(*_triangles())
     vertices, faces = np.eye(3), np.arange(3, dtype=np.int64).reshape(1, 3)
-    pairs, out = np.zeros((1, 2), dtype=np.int64), np.empty((2, 1, 3, 3))
-    _paired_triangles(vertices, faces, vertices, faces, pairs, np.eye(3), np.zeros(3), *out)
+    pairs = np.zeros((1, 2), dtype=np.int64)
+    paired_triangles(vertices, faces, vertices, faces, pairs, np.eye(3), np.zeros(3))
     single_linkage(np.zeros((2, 3)), 1.0)  # (the contact set's grouping)
 
 
