@@ -222,9 +222,10 @@ def test_the_feature_at_a_point_is_pythons_to_the_last_bit():
 
 def _numpy_rounds_as_the_kernels() -> bool:
     """Whether numpy here rounds as the compiled kernels reproduce: its ``cos``, ``sin``
-    and ``arctan2`` the C library's (``math``'s), and its product of a few points by a
-    3 x 3 matrix, per coordinate, a chain of fused multiply-adds (as OpenBLAS computes it
-    on x86-64 processors with FMA); the exact products by ``fractions``."""
+    and ``arctan2`` the C library's (``math``'s), its product of a few points by a 3 x 3
+    matrix, per coordinate, a chain of fused multiply-adds, and of a few rows by a vector
+    another (as OpenBLAS computes them on x86-64 processors with FMA; one row by a vector
+    left to right); the exact products by ``fractions``."""
     import math
     from fractions import Fraction
 
@@ -240,11 +241,22 @@ def _numpy_rounds_as_the_kernels() -> bool:
     def fused(a: float, b: float, c: float) -> float:
         return float(Fraction(a) * Fraction(b) + Fraction(c))
 
-    product = x @ m
-    return all(
-        product[i, j] == fused(x[i, 2], m[2, j], fused(x[i, 1], m[1, j], x[i, 0] * m[0, j]))
-        for i in range(len(x))
-        for j in range(3)
+    product, along = x @ m, x @ m[:, 1]
+    return (
+        all(
+            product[i, j] == fused(x[i, 2], m[2, j], fused(x[i, 1], m[1, j], x[i, 0] * m[0, j]))
+            for i in range(len(x))
+            for j in range(3)
+        )
+        # A matrix by a vector: its own order; one row, left to right.
+        and all(
+            along[i] == fused(x[i, 2], m[2, 1], fused(x[i, 0], m[0, 1], x[i, 1] * m[1, 1]))
+            for i in range(len(x))
+        )
+        and all(
+            (x[i : i + 1] @ m[:, 1])[0] == x[i, 0] * m[0, 1] + x[i, 1] * m[1, 1] + x[i, 2] * m[2, 1]
+            for i in range(len(x))
+        )
     )
 
 
@@ -379,3 +391,69 @@ def test_the_paired_triangles_are_numpys_to_the_last_bit():
                 assert np.array_equal(bolt, want)
             else:  # pragma: no cover - numpy rounding otherwise here
                 assert np.allclose(bolt, want, rtol=0.0, atol=1e-12)
+
+
+def test_the_contact_rows_are_numpys_to_the_last_bit():
+    """The compiled contact rows of the descent (``Mechanics._rows``: each contact's gap
+    rate per unit of the bolt's coordinates, and its normal gap) give what the numpy code
+    gave, bit for bit where numpy rounds as the kernel reproduces (else within rounding):
+    one to ten random contacts above and below the bolt, held laterally and not."""
+    import math
+
+    from threadmate.contact import Compliance, Mechanics
+    from threadmate.contact.mechanics._contact_set import _Near  # no public form
+    from threadmate.geometry import rot_x, with_parts
+
+    def reference(mech, near, centre, tilt):  # the numpy code the kernel replaced
+        m = mech.metres
+        pitch_axis = rot_x(math.degrees(tilt[0]))[:, 1]
+        normal = np.array([c.normal for c in near], dtype=float)
+        r = (np.array([c.point for c in near], dtype=float) - centre) * m
+        moment = np.column_stack(
+            [
+                r[:, 1] * normal[:, 2] - r[:, 2] * normal[:, 1],
+                r[:, 2] * normal[:, 0] - r[:, 0] * normal[:, 2],
+                r[:, 0] * normal[:, 1] - r[:, 1] * normal[:, 0],
+            ]
+        )
+        cols = [normal[:, 2], moment[:, 0], moment @ pitch_axis]
+        if not mech.compliance.held_laterally:
+            cols += [normal[:, 0], normal[:, 1]]
+        rate = [max(-c.normal[2] if c.upper else c.normal[2], 0.05) for c in near]
+        gaps = np.array([c.gap for c in near], dtype=float) * m
+        return np.column_stack(cols), gaps * np.array(rate)
+
+    exact = _numpy_rounds_as_the_kernels()
+    spec = with_parts("1/4-20 UNC-2A/2B")
+    rng = np.random.default_rng(12)
+    for compliance in (Compliance(), Compliance(lateral_stiffness=2000.0)):
+        mech = Mechanics(spec, compliance)
+        assert mech.compliance.held_laterally == (compliance.lateral_stiffness is None)
+        for _ in range(300):
+            near = []
+            for _ in range(int(rng.integers(1, 11))):
+                normal = rng.normal(size=3)
+                near.append(
+                    _Near(
+                        rng.normal(size=3) * 0.1,
+                        normal / np.linalg.norm(normal),
+                        float(rng.uniform(0.0, 1e-4)),
+                        "flank",
+                        "flank",
+                        "thread",
+                        "thread",
+                        upper=bool(rng.random() < 0.3),
+                    )
+                )
+            centre, tilt = rng.normal(size=3) * 0.1, rng.normal(size=2) * 0.05
+            got, want = mech._rows(near, centre, tilt), reference(mech, near, centre, tilt)
+            assert got[0].shape == want[0].shape
+            for a, b in zip(got, want, strict=True):
+                if exact:
+                    assert np.array_equal(a, b)
+                else:  # pragma: no cover - numpy rounding otherwise here
+                    assert np.allclose(a, b, rtol=1e-12, atol=1e-300)
+        assert mech._rows([], np.zeros(3), np.zeros(2))[0].shape == (
+            0,
+            3 if compliance.lateral_stiffness is None else 5,
+        )

@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 from scipy.optimize import lsq_linear, nnls
 
 from ...geometry import rot_x
+from ..scene import contact_rows
 from ._contact_set import _Near
 from ._held_bolt import _HeldBolt
 
@@ -46,28 +47,19 @@ class _Forces(_HeldBolt):
         self, near: list[_Near], centre: NDArray[np.float64], tilt: NDArray[np.float64]
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Contact rows ``G`` (SI: per m and per rad) and normal gaps (m)."""
-        m = self.metres
         width = 3 if self.compliance.held_laterally else 5
         if not near:
             return np.zeros((0, width)), np.zeros(0)
-        pitch_axis = rot_x(math.degrees(tilt[0]))[:, 1]
-        # All contacts at once: a descent step builds these rows a few times.
-        normal = np.array([c.normal for c in near], dtype=float)
-        r = (np.array([c.point for c in near], dtype=float) - centre) * m
-        # ``np.cross``'s formula, written out: its axis handling costs more than the
-        # products on a few rows.
-        moment = np.column_stack(
-            [
-                r[:, 1] * normal[:, 2] - r[:, 2] * normal[:, 1],
-                r[:, 2] * normal[:, 0] - r[:, 0] * normal[:, 2],
-                r[:, 0] * normal[:, 1] - r[:, 1] * normal[:, 0],
-            ]
+        return contact_rows(
+            np.array([c.normal for c in near], dtype=float),
+            np.array([c.point for c in near], dtype=float),
+            np.array([c.gap for c in near], dtype=float),
+            self._rate(near, range(len(near))),
+            np.asarray(centre, dtype=float),
+            float(self.metres),
+            rot_x(math.degrees(tilt[0]))[:, 1],
+            width,
         )
-        cols = [normal[:, 2], moment[:, 0], moment @ pitch_axis]
-        if not self.compliance.held_laterally:
-            cols += [normal[:, 0], normal[:, 1]]
-        gaps = np.array([c.gap for c in near], dtype=float) * m
-        return np.column_stack(cols), gaps * self._rate(near, range(len(near)))
 
     @staticmethod
     def _rate(near: list[_Near], rows: Iterable[int]) -> NDArray[np.float64]:

@@ -66,7 +66,7 @@ if TYPE_CHECKING:  # re-exported for type checkers; at run time __getattr__ impo
         region_at as region_at,
         turn_axis_tangent as turn_axis_tangent,
     )
-    from ._kernels import deep_candidates as deep_candidates
+    from ._kernels import contact_rows as contact_rows, deep_candidates as deep_candidates
     from ._linkage import single_linkage as single_linkage
     from ._regions import RegionPair as RegionPair, Vec as Vec, as_vec as as_vec
     from ._scene import (
@@ -139,7 +139,7 @@ _SOURCES = {
         "region_at",
         "turn_axis_tangent",
     ),
-    "._kernels": ("deep_candidates",),
+    "._kernels": ("contact_rows", "deep_candidates"),
     "._regions": (
         "as_vec",
         "RegionPair",

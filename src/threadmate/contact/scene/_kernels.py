@@ -1,7 +1,8 @@
 """Compiled kernels of the exact contact geometry: the kink's height, the vertical touch,
 the signed distance from a thread body, the feature at a point, where two exact edges
 cross, which points can lie deep inside a thread body, the point of an edge closest to
-the other body, the bolt's pose applied to a point or to paired triangles.
+the other body, the bolt's pose applied to a point or to paired triangles, the contacts'
+rows of the descent.
 
 The contact code asks these one edge or a few triangle pairs at a time, thousands of
 times per rest state, where Python's and numpy's per-call overhead is most of the cost.
@@ -46,6 +47,7 @@ __all__ = [
     "EdgeCurve",
     "FEATURE_KINDS",
     "closest_on_edge",
+    "contact_rows",
     "crossing_of_edges",
     "deep_candidates",
     "edge_points",
@@ -1186,3 +1188,71 @@ def paired_triangles(
         nut,
     )
     return bolt, nut
+
+
+# -- the contacts' rows of the descent ----------------------------------------------------
+
+
+@compiled
+def _contact_rows(
+    normal: NDArray[np.float64],
+    point: NDArray[np.float64],
+    gap: NDArray[np.float64],
+    rate: NDArray[np.float64],
+    centre: NDArray[np.float64],
+    metres: float,
+    pitch_axis: NDArray[np.float64],
+    rows: NDArray[np.float64],
+    gaps: NDArray[np.float64],
+) -> None:
+    n = len(gap)
+    v0, v1, v2 = pitch_axis[0], pitch_axis[1], pitch_axis[2]
+    for i in range(n):
+        n0, n1, n2 = normal[i, 0], normal[i, 1], normal[i, 2]
+        r0 = (point[i, 0] - centre[0]) * metres
+        r1 = (point[i, 1] - centre[1]) * metres
+        r2 = (point[i, 2] - centre[2]) * metres
+        m0, m1, m2 = r1 * n2 - r2 * n1, r2 * n0 - r0 * n2, r0 * n1 - r1 * n0
+        rows[i, 0], rows[i, 1] = n2, m0
+        # The moment about the pitch axis as numpy's BLAS sums a matrix by a vector.
+        if n == 1:
+            rows[i, 2] = m0 * v0 + m1 * v1 + m2 * v2
+        else:
+            rows[i, 2] = fma(m2, v2, fma(m0, v0, m1 * v1))
+        if rows.shape[1] == 5:
+            rows[i, 3], rows[i, 4] = n0, n1
+        gaps[i] = gap[i] * metres * rate[i]
+
+
+def contact_rows(
+    normal: NDArray[np.float64],
+    point: NDArray[np.float64],
+    gap: NDArray[np.float64],
+    rate: NDArray[np.float64],
+    centre: NDArray[np.float64],
+    metres: float,
+    pitch_axis: NDArray[np.float64],
+    width: int,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Each contact's rate of opening per unit of the held bolt's coordinates (a row of
+    ``width`` 3 or 5: the normal's Z part, its moment about the roll axis X and about
+    ``pitch_axis`` (per metre of arm), then its X and Y parts), and its normal gap (the
+    vertical ``gap`` in metres times its ``rate``): ``normal``, ``point`` (spec units, the
+    arm from ``centre``, ``metres`` per unit), one row each. The numbers numpy gave: the
+    moment about the pitch axis summed as the BLAS numpy calls sums a matrix by a vector
+    (one row left to right; more, fused multiply-adds in its order). Asked several times
+    per descent step, of one or two contacts, where numpy's per-call cost was all of it
+    (:class:`threadmate.contact.Mechanics`)."""
+    rows, gaps = np.empty((len(gap), width)), np.empty(len(gap))
+    _contact_rows(
+        np.ascontiguousarray(normal, dtype=float),
+        np.ascontiguousarray(point, dtype=float),
+        np.ascontiguousarray(gap, dtype=float),
+        np.ascontiguousarray(rate, dtype=float),
+        np.ascontiguousarray(centre, dtype=float),
+        float(metres),
+        np.ascontiguousarray(pitch_axis, dtype=float),
+        rows,
+        gaps,
+    )
+    return rows, gaps

@@ -36,6 +36,7 @@ from ._kernels import (
     EdgeCurve,
     _arrays,
     closest_on_edge,
+    contact_rows,
     crossing_of_edges,
     deep_candidates,
     edge_points,
@@ -97,6 +98,8 @@ def _touch() -> None:
     vertices, faces = np.eye(3), np.arange(3, dtype=np.int64).reshape(1, 3)
     pairs = np.zeros((1, 2), dtype=np.int64)
     paired_triangles(vertices, faces, vertices, faces, pairs, np.eye(3), np.zeros(3))
+    one = np.ones(1)
+    contact_rows(np.eye(3)[:1], np.zeros((1, 3)), one, one, np.zeros(3), 1.0, np.eye(3)[1], 3)
     single_linkage(np.zeros((2, 3)), 1.0)  # (the contact set's grouping)
 
 
