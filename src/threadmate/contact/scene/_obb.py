@@ -352,13 +352,23 @@ def _apart(
     return min(0.0, a2, a3) > max(b1, b2, b3) or min(b1, b2, b3) > max(0.0, a2, a3)
 
 
+#: RAPID's 17 axes, each the product of two rows of :func:`_cross`'s edge scratch (its
+#: rows: the edges ``e0 e1 e2 f0 f1 f2`` and the normals ``n m``): the two normals, the
+#: nine products of edges, and the in-plane edge normals.
+_AXES = np.array(
+    [[0, 1], [3, 4]]
+    + [[i, 3 + j] for i in range(3) for j in range(3)]
+    + [pair for i in range(3) for pair in ([i, 6], [3 + i, 7])],
+    dtype=np.int64,
+)
+
+
 @compiled
 def _cross(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64]) -> bool:
     """Whether the triangles ``p`` and ``q`` (``(3, 3)`` each) intersect or touch: no axis
-    of RAPID's 17 separates them (``w``: ``(13, 3)`` scratch). The axes: the normals
-    ``e0 x e1`` and ``f0 x f1``, the products ``e_i x f_j`` of the edges, and the in-plane
-    edge normals ``e_i x n`` and ``f_j x m``."""
-    p2, p3, qs, e, f, n, m = w[0], w[1], w[2:5], w[5:8], w[8:11], w[11], w[12]
+    of RAPID's 17 (:data:`_AXES`) separates them (``w``: ``(13, 3)`` scratch). (One
+    call of the inlined test in a loop: each call is compiled in full.)"""
+    p2, p3, qs, d = w[0], w[1], w[2:5], w[5:13]
     for a in range(3):
         o = p[0, a]  # both relative to p's first vertex, as FCL has them
         p2[a] = p[1, a] - o
@@ -366,22 +376,16 @@ def _cross(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64
         for v in range(3):
             qs[v, a] = q[v, a] - o
     for a in range(3):
-        e[0, a], e[1, a], e[2, a] = p2[a], p3[a] - p2[a], -p3[a]
-        f[0, a], f[1, a], f[2, a] = qs[1, a] - qs[0, a], qs[2, a] - qs[1, a], qs[0, a] - qs[2, a]
-    n[0] = e[0, 1] * e[1, 2] - e[0, 2] * e[1, 1]
-    n[1] = e[0, 2] * e[1, 0] - e[0, 0] * e[1, 2]
-    n[2] = e[0, 0] * e[1, 1] - e[0, 1] * e[1, 0]
-    m[0] = f[0, 1] * f[1, 2] - f[0, 2] * f[1, 1]
-    m[1] = f[0, 2] * f[1, 0] - f[0, 0] * f[1, 2]
-    m[2] = f[0, 0] * f[1, 1] - f[0, 1] * f[1, 0]
-    if _apart(p2, p3, qs, e[0], e[1]) or _apart(p2, p3, qs, f[0], f[1]):
-        return False
-    for i in range(3):
-        for j in range(3):
-            if _apart(p2, p3, qs, e[i], f[j]):
-                return False
-    for i in range(3):
-        if _apart(p2, p3, qs, e[i], n) or _apart(p2, p3, qs, f[i], m):
+        d[0, a], d[1, a], d[2, a] = p2[a], p3[a] - p2[a], -p3[a]
+        d[3, a], d[4, a], d[5, a] = qs[1, a] - qs[0, a], qs[2, a] - qs[1, a], qs[0, a] - qs[2, a]
+    d[6, 0] = d[0, 1] * d[1, 2] - d[0, 2] * d[1, 1]
+    d[6, 1] = d[0, 2] * d[1, 0] - d[0, 0] * d[1, 2]
+    d[6, 2] = d[0, 0] * d[1, 1] - d[0, 1] * d[1, 0]
+    d[7, 0] = d[3, 1] * d[4, 2] - d[3, 2] * d[4, 1]
+    d[7, 1] = d[3, 2] * d[4, 0] - d[3, 0] * d[4, 2]
+    d[7, 2] = d[3, 0] * d[4, 1] - d[3, 1] * d[4, 0]
+    for k in range(len(_AXES)):
+        if _apart(p2, p3, qs, d[_AXES[k, 0]], d[_AXES[k, 1]]):
             return False
     return True
 

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..._compiled import COMPILED
 from ..._system import cpu_count
-from ...geometry import bolt_body, spec_from_designation
+from ...geometry import ThreadBody, bolt_body, spec_from_designation
 from ._kernels import (
     KINK,
     EdgeCurve,
@@ -103,11 +103,19 @@ def _touch() -> None:
     single_linkage(np.zeros((2, 3)), 1.0)  # (the contact set's grouping)
 
 
-def _exact() -> None:
-    body = bolt_body(spec_from_designation("1/4-20 UNC-2A/2B"))
+def _body() -> ThreadBody:
+    return bolt_body(spec_from_designation("1/4-20 UNC-2A/2B"))
+
+
+def _features() -> None:
+    body = _body()
     body.profile.distance(np.zeros(1), np.zeros(1))  # (the meshes' accuracy)
     kink_height(body, 0.0, 0.0)
     feature(body, 0.0, 0.0, 0.0, 1e-7)
+
+
+def _edges() -> None:
+    body = _body()
     p = np.zeros((1, 3))
     signed_distance(body, p, np.arctan2(p[:, 1], p[:, 0]))
     deep_candidates(body, p, np.eye(3), p[0], inverse=True, depth=1.0, margin=0.0)
@@ -121,8 +129,9 @@ def _exact() -> None:
 
 
 #: The kernels' calls, in the forward order: the trees' build and the walk, the two
-#: dearest to compile, at either end.
-_STEPS: tuple[Callable[[], None], ...] = (_trees, _touch, _exact, _walks)
+#: dearest to compile, at either end, and steps small enough between that two processes,
+#: one from each end, finish about together.
+_STEPS: tuple[Callable[[], None], ...] = (_trees, _touch, _features, _edges, _walks)
 #: Longest wait for another process's turn at a step (seconds): beyond it (that process
 #: stalled, or numba cannot save to its cache) this one compiles the step itself.
 _WAIT = 60.0
