@@ -21,7 +21,8 @@ children small, and the walk tests far fewer box pairs for the better cut
 (a box holds its triangles), so the answers are those of any tree.
 
 A query works in the bolt's frame, as FCL's mesh traversal does: the nut's boxes and
-triangles are moved into it (lazily, once per query each), a pair of boxes is kept
+triangles are moved into it (lazily, once per query each: a box when the walk first meets
+it, a leaf's triangles when its box first meets a bolt leaf's), a pair of boxes is kept
 unless one of the 15 axes of the separating-axis test parts them (with FCL's allowance
 of 1e-6 on the rotation's entries, which only keeps more pairs), the larger box (by its
 diagonal) is split first, and two leaves' triangles cross unless one of the 17 axes of
@@ -513,9 +514,10 @@ def _crossing(
     them (:func:`_among`).
 
     ``moved`` holds the nut's boxes and triangles moved into the bolt's frame (centres,
-    axes, triangles), per node the ``stamp`` of the query that moved it (each is moved
-    once, when the walk first meets it), and the boxes swept to the pose ``above``
-    (centres, half-extents)."""
+    axes, triangles), per node the ``stamp`` of the query that moved its box and that of
+    the query that moved its leaf's triangles (a box is moved once, when the walk first
+    meets it, a leaf's triangles when its box first meets a bolt leaf's), and the boxes
+    swept to the pose ``above`` (centres, half-extents)."""
     bc, ba, be, bl, br, bleaf, bsize, btri = b
     nc, na, ne, nl, nr, nleaf, nsize, ntri = n
     mc, ma, mtri, seen, sc, se = moved
@@ -542,26 +544,28 @@ def _crossing(
         while depth > 0:
             depth -= 1
             i, j = stack[depth, 0], stack[depth, 1]
-            if seen[j] != stamp:
+            if seen[j, 0] != stamp:
                 _moved(rt, tt, nc[j], mc[j])
                 for c in range(3):
                     for a in range(3):
                         ma[j, a, c] = rt[a, 0] * na[j, 0, c] + rt[a, 1] * na[j, 1, c]
                         ma[j, a, c] += rt[a, 2] * na[j, 2, c]
-                for q in range(nleaf[j], nleaf[j] + nsize[j]):
-                    for v in range(3):
-                        _moved(rt, tt, ntri[q, v], mtri[q, v])
                 if swept:
                     for c in range(3):
                         along = u[0] * ma[j, 0, c] + u[1] * ma[j, 1, c] + u[2] * ma[j, 2, c]
                         se[j, c] = ne[j, c] + 0.5 * abs(along) + _SWEPT_SLACK
                         sc[j, c] = mc[j, c] + 0.5 * u[c]
-                seen[j] = stamp
+                seen[j, 0] = stamp
             # (One call of the inlined test: each call is compiled in full.)
             if _disjoint(bc[i], ba[i], be[i], cj[j], ma[j], ej[j]):
                 continue
             bi, nj = bleaf[i], nleaf[j]
             if bi >= 0 and nj >= 0:
+                if seen[j, 1] != stamp:  # (most leaves met are parted by their boxes)
+                    for q in range(nj, nj + nsize[j]):
+                        for v in range(3):
+                            _moved(rt, tt, ntri[q, v], mtri[q, v])
+                    seen[j, 1] = stamp
                 if swept:
                     row = kept[0, 0] + 1
                     if row < len(kept):
@@ -667,7 +671,7 @@ class CrossingQuery:
             np.empty_like(nut.centre),
             np.empty_like(nut.axes),
             np.empty_like(nut.triangles),
-            np.zeros(len(nut.centre), dtype=np.int64),
+            np.zeros((len(nut.centre), 2), dtype=np.int64),
             np.empty_like(nut.centre),
             np.empty_like(nut.extent),
         )
