@@ -1,4 +1,5 @@
-"""The shared rules of angles, units and class names, against values worked by hand."""
+"""The shared rules of angles, units and class names, against values worked by hand, and
+the cross product of two vectors against numpy's."""
 
 import math
 
@@ -63,3 +64,13 @@ def test_class_names_declared_once():
     assert TRANSITION_LABELS == ("stable", "quasi-stable", "unstable")
     assert ERROR_CLASS == "error"
     assert CLASS_ORDER == ("unstable", "quasi-stable", "stable", "in-phase", "no-contact", "error")
+
+
+def test_the_cross_product_of_two_vectors_is_numpys_to_the_last_bit():
+    from threadmate._vectors import cross3
+
+    rng = np.random.default_rng(11)
+    for _ in range(20000):
+        a = rng.normal(size=3) * 10 ** rng.uniform(-6, 3)
+        b = rng.normal(size=3) * 10 ** rng.uniform(-6, 3)
+        assert np.array_equal(cross3(a, b), np.cross(a, b))

@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import lsq_linear, nnls
 
+from ..._vectors import cross3
 from ...geometry import rot_x
 from ..scene import contact_rows
 from ._contact_set import _Near
@@ -237,10 +238,10 @@ class _Forces(_HeldBolt):
             if lam <= 0:
                 continue
             r = (c.point - centre) * self.metres
-            v = np.cross(axis, r)
+            v = cross3(axis, r)
             v = v - (v @ c.normal) * c.normal
             speed = float(np.linalg.norm(v))
-            normal -= float(axis @ np.cross(r, lam * c.normal))
+            normal -= float(axis @ cross3(r, lam * c.normal))
             if speed > 0:
-                friction -= float(axis @ np.cross(r, -mu * lam * v / speed))
+                friction -= float(axis @ cross3(r, -mu * lam * v / speed))
         return normal + friction, friction

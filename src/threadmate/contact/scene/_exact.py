@@ -52,6 +52,7 @@ from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from ..._angles import TWO_PI
+from ..._vectors import cross3
 from ...geometry import Pose, ThreadBody
 from ._kernels import (
     CIRCLE,
@@ -197,14 +198,6 @@ def _t_of(body: ThreadBody, theta: float, z: float) -> float:
     return t - thread_pitch * math.floor(t / thread_pitch + 0.5)
 
 
-def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``np.cross`` of two 3-vectors by its formula (its axis handling costs more than the
-    products, and the edge code asks one pair at a time)."""
-    return np.array(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
-
-
 def _unit(v: NDArray[np.float64]) -> NDArray[np.float64]:
     n = math.sqrt(float(v @ v))  # ``np.linalg.norm`` of a vector, without its overhead
     return v / n if n > 0 else v
@@ -296,7 +289,7 @@ def _common_normal(fn: Feature, fb: Feature, pose: Pose) -> NDArray[np.float64]:
         return -pose.vector_to_fixed(fb.face_normal)
     tb = pose.vector_to_fixed(fb.edge_tangent)
     side_b = pose.vector_to_fixed(fb.side)
-    n = _cross(tb, fn.edge_tangent)
+    n = cross3(tb, fn.edge_tangent)
     if np.linalg.norm(n) < 1e-9:  # parallel edges: split the two sides
         n = fn.side - side_b
     n = _unit(n)
