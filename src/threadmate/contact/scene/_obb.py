@@ -353,7 +353,7 @@ def _apart(
     return min(0.0, a2, a3) > max(b1, b2, b3) or min(b1, b2, b3) > max(0.0, a2, a3)
 
 
-#: RAPID's 17 axes, each the product of two rows of :func:`_cross`'s edge scratch (its
+#: RAPID's 17 axes, each the cross product of two rows of :func:`_cross`'s scratch (its
 #: rows: the edges ``e0 e1 e2 f0 f1 f2`` and the normals ``n m``): the two normals, the
 #: nine products of edges, and the in-plane edge normals.
 _AXES = np.array(

@@ -104,6 +104,7 @@ def _touch() -> None:
 
 
 def _body() -> ThreadBody:
+    """The default bolt's exact body, whose arrays the exact geometry's kernels take."""
     return bolt_body(spec_from_designation("1/4-20 UNC-2A/2B"))
 
 
