@@ -12,9 +12,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from threadmate._angles import TWO_PI
+from threadmate._vectors import cross3
 from threadmate.contact.scene import Feature
 from threadmate.contact.scene._exact import (
-    _cross,
     _helix_tangent,
     _sharp_corners,
     _t_of,
@@ -90,7 +90,7 @@ def _bevel_feature(
     bounds = math.isfinite(e) and (e < R if body.kind == "bolt" else e > R)
     if near_env and d_thread <= tol:
         n_env, n_thr = _bevel_normal(body, p), _helical_normal(body, p, t)
-        return Feature("kink", None, _unit(_cross(n_env, n_thr)), _unit(n_env + n_thr))
+        return Feature("kink", None, _unit(cross3(n_env, n_thr)), _unit(n_env + n_thr))
     if near_env or (bounds and d_env < d_thread):
         n = _bevel_normal(body, p)
         return Feature("bevel", n, None, n)
