@@ -40,10 +40,10 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CIRCLE",
-    "SAMPLES",
     "HELIX",
     "KINK",
     "RIM",
+    "SAMPLES",
     "EdgeCurve",
     "FEATURE_KINDS",
     "closest_on_edge",
