@@ -239,6 +239,90 @@ def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
     assert between == {True, False}
 
 
+def test_a_triangle_meets_another_lowered_within_a_drop_as_their_exact_touches_say():
+    """The swept test of two triangles (``_obb._cross_over``: the nut's triangle rising by
+    up to a drop, the prism it sweeps against the bolt's by the separating axes) against
+    the exact vertical touch and rise of the pair: the bolt's triangle lowered by ``t``
+    meets the nut's for ``t`` between the touch's drop and minus the rise, so the two meet
+    within a drop ``D`` exactly where that interval meets ``[0, D]``; pairs within a
+    rounding margin of either end are left out."""
+    from threadmate.contact.scene import vertical_rise, vertical_touch
+    from threadmate.contact.scene._obb import _cross_over
+
+    rng = np.random.default_rng(3)
+    w = np.empty((14, 3))
+    seen, tested = set(), 0
+    for _ in range(4000):
+        bolt = rng.normal(0, 1, (1, 3, 3)) * rng.uniform(0.1, 1.0, 3)
+        nut = bolt.mean(axis=1)[:, None] + rng.normal(0, 1, (1, 3, 3)) * rng.uniform(0.1, 1.0)
+        drop_first, _ = vertical_touch(bolt, nut)
+        rise, _ = vertical_rise(bolt, nut)
+        depth = float(rng.uniform(0.0, 1.5))
+        lo, hi = float(drop_first[0]), -float(rise[0])
+        if not (np.isfinite(lo) and np.isfinite(hi)):
+            meets = False
+        elif min(abs(lo), abs(lo - depth), abs(hi), abs(hi - depth)) < 1e-9:
+            continue  # at an end: rounding decides
+        else:
+            meets = lo <= depth and hi >= 0.0
+        got = _cross_over(bolt[0], nut[0], np.array([0.0, 0.0, depth]), w)
+        assert got == meets, (lo, hi, depth)
+        seen.add(meets)
+        tested += 1
+    assert seen == {True, False} and tested > 3000
+
+
+@pytest.mark.parametrize("point", ["flat", "chamfer"])
+def test_a_walk_finds_every_pair_the_bolt_meets_lowered_within_its_drop(point):
+    """A walk's sweep names the pairs the bolt, lowered from its top by up to a drop, meets
+    (``Sweep.touching_within``): pose by pose, those among all its candidate pairs whose
+    exact vertical touch from the top lies in ``[0, drop]`` (brute force, every candidate
+    pair's exact touch), none else, at drops from none to the walk's whole span."""
+    from threadmate.contact.scene import CollisionPair, pair_keys, vertical_touch
+    from threadmate.geometry import Pose, spec_from_designation, thread_meshes
+
+    if point == "flat":
+        spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    else:
+        spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    bolt, nut = thread_meshes(spec)
+    eng = CollisionPair(bolt.mesh, nut.mesh)
+    rng = np.random.default_rng(29)
+    met, checked = 0, 0
+    for _ in range(40):
+        size, direction = rng.uniform(0, 8), rng.uniform(0, 2 * np.pi)
+        rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
+        shift = rng.uniform(-1, 1, 2) * 0.004
+        span = 10.0 ** rng.uniform(-5, np.log10(spec.pitch / 8))
+        # The top free and, mostly, the bolt touching within the span below it: the
+        # first touch from above the nut bisected with the yes/no query.
+        free, deep = -eng.lowest_bolt_z(rotation) + 0.002, -eng.lowest_bolt_z(rotation) - 0.03
+        for _ in range(40):
+            mid = 0.5 * (free + deep)
+            if eng.collides(Pose(rotation, np.array([shift[0], shift[1], mid]))):
+                deep = mid
+            else:
+                free = mid
+        h = free + rng.uniform(-0.5, 1.5) * span
+        top = Pose(rotation, np.array([shift[0], shift[1], h]))
+        sweep = eng.pairs_below(Pose(rotation, np.array([shift[0], shift[1], h - span])), top)
+        if sweep is None:
+            continue
+        candidates = sweep.candidates()
+        exact, _ = vertical_touch(*eng.triangles(top, candidates))
+        for depth in (0.0, *rng.uniform(0, span, 3), span):
+            got = sweep.touching_within(top, depth)
+            inside = np.isfinite(exact) & (exact >= 0.0) & (exact <= depth)
+            margin = 1e-12 + 1e-9 * span
+            clear = ~np.isfinite(exact) | (exact < -margin) | (exact > depth + margin)
+            keys = pair_keys(got)
+            assert np.isin(pair_keys(candidates[inside]), keys).all()
+            assert not np.isin(pair_keys(candidates[clear]), keys).any()
+            met += int(inside.any())
+            checked += 1
+    assert checked > 100 and met > 25
+
+
 def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):
     """The collision query's trees (contact/scene/_obb.py): each tree's leaves hold its
     group's triangles, once each and at most LEAF_SIZE to a leaf, and every node's box

@@ -1020,6 +1020,49 @@ def test_every_lowering_a_descent_keeps_is_at_the_first_touch_from_above(
         assert found.zc - 1e-6 <= z <= found.zc + 1e-9
 
 
+@pytest.mark.parametrize(
+    "parts, cfg",
+    [
+        ({}, (4, -1, 107.45681162908438)),
+        ({"point": "flat", "countersink": False}, (4, 4, 346.6147182500939)),
+        ({"point": "flat", "countersink": False}, (4, 2, 347.99846233962177)),
+    ],
+)
+def test_a_descent_from_first_contact_keeps_no_lowering_below_a_touch_elsewhere(parts, cfg):
+    """Every lowering a descent from first contact keeps lies at the first touch below its
+    free top, wherever round the nut the bolt meets it: no height between the top and the
+    touch collides (python-fcl's query of the two whole meshes, scanned down in steps of
+    2e-6 in from the top) and the bolt collides just below the touch. Here, before the
+    verification tested the motion down from the top exactly, a descent kept poses 1e-5
+    to 5e-5 in below such a touch: the pairs crossing just above the touch were asked of
+    the nut's sectors round the touch only, and the bracket was shorter than one step of
+    its yes/no probes."""
+    kept = []
+
+    class Recording(Mechanics):
+        def verified(self, d):
+            found = super().verified(d)
+            kept.append(found)
+            return found
+
+    spec = spec_from_designation("1/4-20 UNC-2A/2B", **parts)
+    Recording(spec, DEFAULT).settle(*cfg)
+    reference = collider(spec)
+    reach = DEFAULT.compliance_z
+    assert kept
+    for found in kept:
+        rotation = found.rotation
+
+        def collides(zc, rotation=rotation, xy=found.xy):
+            return reference.collides(
+                rotation, np.array([xy[0], xy[1], zc]) - rotation[:, 2] * reach
+            )
+
+        heights = np.arange(found.top, found.zc + 1e-6, -2e-6)
+        assert not any(collides(z) for z in heights), (found.zc, found.top)
+        assert collides(found.zc - 1e-8)
+
+
 @pytest.mark.parametrize("cfg", [(-3.15, 1.07, 136.95), (-2.25, -1.19, 138.33)])
 def test_a_lowering_from_above_stops_on_a_tooth_at_the_nuts_face(cfg):
     """mechanics.md's h is the height at which the bolt, lowered along -Z, first touches.

@@ -8,11 +8,12 @@ enumerated with one more, both in one walk of the trees swept between the two he
 bisection, and the gaps of the other contacts within the depth ``near``. Where nothing
 intersects at the foot, the pairs the swept walk kept tell whether a tooth of the nut lay
 between, passed whole, before the bolt is lowered on. A
-lowering that is kept is verified (:meth:`_Lowering.verified`): the pairs crossing just
-above its touch, and yes/no queries above it, find what the pairs at the bracket's foot
-missed. It asks between the bracket's top and foot, where the bracket's walk of the trees
-(swept between the two) has kept every pair that can cross: it is answered from those
-(:class:`threadmate.contact.scene.Sweep`), with no walk of its own. A motion finer than
+lowering that is kept is verified (:meth:`_Lowering.verified`): what the pairs at the
+bracket's foot missed touches between its top and its touch, where the bracket's walk of
+the trees (swept between the two) has kept every pair that can meet; one compiled pass
+over those, each tested as the bolt moves down between the two heights, finds the pairs
+that meet above the touch (:meth:`threadmate.contact.scene.Sweep.touching_within`), with
+no walk of its own. A motion finer than
 the length tolerance is lowered onto the pairs already known, with no query
 (:meth:`_Lowering._nudged`), and the nut's material above the bolt, where the bolt lies
 in the thread, is known as the pairs below are (:meth:`_Lowering._overhead`).
@@ -61,6 +62,10 @@ class _Drop:
     # The bracket's last walk, swept from ``top`` down (None: it was not swept), which
     # answers the verification's queries between (Sweep.covers).
     sweep: Sweep | None = None
+    # Every height from ``start`` down to ``top`` was passed by the bracket's walks, each
+    # free at its top and its pairs tested exactly (Mechanics._tooth): no body passed
+    # whole into the other above ``top``.
+    passed: bool = False
 
 
 class _Lowering(_HeldBolt):
@@ -136,6 +141,7 @@ class _Lowering(_HeldBolt):
         ``ceiling``: the height above which a climb ends)."""
         eng = self.engine
         start, hit = top, -math.inf  # hit: the highest height known to collide
+        passed = True  # (see _Drop.passed)
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
             # longer cross a little lower, so one enumeration below cannot tell. One walk,
@@ -152,9 +158,9 @@ class _Lowering(_HeldBolt):
                     under = self._under(rotation, xy, top, reach)
                     if under is None:
                         return None
-                    top, known_free = under, True
+                    top, known_free, passed = under, True, False
                     continue
-                hit = top
+                hit, passed = top, False
                 if ceiling is not None and hit > ceiling:
                     return _Drop(
                         rotation,
@@ -190,7 +196,7 @@ class _Lowering(_HeldBolt):
             first = float(drop[ok].min())
             if first < 0.0:  # a pair crosses at ``top`` after all: start higher
                 top += span - first
-                known_free = False
+                known_free, passed = False, False
                 continue
             touch = top - first
             # Pairs asked for below are added to those known, never put in their place: a
@@ -220,6 +226,7 @@ class _Lowering(_HeldBolt):
                     drop,
                     points,
                     sweep=sweep,
+                    passed=passed,
                 )
             )
         raise RuntimeError("lowering the bolt did not settle on a bracket")
@@ -328,33 +335,24 @@ class _Lowering(_HeldBolt):
         - a long bracket passes a thin tooth whole (where a thread runs out on an end
           face, a few 1e-4 in thick). Yes/no queries every :attr:`probe` above the touch
           find it, and the pairs crossing there raise the touch.
+
+        Both touch the bolt first between the bracket's top and its touch, and whether any
+        pair does is asked first, exactly (:meth:`_met_above`): mostly none does, and the
+        touch stands. Where one does, the pairs crossing just above and the probes raise
+        the touch (:meth:`_probed`), and what they still miss is raised to exactly
+        (:meth:`_raised`). A lowering whose walks did not pass every height from its start
+        so (:attr:`_Drop.passed`) is then checked for a vertex of one body deep in the
+        other (:meth:`_embedded`).
         """
         if d.verified:
             return d
-        eng = self.engine
         while True:
-            above, probed = d.zc + self.tolerance, d.zc
-            while above < d.top:
-                # Just above the touch, the pairs missed lie within the crossing pairs'
-                # ring: a region of one body sunk into the other is bounded by crossings.
-                # At a probe that collides, anywhere.
-                around = eng.sectors_around(d.pairs) if above == d.zc + self.tolerance else None
-                pairs, drops, touches, more = self._with_pairs_at(
-                    d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, above, around, d.sweep
-                )
-                raised = more[np.isfinite(more)]
-                # (Touching just above within rounding is free there.)
-                if len(raised) and d.top - float(raised.min()) > d.zc + self.tolerance:
-                    d = self._touching(replace(d, pairs=pairs, drops=drops, touches=touches))
-                    above, probed = d.zc + self.tolerance, d.zc
-                    continue
-                above = probed + self.probe
-                while above < d.top and not self._collides(
-                    self._pose(d.rotation, d.xy, above), d.sweep
-                ):
-                    above += self.probe
-                probed = above
-            if not (d.start - d.zc > 2 * self.near and self._embedded(d.rotation, d.xy, d.zc)):
+            sweep = self._covering(d)
+            if len(self._met_above(d, sweep)):
+                d = self._raised(self._probed(d), sweep)
+            if d.passed or not (
+                d.start - d.zc > 2 * self.near and self._embedded(d.rotation, d.xy, d.zc)
+            ):
                 return replace(d, verified=True)
             # A thin wedge of one body (where a thread runs out on an end face) passed whole
             # into the other within a step. Again from the start, in steps a quarter as long.
@@ -365,6 +363,79 @@ class _Lowering(_HeldBolt):
             if found is None:  # pragma: no cover - the bolt touched from this start before
                 raise RuntimeError("lowering the bolt passed the nut on a second try")
             d = found
+
+    def _covering(self, d: _Drop) -> Sweep:
+        """A walk swept between ``d``'s free top and its touch: its bracket's last, or,
+        where that one does not cover the heights between, one of its own."""
+        top, at = self._pose(d.rotation, d.xy, d.top), self._pose(d.rotation, d.xy, d.zc)
+        if d.sweep is not None and d.sweep.covers(top) and d.sweep.covers(at):
+            return d.sweep
+        sweep = self.engine.pairs_below(at, top, free=True)
+        assert sweep is not None  # (None only where the top, not asked, collides)
+        return sweep
+
+    def _met_above(self, d: _Drop, sweep: Sweep, depth: float = 0.0) -> NDArray[np.int64]:
+        """The pairs the bolt meets lowered from ``d``'s free top to more than the
+        tolerance above its touch (and ``depth`` below that), exactly: every pair that
+        touches between the top and the touch is among the leaf pairs of ``sweep``, a walk
+        swept between the two, and one compiled pass tests each as the bolt moves down
+        (:meth:`Sweep.touching_within`). (Touching just above within rounding is free
+        there.)"""
+        drop = d.top - d.zc - self.tolerance
+        if drop <= 0.0:
+            return np.empty((0, 2), dtype=np.int64)
+        return sweep.touching_within(self._pose(d.rotation, d.xy, d.top), drop + depth)
+
+    def _raised(self, d: _Drop, sweep: Sweep) -> _Drop:
+        """``d`` raised to the first pair it meets lowered from its free top (:meth:`_met_above`),
+        with the pairs within :attr:`near` below that one; ``d`` where it meets none."""
+        found = self._met_above(d, sweep, self.near)
+        new = found[~np.isin(pair_keys(found), pair_keys(d.pairs))]
+        if not len(new):
+            return d
+        drop, points = vertical_touch(
+            *self.engine.triangles(self._pose(d.rotation, d.xy, d.top), new)
+        )
+        ok = np.isfinite(drop) & (drop >= 0.0)
+        if not ok.any() or d.top - float(drop[ok].min()) <= d.zc + self.tolerance:
+            return d
+        keep = ok & (drop <= float(drop[ok].min()) + self.near)
+        return self._touching(
+            replace(
+                d,
+                pairs=np.concatenate([d.pairs, new[keep]]),
+                drops=np.concatenate([d.drops, drop[keep]]),
+                touches=np.concatenate([d.touches, points[keep]]),
+            )
+        )
+
+    def _probed(self, d: _Drop) -> _Drop:
+        """``d`` raised by the pairs crossing just above its touch and by those at the
+        first of the yes/no queries every :attr:`probe` above it that collides (see
+        :meth:`verified`), until neither raises it."""
+        eng = self.engine
+        above, probed = d.zc + self.tolerance, d.zc
+        while above < d.top:
+            # Just above the touch, the pairs missed lie within the crossing pairs' ring:
+            # a region of one body sunk into the other is bounded by crossings. At a probe
+            # that collides, anywhere.
+            around = eng.sectors_around(d.pairs) if above == d.zc + self.tolerance else None
+            pairs, drops, touches, more = self._with_pairs_at(
+                d.rotation, d.xy, d.top, d.pairs, d.drops, d.touches, above, around, d.sweep
+            )
+            raised = more[np.isfinite(more)]
+            # (Touching just above within rounding is free there.)
+            if len(raised) and d.top - float(raised.min()) > d.zc + self.tolerance:
+                d = self._touching(replace(d, pairs=pairs, drops=drops, touches=touches))
+                above, probed = d.zc + self.tolerance, d.zc
+                continue
+            above = probed + self.probe
+            while above < d.top and not self._collides(
+                self._pose(d.rotation, d.xy, above), d.sweep
+            ):
+                above += self.probe
+            probed = above
+        return d
 
     def _collides(self, pose: Pose, sweep: Sweep | None) -> bool:
         """Whether the bolt at ``pose`` meets the nut, asked of ``sweep`` where it covers

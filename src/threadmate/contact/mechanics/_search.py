@@ -907,7 +907,12 @@ class Continuation:
         """The click of the jump at phase ``jump`` onto ``landing`` (:func:`sensor_click`),
         from the rest state at :data:`CLICK_SPAN` before it: settled from the last rest
         state ``passed`` before that phase (or the first, where none lies before it),
-        unless one lies within the phase tolerance of it already."""
+        unless one lies within the phase tolerance of it already.
+
+        A state of that turn whose descent did not converge (a jump's landing, or a step
+        ending unbalanced where the branch falls steeply), standing above the highest rest
+        state, can hide the branch's top: its descent is continued there, and the rest
+        state it reaches counts."""
         at = jump - self.sign * CLICK_SPAN
         rest = [s for s in passed if s.classification != UNSTABLE]
         if rest and all(abs(s.phase - at) > self.phase_tolerance for s in rest):
@@ -916,6 +921,11 @@ class Continuation:
             there = self._settle(at, start, probe=False)
             if there.classification != UNSTABLE and self._continuous(start, there):
                 rest.append(there)
+        top = sensor_click(rest, landing, at) + float(landing.centre[2])
+        lo, hi = sorted((at, jump))
+        for s in passed:
+            if s.classification == UNSTABLE and lo <= s.phase <= hi and s.centre[2] > top:
+                rest.append(self._settle(s.phase, s, probe=False))
         return sensor_click(rest, landing, at)
 
     def advance(

@@ -43,7 +43,9 @@ Queries, each one yes/no question counted in :attr:`queries`:
   of the same rotation (two questions, one walk). The walk's boxes are swept between the
   two, and it keeps the leaves whose boxes meet (a :class:`Sweep`): the pairs crossing at
   any pose between are among them, and a lowering that asks again between (the
-  verification of its touch) is answered from them, with no walk of the trees.
+  verification of its touch: whether the bolt meets anything as it moves down from the
+  top to its touch, the pairs crossing and the yes/no questions at heights between) is
+  answered from them, with no walk of the trees.
 
 A mesh from CAD is taken as given: where it does not follow the spec (a point, a
 countersink or a chamfer the spec does not state) the spec's exact body is no measure of
@@ -172,6 +174,17 @@ class Sweep:
                     )
                 )
         return unique_face_pairs(np.concatenate(rows).astype(np.int64))
+
+    def touching_within(self, pose: Pose, drop: float) -> NDArray[np.int64]:
+        """The ``(bolt_face, nut_face)`` pairs (sorted, unique) that meet as the bolt is
+        lowered from ``pose`` (a pose the walk covers) by up to ``drop``: every pair that
+        touches between there and the walk's lower pose is among the leaf pairs kept
+        (:meth:`candidates`), tested by one compiled pass
+        (:meth:`._obb.CrossingQuery.among`)."""
+        found = self._engine._nut.among(
+            self._bolt[0], self._nodes, pose.rotation, pose.origin, ALL, drop
+        )
+        return unique_face_pairs(found)
 
     def collides_at(self, pose: Pose) -> bool:
         """:meth:`CollisionPair.collides` at a pose the walk covers (:meth:`covers`)."""

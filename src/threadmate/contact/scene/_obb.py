@@ -392,6 +392,83 @@ def _cross(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64
 
 
 @inlined
+def _apart_over(
+    p2: NDArray[np.float64],
+    p3: NDArray[np.float64],
+    q: NDArray[np.float64],
+    u: NDArray[np.float64],
+    v: NDArray[np.float64],
+    lift: NDArray[np.float64],
+) -> bool:
+    """Whether the axis ``u x v`` separates the triangle ``(0, p2, p3)`` from the prism
+    the triangle ``q`` sweeps moved by ``lift`` (strictly; a zero axis separates
+    nothing)."""
+    x = u[1] * v[2] - u[2] * v[1]
+    y = u[2] * v[0] - u[0] * v[2]
+    z = u[0] * v[1] - u[1] * v[0]
+    a2 = x * p2[0] + y * p2[1] + z * p2[2]
+    a3 = x * p3[0] + y * p3[1] + z * p3[2]
+    b1 = x * q[0, 0] + y * q[0, 1] + z * q[0, 2]
+    b2 = x * q[1, 0] + y * q[1, 1] + z * q[1, 2]
+    b3 = x * q[2, 0] + y * q[2, 1] + z * q[2, 2]
+    s = x * lift[0] + y * lift[1] + z * lift[2]
+    return min(0.0, a2, a3) > max(b1, b2, b3) + max(0.0, s) or min(b1, b2, b3) + min(0.0, s) > max(
+        0.0, a2, a3
+    )
+
+
+#: The axes of :func:`_cross_over`, each the cross product of two rows of its scratch
+#: (its rows: the edges ``e0 e1 e2 f0 f1 f2``, the normals ``n m`` and the lift ``l``):
+#: the triangle's normal, the prism's faces (the swept triangle's normal, its edges times
+#: the lift), the products of the edges and the lift with the triangle's edges, and the
+#: in-plane normals of the triangle's and the swept triangle's edges (and the lift's), which
+#: part flat figures.
+_AXES_OVER = np.array(
+    [[0, 1], [3, 4]]
+    + [[3 + j, 8] for j in range(3)]
+    + [[i, 3 + j] for i in range(3) for j in range(3)]
+    + [[i, 8] for i in range(3)]
+    + [pair for i in range(3) for pair in ([i, 6], [3 + i, 7])]
+    + [[8, 7]],
+    dtype=np.int64,
+)
+
+
+@compiled
+def _cross_over(
+    p: NDArray[np.float64],
+    q: NDArray[np.float64],
+    lift: NDArray[np.float64],
+    w: NDArray[np.float64],
+) -> bool:
+    """Whether the triangle ``p`` meets the triangle ``q`` moved by ``t lift`` for some
+    ``t`` in [0, 1]: no axis of :data:`_AXES_OVER` parts ``p`` from the prism ``q`` sweeps
+    (the separating-axis test of two convex bodies, exact but for the rounding of
+    touching; ``w``: ``(14, 3)`` scratch)."""
+    p2, p3, qs, d = w[0], w[1], w[2:5], w[5:14]
+    for a in range(3):
+        o = p[0, a]
+        p2[a] = p[1, a] - o
+        p3[a] = p[2, a] - o
+        for v in range(3):
+            qs[v, a] = q[v, a] - o
+    for a in range(3):
+        d[0, a], d[1, a], d[2, a] = p2[a], p3[a] - p2[a], -p3[a]
+        d[3, a], d[4, a], d[5, a] = qs[1, a] - qs[0, a], qs[2, a] - qs[1, a], qs[0, a] - qs[2, a]
+        d[8, a] = lift[a]
+    d[6, 0] = d[0, 1] * d[1, 2] - d[0, 2] * d[1, 1]
+    d[6, 1] = d[0, 2] * d[1, 0] - d[0, 0] * d[1, 2]
+    d[6, 2] = d[0, 0] * d[1, 1] - d[0, 1] * d[1, 0]
+    d[7, 0] = d[3, 1] * d[4, 2] - d[3, 2] * d[4, 1]
+    d[7, 1] = d[3, 2] * d[4, 0] - d[3, 0] * d[4, 2]
+    d[7, 2] = d[3, 0] * d[4, 1] - d[3, 1] * d[4, 0]
+    for k in range(len(_AXES_OVER)):
+        if _apart_over(p2, p3, qs, d[_AXES_OVER[k, 0]], d[_AXES_OVER[k, 1]], lift):
+            return False
+    return True
+
+
+@inlined
 def _disjoint(
     ca: NDArray[np.float64],
     ua: NDArray[np.float64],
@@ -617,20 +694,26 @@ def _among(
     origin: NDArray[np.float64],
     mode: int,
     out: NDArray[np.int64],
+    drop: float,
 ) -> int:
     """The crossing pairs of the leaf pairs ``nodes`` (rows ``(bolt node, nut node,
     tag)``), the bolt at the pose ``(rotation, origin)``: ``out[k] = (bolt triangle, nut
     triangle, tag)``; returns how many (as :func:`_crossing`: those past ``out``'s rows
     counted, not written; in :data:`ANY` ``mode`` the first only). Each pair is tested as
     :func:`_crossing` tests it, the nut's triangles moved into the bolt's frame by the same
-    arithmetic: a walk at this pose that reaches those leaves finds the same pairs."""
+    arithmetic: a walk at this pose that reaches those leaves finds the same pairs. With
+    a ``drop`` (fixed frame), the pairs that meet as the bolt is lowered from the pose by
+    up to that: in the bolt's frame the nut rises along the fixed vertical, and each nut
+    triangle sweeps a prism (:func:`_cross_over`)."""
     bleaf, bsize, btri = b[5], b[6], b[7]
     nleaf, nsize, ntri = n[5], n[6], n[7]
     rt = rotation.T.copy()
     tt = np.empty(3)
+    lift = np.empty(3)
     for a in range(3):
         tt[a] = -(rt[a, 0] * origin[0] + rt[a, 1] * origin[1] + rt[a, 2] * origin[2])
-    w = np.empty((13, 3))
+        lift[a] = rt[a, 2] * drop
+    w = np.empty((14, 3))
     moved = np.empty((3, 3))
     count = 0
     for r in range(len(nodes)):
@@ -639,7 +722,11 @@ def _among(
             for v in range(3):
                 _moved(rt, tt, ntri[q, v], moved[v])
             for p in range(bleaf[i], bleaf[i] + bsize[i]):
-                if _cross(btri[p], moved, w):
+                if (
+                    _cross_over(btri[p], moved, lift, w)
+                    if drop > 0.0
+                    else _cross(btri[p], moved, w)
+                ):
                     if count < len(out):
                         out[count, 0], out[count, 1], out[count, 2] = p, q, nodes[r, 2]
                     count += 1
@@ -702,15 +789,19 @@ class CrossingQuery:
         rotation: NDArray[np.float64],
         origin: NDArray[np.float64],
         mode: int = ALL,
+        drop: float = 0.0,
     ) -> NDArray[np.int64]:
         """``(bolt face, nut face, tag)`` of each crossing pair of the leaf pairs ``nodes``
         (rows ``(bolt node, nut node, tag)``, as :meth:`below` keeps them) at the pose
-        ``(rotation, origin)``; in :data:`ANY` ``mode``, the first pair found."""
+        ``(rotation, origin)``; in :data:`ANY` ``mode``, the first pair found. With a
+        ``drop``, the pairs that meet as the bolt is lowered from that pose by up to it
+        (:func:`_among`; those it meets within the drop, and any only touching at its ends
+        within rounding)."""
         b = _arrays(bolt)
         rotation = np.ascontiguousarray(rotation, dtype=float)
         origin = np.ascontiguousarray(origin, dtype=float)
         while True:
-            found = _among(b, self._n, nodes, rotation, origin, mode, self._out)
+            found = _among(b, self._n, nodes, rotation, origin, mode, self._out, float(drop))
             if found <= len(self._out):
                 break
             self._out = np.empty((2 * found, 3), dtype=np.int64)
