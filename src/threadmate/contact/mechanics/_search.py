@@ -911,8 +911,8 @@ class Continuation:
 
         A state of that turn whose descent did not converge (a jump's landing, or a step
         ending unbalanced where the branch falls steeply), standing above the highest rest
-        state, can hide the branch's top: its descent is continued there, and the rest
-        state it reaches counts."""
+        state, can hide the branch's top: the highest such has its descent continued, and
+        the rest state it reaches, if it comes to rest, counts."""
         at = jump - self.sign * CLICK_SPAN
         rest = [s for s in passed if s.classification != UNSTABLE]
         if rest and all(abs(s.phase - at) > self.phase_tolerance for s in rest):
@@ -923,9 +923,16 @@ class Continuation:
                 rest.append(there)
         top = sensor_click(rest, landing, at) + float(landing.centre[2])
         lo, hi = sorted((at, jump))
-        for s in passed:
-            if s.classification == UNSTABLE and lo <= s.phase <= hi and s.centre[2] > top:
-                rest.append(self._settle(s.phase, s, probe=False))
+        above = [
+            s
+            for s in passed
+            if s.classification == UNSTABLE and lo <= s.phase <= hi and s.centre[2] > top
+        ]
+        if above:
+            highest = max(above, key=lambda s: s.centre[2])
+            there = self._settle(highest.phase, highest, probe=False)
+            if there.classification != UNSTABLE:
+                rest.append(there)
         return sensor_click(rest, landing, at)
 
     def advance(
