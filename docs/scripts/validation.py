@@ -163,7 +163,7 @@ def closed_forms(stamp: Stamp) -> list[str]:
         "10 N, frictionless. The closed form: the snap where the in-phase window opens, "
         f"{edge:.3f} degrees, by the axial flank clearance c = {c:.6f} in.",
         "",
-        "| stiffness (N m/rad) | snap (deg) | closed form (deg) | click (in) | c (in) | time (s) |",
+        "| stiffness (N m/rad) | snap (deg) | closed form (deg) | drop (in) | c (in) | time (s) |",
         "|---:|---:|---:|---:|---:|---:|",
     ]
     for k in (100.0, 1.0):
@@ -181,7 +181,7 @@ def closed_forms(stamp: Stamp) -> list[str]:
     lines += [
         "",
         "Held through 1 N m/rad the bolt tips a little as it rides onto the edge where the "
-        "nut's thread starts, and lands on that edge: its click is less than c.",
+        "nut's thread starts, and lands on that edge: its drop is less than c.",
     ]
     return lines
 
@@ -210,7 +210,7 @@ def pinched_screw_in(stamp: Stamp) -> list[str]:
     jumps = [e for e in events if abs(e.drop) > spec.pitch / 40]
     return [
         *lines,
-        "| snap (deg) | click (in) | descent per turn (in) | lead (in) | tilt at landing "
+        "| snap (deg) | drop (in) | descent per turn (in) | lead (in) | tilt at landing "
         "(deg) | tilt after half a turn (deg) | jumps in the screw-in | time (s) |",
         "|---:|---:|---:|---:|---:|---:|---:|---:|",
         f"| {run.snap.phase:.3f} | {run.snap.drop:.6f} | {proof.descent:.5f} | "
@@ -236,7 +236,7 @@ def snap_window(stamp: Stamp) -> list[str]:
     lo, hi = run.snap_window
     return [
         *lines,
-        "| snap (deg) | window (deg) | click (in) | time (s) |",
+        "| snap (deg) | window (deg) | drop (in) | time (s) |",
         "|---:|---:|---:|---:|",
         f"| {run.snap.phase:.3f} | {lo:.2f} to {hi:.2f} | {run.snap.drop:.6f} | {took:.1f} |",
     ]

@@ -11,9 +11,10 @@ between, passed whole, before the bolt is lowered on. A
 lowering that is kept is verified (:meth:`_Lowering.verified`): what the pairs at the
 bracket's foot missed touches between its top and its touch, where the bracket's walk of
 the trees (swept between the two) has kept every pair that can meet; one compiled pass
-over those, each tested as the bolt moves down between the two heights, finds the pairs
-that meet above the touch (:meth:`threadmate.contact.scene.Sweep.touching_within`), with
-no walk of its own. A motion finer than
+over those, each tested as the bolt moves down between the two heights, asks whether
+any meets above the touch (:meth:`threadmate.contact.scene.Sweep.touching_within`), with
+no walk of its own. Where one does, the pairs crossing just above the touch and yes/no
+queries above it raise it, and the pass's pairs the rest of the way. A motion finer than
 the length tolerance is lowered onto the pairs already known, with no query
 (:meth:`_Lowering._nudged`), and the nut's material above the bolt, where the bolt lies
 in the thread, is known as the pairs below are (:meth:`_Lowering._overhead`).
