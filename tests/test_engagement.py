@@ -622,7 +622,10 @@ def test_the_click_is_the_whole_fall_a_sensor_sees(flat, mech):
     independently here in steps of 0.05 degree from the search's state at 345 to a
     hundredth of a degree before the snap: it does not engage before the snap, and what
     it jumps on the way (a walk of other steps can leave a steep stretch by a small jump)
-    lies within that last degree; the click is larger than the jump's own drop."""
+    lies within that last degree; the click is larger than the jump's own drop. Just
+    before the fall the walk tips onto the bore's edge, propped on the tip's rim by a
+    contact whose normal lies nearly level: a near-singular state, whose height the click
+    passes over."""
     run = search(mech, 0.0, -3.0, 30.0)
     assert run.snap is not None and run.snap.engagement is not None
     assert run.snap.engagement.engaged
@@ -633,7 +636,14 @@ def test_the_click_is_the_whole_fall_a_sensor_sees(flat, mech):
     _, events, states = walk.advance(state, 345.0, end - 345.0)
     assert not [e for e in events if e.kind == "snap"]
     assert all(e.phase >= run.snap.phase - CLICK_SPAN for e in events if e.kind == "jump")
-    top = max(s.centre[2] for s in states if s.phase >= run.snap.phase - CLICK_SPAN)
+    # (A state whose rigid balance is near-singular, propped on a contact whose normal
+    # lies level, is no height a sensor sees: a hair of contact compliance lets the bolt
+    # down from it, as the dynamics check's stiff contacts do.)
+    top = max(
+        s.centre[2]
+        for s in states
+        if s.phase >= run.snap.phase - CLICK_SPAN and not s.near_singular
+    )
     assert run.snap.click == pytest.approx(top - landing.centre[2], rel=0.01)
     assert run.snap.click > run.snap.drop * 1.1
 

@@ -165,7 +165,9 @@ def sensor_click(ride: Sequence[MechanicalState], landing: MechanicalState, at: 
     ----------
     ride : sequence of MechanicalState
         The states the turn passed before the jump (states that are not rest states are
-        passed over).
+        passed over, and so are rest states whose rigid balance is near-singular: held up
+        by forces many times the load, their height is not one the bolt keeps, a hair of
+        contact compliance letting it down).
     landing : MechanicalState
         Where the jump lands, at the jump's phase.
     at : float
@@ -178,7 +180,9 @@ def sensor_click(ride: Sequence[MechanicalState], landing: MechanicalState, at: 
     its top, a branch that falls steeply before the jump the fall from where it began.
     NaN when ``ride`` holds no rest state: no height of the branch is known to fall from.
     """
-    rest = sorted((s.phase, s.centre[2]) for s in ride if s.classification != UNSTABLE)
+    rest = sorted(
+        (s.phase, s.centre[2]) for s in ride if s.classification != UNSTABLE and not s.near_singular
+    )
     if not rest:
         return math.nan
     phases = [p for p, _ in rest]
@@ -907,12 +911,7 @@ class Continuation:
         """The click of the jump at phase ``jump`` onto ``landing`` (:func:`sensor_click`),
         from the rest state at :data:`CLICK_SPAN` before it: settled from the last rest
         state ``passed`` before that phase (or the first, where none lies before it),
-        unless one lies within the phase tolerance of it already.
-
-        A state of that turn whose descent did not converge (a jump's landing, or a step
-        ending unbalanced where the branch falls steeply), standing above the highest rest
-        state, can hide the branch's top: the highest such has its descent continued, and
-        the rest state it reaches, if it comes to rest, counts."""
+        unless one lies within the phase tolerance of it already."""
         at = jump - self.sign * CLICK_SPAN
         rest = [s for s in passed if s.classification != UNSTABLE]
         if rest and all(abs(s.phase - at) > self.phase_tolerance for s in rest):
@@ -920,18 +919,6 @@ class Continuation:
             start = max(before, key=lambda s: self.sign * s.phase) if before else rest[0]
             there = self._settle(at, start, probe=False)
             if there.classification != UNSTABLE and self._continuous(start, there):
-                rest.append(there)
-        top = sensor_click(rest, landing, at) + float(landing.centre[2])
-        lo, hi = sorted((at, jump))
-        above = [
-            s
-            for s in passed
-            if s.classification == UNSTABLE and lo <= s.phase <= hi and s.centre[2] > top
-        ]
-        if above:
-            highest = max(above, key=lambda s: s.centre[2])
-            there = self._settle(highest.phase, highest, probe=False)
-            if there.classification != UNSTABLE:
                 rest.append(there)
         return sensor_click(rest, landing, at)
 
