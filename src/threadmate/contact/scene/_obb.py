@@ -364,14 +364,14 @@ _AXES = np.array(
 )
 
 
-@compiled
-def _cross(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64]) -> bool:
-    """Whether the triangles ``p`` and ``q`` (``(3, 3)`` each) intersect or touch: no axis
-    of RAPID's 17 (:data:`_AXES`) separates them (``w``: ``(13, 3)`` scratch). (One
-    call of the inlined test in a loop: each call is compiled in full.)"""
+@inlined
+def _scratch(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64]) -> None:
+    """Fill the rows of a triangle test's scratch ``w``: ``p``'s second and third vertices
+    and ``q``'s three, relative to ``p``'s first (as FCL has them), then the edges ``e0 e1
+    e2 f0 f1 f2`` and the normals ``n m``."""
     p2, p3, qs, d = w[0], w[1], w[2:5], w[5:13]
     for a in range(3):
-        o = p[0, a]  # both relative to p's first vertex, as FCL has them
+        o = p[0, a]
         p2[a] = p[1, a] - o
         p3[a] = p[2, a] - o
         for v in range(3):
@@ -385,6 +385,15 @@ def _cross(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64
     d[7, 0] = d[3, 1] * d[4, 2] - d[3, 2] * d[4, 1]
     d[7, 1] = d[3, 2] * d[4, 0] - d[3, 0] * d[4, 2]
     d[7, 2] = d[3, 0] * d[4, 1] - d[3, 1] * d[4, 0]
+
+
+@compiled
+def _cross(p: NDArray[np.float64], q: NDArray[np.float64], w: NDArray[np.float64]) -> bool:
+    """Whether the triangles ``p`` and ``q`` (``(3, 3)`` each) intersect or touch: no axis
+    of RAPID's 17 (:data:`_AXES`) separates them (``w``: ``(13, 3)`` scratch, or more). (One
+    call of the inlined test in a loop: each call is compiled in full.)"""
+    _scratch(p, q, w)
+    p2, p3, qs, d = w[0], w[1], w[2:5], w[5:13]
     for k in range(len(_AXES)):
         if _apart(p2, p3, qs, d[_AXES[k, 0]], d[_AXES[k, 1]]):
             return False
@@ -400,9 +409,8 @@ def _apart_over(
     v: NDArray[np.float64],
     lift: NDArray[np.float64],
 ) -> bool:
-    """Whether the axis ``u x v`` separates the triangle ``(0, p2, p3)`` from the prism
-    the triangle ``q`` sweeps moved by ``lift`` (strictly; a zero axis separates
-    nothing)."""
+    """:func:`_apart` of the triangle ``(0, p2, p3)`` and the prism the triangle ``q``
+    sweeps moved by ``lift``: ``q``'s extent along the axis grown by the lift's."""
     x = u[1] * v[2] - u[2] * v[1]
     y = u[2] * v[0] - u[0] * v[2]
     z = u[0] * v[1] - u[1] * v[0]
@@ -444,24 +452,11 @@ def _cross_over(
     """Whether the triangle ``p`` meets the triangle ``q`` moved by ``t lift`` for some
     ``t`` in [0, 1]: no axis of :data:`_AXES_OVER` parts ``p`` from the prism ``q`` sweeps
     (the separating-axis test of two convex bodies, exact but for the rounding of
-    touching; ``w``: ``(14, 3)`` scratch)."""
+    touching; ``w``: ``(14, 3)`` scratch, its rows as :func:`_cross`'s and the lift)."""
+    _scratch(p, q, w)
     p2, p3, qs, d = w[0], w[1], w[2:5], w[5:14]
     for a in range(3):
-        o = p[0, a]
-        p2[a] = p[1, a] - o
-        p3[a] = p[2, a] - o
-        for v in range(3):
-            qs[v, a] = q[v, a] - o
-    for a in range(3):
-        d[0, a], d[1, a], d[2, a] = p2[a], p3[a] - p2[a], -p3[a]
-        d[3, a], d[4, a], d[5, a] = qs[1, a] - qs[0, a], qs[2, a] - qs[1, a], qs[0, a] - qs[2, a]
         d[8, a] = lift[a]
-    d[6, 0] = d[0, 1] * d[1, 2] - d[0, 2] * d[1, 1]
-    d[6, 1] = d[0, 2] * d[1, 0] - d[0, 0] * d[1, 2]
-    d[6, 2] = d[0, 0] * d[1, 1] - d[0, 1] * d[1, 0]
-    d[7, 0] = d[3, 1] * d[4, 2] - d[3, 2] * d[4, 1]
-    d[7, 1] = d[3, 2] * d[4, 0] - d[3, 0] * d[4, 2]
-    d[7, 2] = d[3, 0] * d[4, 1] - d[3, 1] * d[4, 0]
     for k in range(len(_AXES_OVER)):
         if _apart_over(p2, p3, qs, d[_AXES_OVER[k, 0]], d[_AXES_OVER[k, 1]], lift):
             return False
