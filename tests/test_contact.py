@@ -188,6 +188,28 @@ def test_sector_queries_agree_with_the_whole_nut(analyzer):
     assert seen == {True, False}
 
 
+def _pair_engine(point: str):
+    """The 1/4-20 UNC-2A/2B pair with flat ends (``point`` "flat") or its standard ones,
+    and the collision engine of its generated meshes."""
+    from threadmate.contact.scene import CollisionPair
+    from threadmate.geometry import spec_from_designation, thread_meshes
+
+    if point == "flat":
+        spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    else:
+        spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    bolt, nut = thread_meshes(spec)
+    return spec, CollisionPair(bolt.mesh, nut.mesh)
+
+
+def _random_placing(rng):
+    """A random rotation (tilt up to 8 degrees in any direction, any phase) and a lateral
+    shift of the origin up to 0.004 in each way."""
+    size, direction = rng.uniform(0, 8), rng.uniform(0, 2 * np.pi)
+    rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
+    return rotation, rng.uniform(-1, 1, 2) * 0.004
+
+
 @pytest.mark.parametrize("point", ["flat", "chamfer"])
 def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
     """The bracket's two questions asked in one walk of the trees (``pairs_below``):
@@ -196,21 +218,13 @@ def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
     heights from above the nut to deep in it and drops from a hair to a pitch. And the
     walk's sweep answers between the two as the queries there do (of all sectors or some),
     and covers no pose outside them."""
-    from threadmate.contact.scene import CollisionPair
-    from threadmate.geometry import Pose, spec_from_designation, thread_meshes
+    from threadmate.geometry import Pose
 
-    if point == "flat":
-        spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
-    else:
-        spec = spec_from_designation("1/4-20 UNC-2A/2B")
-    bolt, nut = thread_meshes(spec)
-    eng = CollisionPair(bolt.mesh, nut.mesh)
+    spec, eng = _pair_engine(point)
     rng = np.random.default_rng(17)
     seen, between = set(), set()
     for _ in range(80):
-        size, direction = rng.uniform(0, 8), rng.uniform(0, 2 * np.pi)
-        rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
-        shift = rng.uniform(-1, 1, 2) * 0.004
+        rotation, shift = _random_placing(rng)
         h = -eng.lowest_bolt_z(rotation) - rng.uniform(-0.002, 0.03)
         drop = 10.0 ** rng.uniform(-7, np.log10(spec.pitch))
         top = Pose(rotation, np.array([shift[0], shift[1], h]))
@@ -233,7 +247,7 @@ def test_one_walk_answers_as_the_two_queries_it_stands_for(point):
                 between.add(sweep.collides_at(pose))
             for z, xy in ((h + 1e-9, shift), (h - drop - 1e-9, shift), (h, shift + 1e-9)):
                 assert not sweep.covers(Pose(rotation, np.array([xy[0], xy[1], z])))
-            assert not sweep.covers(Pose(_rot(size, 0.0, 1.0), top.origin))
+            assert not sweep.covers(Pose(rotation @ _rot(0.0, 0.0, 1.0), top.origin))
         seen.add((sweep is None, sweep is not None and len(sweep.pairs) > 0))
     assert seen == {(True, False), (False, True), (False, False)}
     assert between == {True, False}
@@ -278,21 +292,14 @@ def test_a_walk_finds_every_pair_the_bolt_meets_lowered_within_its_drop(point):
     (``Sweep.touching_within``): pose by pose, those among all its candidate pairs whose
     exact vertical touch from the top lies in ``[0, drop]`` (brute force, every candidate
     pair's exact touch), none else, at drops from none to the walk's whole span."""
-    from threadmate.contact.scene import CollisionPair, pair_keys, vertical_touch
-    from threadmate.geometry import Pose, spec_from_designation, thread_meshes
+    from threadmate.contact.scene import pair_keys, vertical_touch
+    from threadmate.geometry import Pose
 
-    if point == "flat":
-        spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
-    else:
-        spec = spec_from_designation("1/4-20 UNC-2A/2B")
-    bolt, nut = thread_meshes(spec)
-    eng = CollisionPair(bolt.mesh, nut.mesh)
+    spec, eng = _pair_engine(point)
     rng = np.random.default_rng(29)
     met, checked = 0, 0
     for _ in range(40):
-        size, direction = rng.uniform(0, 8), rng.uniform(0, 2 * np.pi)
-        rotation = _rot(size * np.cos(direction), size * np.sin(direction), rng.uniform(0, 360))
-        shift = rng.uniform(-1, 1, 2) * 0.004
+        rotation, shift = _random_placing(rng)
         span = 10.0 ** rng.uniform(-5, np.log10(spec.pitch / 8))
         # The top free and, mostly, the bolt touching within the span below it: the
         # first touch from above the nut bisected with the yes/no query.

@@ -962,6 +962,33 @@ def test_a_stalled_descent_ends_near_where_the_longer_one_ends(mech, quarter_20,
     assert compared
 
 
+def _recording_lowerings(spec):
+    """A default mechanics of ``spec`` that records every lowering it keeps (verified),
+    and the list it records them in."""
+    kept = []
+
+    class Recording(Mechanics):
+        def verified(self, d):
+            found = super().verified(d)
+            kept.append(found)
+            return found
+
+    return Recording(spec, DEFAULT), kept
+
+
+def _whole_meshes_collide(spec, found):
+    """Whether the bolt at ``found``'s tilt and lateral place, its compliance centre at a
+    height, meets the nut: python-fcl's query of the two whole meshes (not the engine's)."""
+    reference, reach, rotation = collider(spec), DEFAULT.compliance_z, found.rotation
+
+    def collides(zc):
+        return reference.collides(
+            rotation, np.array([found.xy[0], found.xy[1], zc]) - rotation[:, 2] * reach
+        )
+
+    return collides
+
+
 @pytest.mark.parametrize(
     "designation, parts, held, phases",
     [
@@ -986,31 +1013,14 @@ def test_every_lowering_a_descent_keeps_is_at_the_first_touch_from_above(
       bracket and crossed no nut triangle at its foot, 1.6e-5 in too low; and a long step
       passed a 4e-4 in tooth at the nut's face whole.
     """
-    kept = []
-
-    class Recording(Mechanics):
-        def verified(self, d):
-            found = super().verified(d)
-            kept.append(found)
-            return found
-
     spec = spec_from_designation(designation, **parts)
-    mech = Recording(spec, DEFAULT)
+    mech, kept = _recording_lowerings(spec)
     start = mech.settle(*held, phases[0]).state
     kept.clear()
     mech.settle(*held, phases[1], start=start)
-    # The reference: python-fcl's query of the two whole meshes (not the engine's).
-    reference = collider(spec)
-    reach = mech.compliance.compliance_z
     assert kept
     for found in kept[:6]:
-
-        def collides(zc, found=found):
-            rotation = found.rotation
-            return reference.collides(
-                rotation, np.array([found.xy[0], found.xy[1], zc]) - rotation[:, 2] * reach
-            )
-
+        collides = _whole_meshes_collide(spec, found)
         # From the free height the lowering measured its touch from (it can lie under an
         # overhang of the nut: the bolt's tooth in the nut's groove).
         assert not collides(found.top)
@@ -1037,27 +1047,12 @@ def test_a_descent_from_first_contact_keeps_no_lowering_below_a_touch_elsewhere(
     to 5e-5 in below such a touch: the pairs crossing just above the touch were asked of
     the nut's sectors round the touch only, and the bracket was shorter than one step of
     its yes/no probes."""
-    kept = []
-
-    class Recording(Mechanics):
-        def verified(self, d):
-            found = super().verified(d)
-            kept.append(found)
-            return found
-
     spec = spec_from_designation("1/4-20 UNC-2A/2B", **parts)
-    Recording(spec, DEFAULT).settle(*cfg)
-    reference = collider(spec)
-    reach = DEFAULT.compliance_z
+    mech, kept = _recording_lowerings(spec)
+    mech.settle(*cfg)
     assert kept
     for found in kept:
-        rotation = found.rotation
-
-        def collides(zc, rotation=rotation, xy=found.xy):
-            return reference.collides(
-                rotation, np.array([xy[0], xy[1], zc]) - rotation[:, 2] * reach
-            )
-
+        collides = _whole_meshes_collide(spec, found)
         heights = np.arange(found.top, found.zc + 1e-6, -2e-6)
         assert not any(collides(z) for z in heights), (found.zc, found.top)
         assert collides(found.zc - 1e-8)

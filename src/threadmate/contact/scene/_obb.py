@@ -333,6 +333,27 @@ def obb_forest(
 
 
 @inlined
+def _spans(
+    p2: NDArray[np.float64],
+    p3: NDArray[np.float64],
+    q: NDArray[np.float64],
+    u: NDArray[np.float64],
+    v: NDArray[np.float64],
+) -> tuple[float, float, float, float, float, float, float]:
+    """The axis ``u x v`` (its three components) and the spans of the triangles ``(0, p2,
+    p3)`` and ``q`` (its vertices the rows) along it: ``x, y, z, lo_p, hi_p, lo_q, hi_q``."""
+    x = u[1] * v[2] - u[2] * v[1]
+    y = u[2] * v[0] - u[0] * v[2]
+    z = u[0] * v[1] - u[1] * v[0]
+    a2 = x * p2[0] + y * p2[1] + z * p2[2]
+    a3 = x * p3[0] + y * p3[1] + z * p3[2]
+    b1 = x * q[0, 0] + y * q[0, 1] + z * q[0, 2]
+    b2 = x * q[1, 0] + y * q[1, 1] + z * q[1, 2]
+    b3 = x * q[2, 0] + y * q[2, 1] + z * q[2, 2]
+    return x, y, z, min(0.0, a2, a3), max(0.0, a2, a3), min(b1, b2, b3), max(b1, b2, b3)
+
+
+@inlined
 def _apart(
     p2: NDArray[np.float64],
     p3: NDArray[np.float64],
@@ -342,15 +363,8 @@ def _apart(
 ) -> bool:
     """Whether the axis ``u x v`` separates the triangles ``(0, p2, p3)`` and ``q`` (its
     vertices the rows) strictly (a zero axis separates nothing)."""
-    x = u[1] * v[2] - u[2] * v[1]
-    y = u[2] * v[0] - u[0] * v[2]
-    z = u[0] * v[1] - u[1] * v[0]
-    a2 = x * p2[0] + y * p2[1] + z * p2[2]
-    a3 = x * p3[0] + y * p3[1] + z * p3[2]
-    b1 = x * q[0, 0] + y * q[0, 1] + z * q[0, 2]
-    b2 = x * q[1, 0] + y * q[1, 1] + z * q[1, 2]
-    b3 = x * q[2, 0] + y * q[2, 1] + z * q[2, 2]
-    return min(0.0, a2, a3) > max(b1, b2, b3) or min(b1, b2, b3) > max(0.0, a2, a3)
+    _, _, _, lo_p, hi_p, lo_q, hi_q = _spans(p2, p3, q, u, v)
+    return lo_p > hi_q or lo_q > hi_p
 
 
 #: RAPID's 17 axes, each the cross product of two rows of :func:`_cross`'s scratch (its
@@ -410,19 +424,10 @@ def _apart_over(
     lift: NDArray[np.float64],
 ) -> bool:
     """:func:`_apart` of the triangle ``(0, p2, p3)`` and the prism the triangle ``q``
-    sweeps moved by ``lift``: ``q``'s extent along the axis grown by the lift's."""
-    x = u[1] * v[2] - u[2] * v[1]
-    y = u[2] * v[0] - u[0] * v[2]
-    z = u[0] * v[1] - u[1] * v[0]
-    a2 = x * p2[0] + y * p2[1] + z * p2[2]
-    a3 = x * p3[0] + y * p3[1] + z * p3[2]
-    b1 = x * q[0, 0] + y * q[0, 1] + z * q[0, 2]
-    b2 = x * q[1, 0] + y * q[1, 1] + z * q[1, 2]
-    b3 = x * q[2, 0] + y * q[2, 1] + z * q[2, 2]
+    sweeps moved by ``lift``: ``q``'s span along the axis grown by the lift's."""
+    x, y, z, lo_p, hi_p, lo_q, hi_q = _spans(p2, p3, q, u, v)
     s = x * lift[0] + y * lift[1] + z * lift[2]
-    return min(0.0, a2, a3) > max(b1, b2, b3) + max(0.0, s) or min(b1, b2, b3) + min(0.0, s) > max(
-        0.0, a2, a3
-    )
+    return lo_p > hi_q + max(0.0, s) or lo_q + min(0.0, s) > hi_p
 
 
 #: The axes of :func:`_cross_over`, each the cross product of two rows of its scratch
