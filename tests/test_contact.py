@@ -291,13 +291,15 @@ def test_a_walk_finds_every_pair_the_bolt_meets_lowered_within_its_drop(point):
     """A walk's sweep names the pairs the bolt, lowered from its top by up to a drop, meets
     (``Sweep.touching_within``): pose by pose, those among all its candidate pairs whose
     exact vertical touch from the top lies in ``[0, drop]`` (brute force, every candidate
-    pair's exact touch), none else, at drops from none to the walk's whole span."""
+    pair's exact touch), none else, at drops from none to the walk's whole span. The
+    sweep narrowed to the leaf pairs of those (``Sweep.narrowed``) answers at heights
+    within the drop as the whole meshes' queries do there."""
     from threadmate.contact.scene import pair_keys, vertical_touch
     from threadmate.geometry import Pose
 
     spec, eng = _pair_engine(point)
     rng = np.random.default_rng(29)
-    met, checked = 0, 0
+    met, checked, crossing = 0, 0, 0
     for _ in range(40):
         rotation, shift = _random_placing(rng)
         span = 10.0 ** rng.uniform(-5, np.log10(spec.pitch / 8))
@@ -327,7 +329,14 @@ def test_a_walk_finds_every_pair_the_bolt_meets_lowered_within_its_drop(point):
             assert not np.isin(pair_keys(candidates[clear]), keys).any()
             met += int(inside.any())
             checked += 1
-    assert checked > 100 and met > 25
+            narrow = sweep.narrowed(top, depth)
+            for u in (0.0, *rng.uniform(0, 1, 2)):
+                pose = top.translated([0.0, 0.0, -u * depth])
+                assert narrow.covers(pose)
+                np.testing.assert_array_equal(narrow.pairs_at(pose), eng.pairs(pose))
+                assert narrow.collides_at(pose) == eng.collides(pose)
+                crossing += int(eng.collides(pose))
+    assert checked > 100 and met > 25 and crossing > 15
 
 
 def test_obb_trees_hold_each_triangle_once_inside_every_box_above_it(analyzer):

@@ -14,7 +14,9 @@ the trees (swept between the two) has kept every pair that can meet; one compile
 over those, each tested as the bolt moves down between the two heights, asks whether
 any meets above the touch (:meth:`threadmate.contact.scene.Sweep.touching_within`), with
 no walk of its own. Where one does, the pairs crossing just above the touch and yes/no
-queries above it raise it, and the pass's pairs the rest of the way. A motion finer than
+queries above it raise it, and the pass's pairs the rest of the way, all asked of the
+walk's leaf pairs narrowed to those the bolt meets on the way (every pair they can find
+lies in one: :meth:`threadmate.contact.scene.Sweep.narrowed`). A motion finer than
 the length tolerance is lowered onto the pairs already known, with no query
 (:meth:`_Lowering._nudged`), and the nut's material above the bolt, where the bolt lies
 in the thread, is known as the pairs below are (:meth:`_Lowering._overhead`).
@@ -350,7 +352,12 @@ class _Lowering(_HeldBolt):
         while True:
             sweep = self._covering(d)
             if len(self._met_above(d, sweep)):
-                d = self._raised(self._probed(d), sweep)
+                # What the probes and the raise ask meets the bolt within the drop to the
+                # touch and ``near`` below: their walk's leaf pairs narrowed to those.
+                top = self._pose(d.rotation, d.xy, d.top)
+                narrow = sweep.narrowed(top, d.top - d.zc + self.near)
+                raised = self._raised(self._probed(replace(d, sweep=narrow)), narrow)
+                d = replace(raised, sweep=d.sweep)
             if d.passed or not (
                 d.start - d.zc > 2 * self.near and self._embedded(d.rotation, d.xy, d.zc)
             ):
