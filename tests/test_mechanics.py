@@ -419,6 +419,52 @@ def test_first_contact_is_the_exact_first_touch(
     assert first.centre[2] == pytest.approx(h, abs=5e-6 * inch(spec))
 
 
+@pytest.mark.parametrize("point", ["chamfer", "flat"])
+def test_a_lowering_from_above_asks_its_free_steps_in_one_walk_and_lands_as_stepping(
+    point, monkeypatch
+):
+    """A lowering from above the nut asks the bracket's first steps, those the bolt's fall
+    into the bore lets it take, in one walk (``_Lowering._free_steps``); it then lands
+    where stepping through each of them lands, to the last bit and with the same pairs,
+    from any tilt, phase and shift. The bore it guesses the fall from holds no point of
+    the nut's faces farther in than the meshes' deviation (random points on every face)."""
+    from threadmate.contact.mechanics import _lowering
+
+    if point == "flat":
+        spec = spec_from_designation("1/4-20 UNC-2A/2B", point="flat", countersink=False)
+    else:
+        spec = spec_from_designation("1/4-20 UNC-2A/2B")
+    mech = Mechanics(spec, DEFAULT)
+    eng = mech.engine
+    edges, bore = eng._bore_by_height()
+    rng = np.random.default_rng(5)
+    tri = eng.nut_vertices[eng.nut_faces]
+    weights = rng.dirichlet(np.ones(3), size=len(tri))
+    points = np.einsum("fk,fkc->fc", weights, tri)
+    band = np.clip(np.searchsorted(edges, points[:, 2], side="right") - 1, 0, len(bore) - 1)
+    assert (np.hypot(points[:, 0], points[:, 1]) >= bore[band] - 5e-6).all()
+    skipped = 0
+    for _ in range(40):
+        size, direction = rng.uniform(0, 5), rng.uniform(0, 2 * np.pi)
+        tilt = np.radians(size) * np.array([np.cos(direction), np.sin(direction)])
+        rotation = mech._rotation(tilt, rng.uniform(0, 360))
+        xy = rng.uniform(-1, 1, 2) * 0.003
+        monkeypatch.setattr(_lowering, "FREE_FALL_SHARE", 0.0)
+        before = eng.queries
+        stepped, asked = mech.drop(rotation, xy, None), eng.queries
+        monkeypatch.undo()
+        jumped = mech.drop(rotation, xy, None)
+        skipped += int(eng.queries - asked < asked - before)
+        assert stepped is not None and jumped is not None
+        for name in ("zc", "top", "start", "span"):
+            assert getattr(jumped, name) == getattr(stepped, name), name
+        np.testing.assert_array_equal(jumped.pairs, stepped.pairs)
+        np.testing.assert_array_equal(jumped.drops, stepped.drops)
+        np.testing.assert_array_equal(jumped.gaps, stepped.gaps)
+    # From the countersink the fall is long; onto a flat nut's face, mostly none.
+    assert skipped >= (30 if point == "chamfer" else 1)
+
+
 def test_rest_heights_are_the_exact_first_touch(q20_rests, m6_rests, soft_rests, quarter_20, m6):
     """A rest state that has not dropped into the thread rests on the nut as the bolt,
     lowered from above at the rest tilt, would first touch it: z_C is the exact reference's

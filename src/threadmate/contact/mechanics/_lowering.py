@@ -36,6 +36,12 @@ from ._held_bolt import _HeldBolt
 
 __all__: list[str] = []
 
+#: The share of the bolt's free fall into the nut's bore, as guessed from its hull's
+#: vertices, that a lowering from above asks in one walk (:meth:`_Lowering._free_steps`):
+#: the guess can overshoot where the bolt's faces, between its vertices, meet the nut's
+#: thread at the foot of its countersink.
+FREE_FALL_SHARE = 0.75
+
 
 @dataclass
 class _Drop:
@@ -145,6 +151,10 @@ class _Lowering(_HeldBolt):
         eng = self.engine
         start, hit = top, -math.inf  # hit: the highest height known to collide
         passed = True  # (see _Drop.passed)
+        if known_free:
+            top, span = self._free_steps(rotation, xy, top, span, cap)
+            if top < self._floor:
+                return None
         for _ in range(200):
             # ``top`` must be free: a pose deep in the nut can cross it with pairs that no
             # longer cross a little lower, so one enumeration below cannot tell. One walk,
@@ -233,6 +243,44 @@ class _Lowering(_HeldBolt):
                 )
             )
         raise RuntimeError("lowering the bolt did not settle on a bracket")
+
+    def _free_steps(
+        self,
+        rotation: NDArray[np.float64],
+        xy: NDArray[np.float64],
+        top: float,
+        span: float,
+        cap: float,
+    ) -> tuple[float, float]:
+        """The top and span at which :meth:`_bracket`, lowering from the free height
+        ``top`` in steps of ``span`` doubling up to ``cap``, takes its first step that meets
+        the nut (or a step after it), its steps before all asked in one walk.
+
+        From above the nut, a bracket's first steps meet nothing: the bolt's end falls
+        into the bore. How far it can fall is guessed from the bore
+        (:meth:`threadmate.contact.scene.CollisionPair.free_fall`, a share of it); the
+        steps within that are taken as the bracket takes them, and one walk swept over
+        them all asks whether any meets the nut: none does where no pair crosses at the
+        last one's foot and no pair the walk kept touches above it (nor within ``near``
+        below, where rounding could decide), and the bracket goes on from there as it
+        would have. Else it starts from ``top``: the same steps, in the same order, give
+        the same touch."""
+        fall = FREE_FALL_SHARE * self.engine.free_fall(self._pose(rotation, xy, top))
+        steps, at, step = 0, top, span
+        while at - step - self.near >= top - fall:
+            at = at - step - self.near
+            step = min(2 * step, cap)
+            steps += 1
+        if steps < 2:
+            return top, span
+        sweep = self.engine.pairs_below(
+            self._pose(rotation, xy, at), self._pose(rotation, xy, top), True
+        )
+        if sweep is None or len(sweep.pairs):
+            return top, span
+        if len(self._tooth(rotation, xy, top, top - at + self.near, sweep)):
+            return top, span
+        return at, step
 
     def _tooth(
         self,

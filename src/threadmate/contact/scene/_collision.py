@@ -93,6 +93,8 @@ UNDER_TILT = 20.0
 CORE_TILT = 5.0
 #: Least share of the bolt's faces in its core for a query to leave the core out.
 CORE_SHARE = 0.25
+#: Bands of height of the nut's bore (:meth:`CollisionPair.free_fall`).
+BORE_BINS = 512
 
 
 #: Some of the bolt's faces as a tree (:class:`._obb.ObbForest` and the tree's number in
@@ -503,6 +505,8 @@ class CollisionPair:
         hull = ConvexHull(self.bolt_vertices).vertices
         self._bolt_hull = np.ascontiguousarray(self.bolt_vertices[np.unique(hull)])
         self._solids: dict[str, MeshSolid] = {}
+        # The nut's bore by height (:meth:`free_fall`), made on first use.
+        self._bore: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
 
     def solid(self, body: str) -> MeshSolid:
         """The ``body`` mesh (``"bolt"``, in the bolt's frame, or ``"nut"``, in the fixed
@@ -707,6 +711,58 @@ class CollisionPair:
             pose.rotation,
             pose.origin,
         )
+
+    def _bore_by_height(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The nut's bore from its top face down, in :data:`BORE_BINS` bands of height: the
+        bands' edges (the last the nut's top), and the least distance from the axis of the
+        nut's surface in each band or any above it, rising with height (a nut point lies no
+        nearer the axis: going in from it, one meets the surface at its height no farther
+        out). The surface's points in a band: its vertices and where its triangles' edges
+        cross the band's edges (a triangle's points nearer the axis between lie within
+        the meshes' chord deviation of those)."""
+        if self._bore is None:
+            tri = self.nut_vertices[self.nut_faces]
+            z = tri[..., 2]
+            edges = np.linspace(z.min(), z.max(), BORE_BINS + 1)
+            spacing = edges[1] - edges[0]
+            a = tri.reshape(-1, 3)
+            b = np.roll(tri, -1, axis=1).reshape(-1, 3)
+            low, high = np.minimum(a[:, 2], b[:, 2]), np.maximum(a[:, 2], b[:, 2])
+            # Each edge of each triangle where it crosses each band's edge (once per
+            # triangle that holds it: the meshes are small enough to not mind).
+            first = np.ceil((low - edges[0]) / spacing).astype(np.int64)
+            last = np.floor((high - edges[0]) / spacing).astype(np.int64)
+            count = np.where(high > low, np.maximum(last - first + 1, 0), 0)
+            edge = np.repeat(np.arange(len(a)), count)
+            k = first[edge] + np.arange(len(edge)) - np.repeat(np.cumsum(count) - count, count)
+            t = (edges[k] - a[edge, 2]) / (b[edge, 2] - a[edge, 2])
+            cut = a[edge, :2] + t[:, None] * (b[edge, :2] - a[edge, :2])
+            reach = np.concatenate(
+                [np.hypot(cut[:, 0], cut[:, 1])] * 2 + [np.hypot(a[:, 0], a[:, 1])]
+            )
+            band = np.concatenate(
+                [k - 1, k, np.floor((a[:, 2] - edges[0]) / spacing).astype(np.int64)]
+            )
+            keep = (band >= 0) & (band < BORE_BINS)
+            least = np.full(BORE_BINS, np.inf)
+            np.minimum.at(least, band[keep], reach[keep])
+            self._bore = (edges, np.minimum.accumulate(least[::-1])[::-1].copy())
+        return self._bore
+
+    def free_fall(self, pose: Pose) -> float:
+        """How far the bolt at ``pose`` (its lowest point above the nut's top face) can be
+        lowered with every vertex of its convex hull within the nut's bore, as near the axis
+        as no nut face at any height it passes (:meth:`_bore_by_height`); 0 where none.
+
+        A guess, from the hull's vertices alone: a lowering asks one walk of the trees
+        whether the bolt meets anything on the way (:meth:`pairs_below`)."""
+        edges, bore = self._bore_by_height()
+        points = self._bolt_hull @ pose.rotation.T + pose.origin
+        radius = np.hypot(points[:, 0], points[:, 1])
+        # The lowest band from which up the bore is wider than each point's radius (none:
+        # the point stops at the nut's top).
+        band = np.searchsorted(bore, radius, side="right")
+        return max(float((points[:, 2] - edges[band]).min()), 0.0)
 
     def lowest_bolt_z(self, rotation: NDArray[np.float64]) -> float:
         """Lowest bolt vertex height (fixed frame) for a bolt at the origin turned by
