@@ -94,7 +94,7 @@ CORE_TILT = 5.0
 #: Least share of the bolt's faces in its core for a query to leave the core out.
 CORE_SHARE = 0.25
 #: Bands of height of the nut's bore (:meth:`CollisionPair.free_fall`).
-BORE_BINS = 512
+BORE_BINS = 128
 
 
 #: Some of the bolt's faces as a tree (:class:`._obb.ObbForest` and the tree's number in
@@ -715,21 +715,19 @@ class CollisionPair:
     def _bore_by_height(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The nut's bore from its top face down, in :data:`BORE_BINS` bands of height: the
         bands' edges (the last the nut's top), and the least distance from the axis of the
-        nut's surface in each band or any above it, rising with height (a nut point lies no
-        nearer the axis: going in from it, one meets the surface at its height no farther
-        out). The surface's points in a band: its vertices and where its triangles' edges
-        cross the band's edges (a triangle's points nearer the axis between lie within
-        the meshes' chord deviation of those)."""
+        nut's surface at the lower edge of each band or anywhere above, rising with height
+        (a nut point lies no nearer the axis: going in from it, one meets the surface at
+        its height no farther out). The surface's points counted: its vertices and where
+        its triangles' edges cross the bands' edges (a triangle's points nearer the axis
+        between lie within the meshes' chord deviation of those)."""
         if self._bore is None:
-            tri = self.nut_vertices[self.nut_faces]
-            z = tri[..., 2]
-            edges = np.linspace(z.min(), z.max(), BORE_BINS + 1)
+            a = self.nut_vertices[self.nut_faces]
+            b = np.roll(a, -1, axis=1).reshape(-1, 3)
+            a = a.reshape(-1, 3)
+            edges = np.linspace(a[:, 2].min(), a[:, 2].max(), BORE_BINS + 1)
             spacing = edges[1] - edges[0]
-            a = tri.reshape(-1, 3)
-            b = np.roll(tri, -1, axis=1).reshape(-1, 3)
             low, high = np.minimum(a[:, 2], b[:, 2]), np.maximum(a[:, 2], b[:, 2])
-            # Each edge of each triangle where it crosses each band's edge (once per
-            # triangle that holds it: the meshes are small enough to not mind).
+            # Each triangle's edges where they cross the bands' edges.
             first = np.ceil((low - edges[0]) / spacing).astype(np.int64)
             last = np.floor((high - edges[0]) / spacing).astype(np.int64)
             count = np.where(high > low, np.maximum(last - first + 1, 0), 0)
@@ -737,15 +735,18 @@ class CollisionPair:
             k = first[edge] + np.arange(len(edge)) - np.repeat(np.cumsum(count) - count, count)
             t = (edges[k] - a[edge, 2]) / (b[edge, 2] - a[edge, 2])
             cut = a[edge, :2] + t[:, None] * (b[edge, :2] - a[edge, :2])
-            reach = np.concatenate(
-                [np.hypot(cut[:, 0], cut[:, 1])] * 2 + [np.hypot(a[:, 0], a[:, 1])]
-            )
-            band = np.concatenate(
-                [k - 1, k, np.floor((a[:, 2] - edges[0]) / spacing).astype(np.int64)]
-            )
-            keep = (band >= 0) & (band < BORE_BINS)
+            # Each point counts for the band it lies in and every band below (a cut on a
+            # band's lower edge lies in that band).
+            band = np.concatenate([k, np.floor((a[:, 2] - edges[0]) / spacing).astype(np.int64)])
+            reach = np.concatenate([np.hypot(cut[:, 0], cut[:, 1]), np.hypot(a[:, 0], a[:, 1])])
+            band = np.clip(band, 0, BORE_BINS - 1)
+            order = np.argsort(band, kind="stable")
+            starts = np.searchsorted(band[order], np.arange(BORE_BINS))
             least = np.full(BORE_BINS, np.inf)
-            np.minimum.at(least, band[keep], reach[keep])
+            held = starts < len(order)
+            least[held] = np.minimum.reduceat(reach[order], starts[held])
+            # (reduceat's last band, or an empty one, holds the next band's minimum too:
+            # the running minimum from the top takes it anyway.)
             self._bore = (edges, np.minimum.accumulate(least[::-1])[::-1].copy())
         return self._bore
 
