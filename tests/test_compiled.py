@@ -26,9 +26,21 @@ def test_contact_points_group_as_the_connected_components_of_their_links():
     from threadmate.contact.scene import single_linkage
 
     rng = np.random.default_rng(7)
-    for n in (1, 2, 5, 40, 300, 450):  # 450: the k-d tree's branch
-        points = rng.uniform(0.0, 1.0, (n, 3)) * rng.uniform(0.2, 3.0)
-        separation = 0.2
+    separation = 0.2
+    cases = [rng.uniform(0.0, 1.0, (n, 3)) * rng.uniform(0.2, 3.0) for n in (1, 2, 5, 40, 300)]
+    # Beyond 400 points, the grid's branch: scattered, and patches of a lattice a sixteenth
+    # of the separation apart with holes (a flat face on a flat face), a few at once.
+    cases += [rng.uniform(0.0, 1.0, (n, 3)) * rng.uniform(0.5, 4.0) for n in (450, 1200)]
+    for _ in range(4):
+        patches = []
+        for _ in range(int(rng.integers(1, 5))):
+            x, y = np.meshgrid(*(np.arange(int(rng.integers(5, 60))) for _ in range(2)))
+            lattice = np.column_stack([x.ravel(), y.ravel(), np.zeros(x.size)])
+            corner = rng.uniform(0.0, 8.0, 3) * [1.0, 1.0, 0.05]
+            patches.append(corner + lattice[rng.random(len(lattice)) < 0.7] * separation / 16)
+        cases.append(np.concatenate(patches))
+    assert sum(len(points) > 400 for points in cases) >= 4
+    for points in cases:
         labels = single_linkage(points, separation)
         # Independently: the components of the graph of links, numbered by first point.
         _, comp = connected_components(cdist(points, points) <= separation, directed=False)

@@ -48,7 +48,7 @@ from ._kernels import (
     vertical_touch,
     window_grid,
 )
-from ._linkage import single_linkage
+from ._linkage import EVERY_PAIR, single_linkage
 from ._obb import ALL, ANY, CrossingQuery, ObbForest, obb_forest, unique_face_pairs
 
 __all__ = ["warm_kernels", "warm_kernels_aside"]
@@ -100,7 +100,9 @@ def _touch() -> None:
     paired_triangles(vertices, faces, vertices, faces, pairs, np.eye(3), np.zeros(3))
     one = np.ones(1)
     contact_rows(np.eye(3)[:1], np.zeros((1, 3)), one, one, np.zeros(3), 1.0, np.eye(3)[1], 3)
-    single_linkage(np.zeros((2, 3)), 1.0)  # (the contact set's grouping)
+    # (The contact set's grouping, of few points and of many.)
+    single_linkage(np.zeros((2, 3)), 1.0)
+    single_linkage(np.zeros((EVERY_PAIR + 1, 3)), 1.0)
 
 
 def _body() -> ThreadBody:
