@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from ..._compiled import compiled, inlined
+from ..._compiled import compiled
 
 __all__ = ["single_linkage"]
 
@@ -33,14 +33,22 @@ def single_linkage(points: NDArray[np.float64], separation: float) -> NDArray[np
     points = np.ascontiguousarray(points, dtype=float)
     if n <= EVERY_PAIR:
         return _linked(points, float(separation))
-    return _linked_in_grid(points, float(separation))
+    # The grid (:func:`_linked_in_grid`): cells whose diagonal is a little shorter than
+    # the separation, two empty layers round them (a neighbour's key never wraps into
+    # another row), one integer key per cell, the points in the keys' order.
+    cell = np.floor((points - points.min(axis=0)) / (separation / math.sqrt(3.0) * (1 - 1e-9)))
+    cell = cell.astype(np.int64) + 2
+    size = cell.max(axis=0) + 3
+    key = (cell[:, 0] * size[1] + cell[:, 1]) * size[2] + cell[:, 2]
+    order = np.argsort(key)
+    return _linked_in_grid(points, float(separation), key[order], order, size[1], size[2])
 
 
 #: Most points grouped by testing every pair (:func:`single_linkage`).
 EVERY_PAIR = 400
 
 
-@inlined
+@compiled
 def _root(parent: NDArray[np.intp], a: int) -> int:
     """The root of ``a``'s tree in a union-find forest."""
     while parent[a] != a:
@@ -48,7 +56,20 @@ def _root(parent: NDArray[np.intp], a: int) -> int:
     return a
 
 
-@inlined
+@compiled
+def _first_at_least(values: NDArray[np.int64], value: int) -> int:
+    """The first index of the sorted ``values`` holding ``value`` or more (bisection)."""
+    lo, hi = 0, values.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if values[mid] < value:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@compiled
 def _labelled(parent: NDArray[np.intp]) -> NDArray[np.intp]:
     """The union-find forest's components, labelled 0, 1, ... by first appearance."""
     n = parent.shape[0]
@@ -84,52 +105,48 @@ def _linked(points: NDArray[np.float64], separation: float) -> NDArray[np.intp]:
 
 
 @compiled
-def _linked_in_grid(points: NDArray[np.float64], separation: float) -> NDArray[np.intp]:
+def _linked_in_grid(
+    points: NDArray[np.float64],
+    separation: float,
+    sorted_key: NDArray[np.int64],
+    order: NDArray[np.int64],
+    rows: int,
+    layers: int,
+) -> NDArray[np.intp]:
     """:func:`single_linkage` of many points, by a grid of cells whose diagonal is a little
-    shorter than ``separation``: the points of one cell are all linked (joined at once),
-    two points that close lie in cells at most two apart along each axis, and two such
-    cells not yet joined are joined at the first pair of their points that is linked
-    (each cell being one group, one link joins them). The groups are those of every pair
-    tested (:func:`_linked`); a patch of many points, a few cells, costs a few tests."""
+    shorter than ``separation`` (each point's cell's key, ``(i * rows + j) * layers + k``,
+    in ``order``): the points of one cell are all linked (joined at once), two points
+    that close lie in cells at most two apart along each axis, and two such cells not
+    yet joined are joined at the first pair of their points that is linked (each cell
+    being one group, one link joins them). The groups are those of every pair tested
+    (:func:`_linked`); a patch of many points, a few cells, costs a few tests."""
     n = points.shape[0]
-    step = separation / math.sqrt(3.0) * (1.0 - 1e-9)
-    low = np.empty(3)
-    for a in range(3):
-        low[a] = points[:, a].min()
-    cell = np.empty((n, 3), dtype=np.int64)
-    for i in range(n):
-        for a in range(3):
-            cell[i, a] = int(np.floor((points[i, a] - low[a]) / step)) + 2
-    # (Two empty layers each side: a neighbour's key never wraps into another row.)
-    size = np.empty(3, dtype=np.int64)
-    for a in range(3):
-        size[a] = cell[:, a].max() + 3
-    key = (cell[:, 0] * size[1] + cell[:, 1]) * size[2] + cell[:, 2]
-    order = np.argsort(key, kind="mergesort")
-    sorted_key = key[order]
     parent = np.arange(n)
     # Each cell's points (a run of ``order``): joined to its first.
-    starts = [0]
+    starts = np.empty(n + 1, dtype=np.int64)
+    cells = 1
+    starts[0] = 0
     for r in range(1, n):
         if sorted_key[r] != sorted_key[r - 1]:
-            starts.append(r)
-    starts.append(n)
-    for c in range(len(starts) - 1):
+            starts[cells] = r
+            cells += 1
+    starts[cells] = n
+    for c in range(cells):
         head = order[starts[c]]
         for r in range(starts[c] + 1, starts[c + 1]):
             a, b = _root(parent, head), _root(parent, order[r])
             if a != b:
                 parent[max(a, b)] = min(a, b)
     reach = separation * separation
-    for c in range(len(starts) - 1):
+    for c in range(cells):
         k = sorted_key[starts[c]]
         for d0 in range(-2, 3):
             for d1 in range(-2, 3):
                 for d2 in range(-2, 3):
-                    other = k + (d0 * size[1] + d1) * size[2] + d2
+                    other = k + (d0 * rows + d1) * layers + d2
                     if other <= k:  # (each pair of cells once)
                         continue
-                    at = np.searchsorted(sorted_key, other)
+                    at = _first_at_least(sorted_key, other)
                     if at >= n or sorted_key[at] != other:
                         continue
                     end = at
