@@ -252,9 +252,10 @@ class _Lowering(_HeldBolt):
         span: float,
         cap: float,
     ) -> tuple[float, float]:
-        """The top and span at which :meth:`_bracket`, lowering from the free height
-        ``top`` in steps of ``span`` doubling up to ``cap``, takes its first step that meets
-        the nut (or a step after it), its steps before all asked in one walk.
+        """The top and span from which :meth:`_bracket`, lowering from the free height
+        ``top`` in steps of ``span`` doubling up to ``cap``, goes on past its first steps,
+        those that meet nothing, asked in one walk (``top`` and ``span`` themselves where
+        that walk meets something, or the steps are too few to gain by it).
 
         From above the nut, a bracket's first steps meet nothing: the bolt's end falls
         into the bore. How far it can fall is guessed from the bore

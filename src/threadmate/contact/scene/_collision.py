@@ -745,8 +745,8 @@ class CollisionPair:
             least = np.full(BORE_BINS, np.inf)
             held = starts < len(order)
             least[held] = np.minimum.reduceat(reach[order], starts[held])
-            # (reduceat's last band, or an empty one, holds the next band's minimum too:
-            # the running minimum from the top takes it anyway.)
+            # (An empty band takes the first point of the next band that holds one: the
+            # running minimum from the top counts that point there anyway.)
             self._bore = (edges, np.minimum.accumulate(least[::-1])[::-1].copy())
         return self._bore
 
