@@ -19,10 +19,10 @@ its core, at the same time (a comparison, not the two-core target). The pair is
 (no point, no countersink) and its default parts (the chamfered point and the
 countersink of the standard nut). Costs are CPU time of this process (one core) divided
 by one python-fcl yes/no query of the same meshes (``_reference.py``), timed in the same
-child at the run's own rest poses (a rest state's right after it): query equivalents
-(QE). The CPU milliseconds of a configuration and of a rest state are printed beside:
-where the children's reference queries differ (their cores loaded unevenly by the host),
-those compare the codes.
+child at the run's own rest poses: query equivalents (QE). Each timed part starts from
+a collected heap (``gc.collect()``). The CPU milliseconds of a configuration and of a
+rest state are printed beside: where the children's reference queries differ (their
+cores loaded unevenly by the host), those compare the codes.
 
 Targets (a ratio below 1 meets one):
 
@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import json
 import os
 import resource
@@ -96,18 +97,19 @@ def _child(args: argparse.Namespace) -> None:
     def qe(kind: str, poses: list[Pose]) -> float:
         return queries[kind].cpu_time(poses, mechs[kind].tolerance, repeats=10)
 
-    # Rest states, each drop's reference queries timed right after it (at its rest pose):
-    # the host's speed drifts within seconds, and the ratio is that of work and queries
-    # timed at the same moments.
+    # Rest states. (The set-up's objects collected first: they would bring on a full
+    # collection of the heap within the first few drops, a pause that a process's later
+    # work meets seldom.)
+    gc.collect()
     rng = np.random.default_rng(0)
-    times, query_times = [], []
+    times, poses = [], []
     for _ in range(args.rest_states):
         cfg = (rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(0, 360))
         t = time.process_time()
         rest = mechs["default"].settle(*cfg)
         times.append(time.process_time() - t)
-        query_times.append(qe("default", [rest.state.pose]))
-    q_default = float(np.mean(query_times))
+        poses.append(rest.state.pose)
+    q_default = qe("default", poses)
     out["rest_state_qe"] = float(np.mean(times)) / q_default
     out["rest_state_ms"] = 1e3 * float(np.mean(times))
     out["query_default_us"] = 1e6 * q_default
@@ -123,6 +125,7 @@ def _child(args: argparse.Namespace) -> None:
     for kind in ("flat", "default"):
         folder = Path(tempfile.mkdtemp(prefix="bench-targets-"))
         sweep(specs[kind], "0", "0", "0:10:5", out=folder / "warm", workers=1)
+        gc.collect()
         t = time.process_time()
         sweep(specs[kind], "1", "-1", args.phases, out=folder / "lib", workers=1)
         cpu = time.process_time() - t
