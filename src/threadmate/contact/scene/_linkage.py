@@ -24,8 +24,9 @@ def single_linkage(points: NDArray[np.float64], separation: float) -> NDArray[np
 
     A contact set passes one point per cell of a sixteenth of the linkage, so there are
     few (tens to a few hundred): every pair is tested, compiled (:func:`_linked`). A
-    broad patch (more than :data:`EVERY_PAIR`; a flat face on a flat face) tests only the
-    pairs in neighbouring cells of a grid as coarse as the linkage (:func:`_linked_in_grid`).
+    broad patch (more than :data:`EVERY_PAIR`; a flat face on a flat face) is joined a
+    cell of a grid at a time, the cells' diagonal a little under the linkage, and
+    neighbouring cells at their first link (:func:`_linked_in_grid`).
     """
     n = len(points)
     if n == 1:
