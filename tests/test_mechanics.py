@@ -465,6 +465,27 @@ def test_a_lowering_from_above_asks_its_free_steps_in_one_walk_and_lands_as_step
     assert skipped >= (30 if point == "chamfer" else 1)
 
 
+def test_a_lowering_verified_by_a_walk_of_its_own_lands_as_by_its_brackets(mech):
+    """The verification asks the walk its bracket swept down to the touch; where that walk
+    is not at hand (``_Lowering._covering``), it walks between the free top and the touch
+    itself, and lands where the bracket's walk does, to the last bit and with the same
+    pairs: first touches from above, some of them raised above the bracket's touch."""
+    rng = np.random.default_rng(3)
+    raised = 0
+    for _ in range(60):
+        tilt = np.radians(rng.uniform(-4, 4, 2))
+        rotation = mech._rotation(tilt, rng.uniform(0, 360))
+        found = mech.drop(rotation, rng.uniform(-1, 1, 2) * 0.002, None, verify=False)
+        assert found is not None and found.sweep is not None
+        by_bracket = mech.verified(found)
+        by_itself = mech.verified(replace(found, sweep=None))
+        assert by_itself.zc == by_bracket.zc
+        np.testing.assert_array_equal(by_itself.pairs, by_bracket.pairs)
+        np.testing.assert_array_equal(by_itself.gaps, by_bracket.gaps)
+        raised += int(by_bracket.zc > found.zc)
+    assert raised >= 2
+
+
 def test_rest_heights_are_the_exact_first_touch(q20_rests, m6_rests, soft_rests, quarter_20, m6):
     """A rest state that has not dropped into the thread rests on the nut as the bolt,
     lowered from above at the rest tilt, would first touch it: z_C is the exact reference's
