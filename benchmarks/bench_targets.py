@@ -131,29 +131,21 @@ def _child(args: argparse.Namespace) -> None:
         cpu = time.process_time() - t
         rows = load(folder / "lib")
         n = int(rows["config_id"].nunique())
-        q = qe(kind, _rest_poses(rows))
+        rest = rows[(rows["role"] == "start") & (rows["error"] == "")]
+        rest_poses = [
+            Pose(
+                np.reshape(np.asarray(r["rotation"], dtype=float), (3, 3)),
+                np.array([r["origin_x"], r["origin_y"], r["origin_z"]]),
+            )
+            for _, r in rest.iterrows()
+        ]
+        q = qe(kind, rest_poses)
         out[f"{kind}_config_qe"] = cpu / n / q
         out[f"{kind}_config_ms"] = 1e3 * cpu / n
         out[f"query_{kind}_us"] = 1e6 * q
         if kind == "default":
             out["starts_2600_min"] = cpu / n * 2600 / 2 / 60
     print(json.dumps(out))
-
-
-def _rest_poses(rows: Any) -> list[Any]:
-    """The poses of a library's starts that came to rest."""
-    import numpy as np
-
-    from threadmate.geometry import Pose
-
-    rest = rows[(rows["role"] == "start") & (rows["error"] == "")]
-    return [
-        Pose(
-            np.reshape(np.asarray(r["rotation"], dtype=float), (3, 3)),
-            np.array([r["origin_x"], r["origin_y"], r["origin_z"]]),
-        )
-        for _, r in rest.iterrows()
-    ]
 
 
 def _threadmate_run(src: str) -> tuple[float, float]:
